@@ -1,0 +1,13 @@
+# Warnings are errors in our own code. Third-party headers come in as SYSTEM
+# includes (imported targets), so their warnings do not stop the build.
+add_library(slide_warnings INTERFACE)
+target_compile_options(slide_warnings INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
+  -Wcast-align -Wunused -Woverloaded-virtual -Wconversion -Wno-sign-conversion
+  -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough
+  -Werror)
+
+add_library(slide_optimisation INTERFACE)
+if(SLIDE_NATIVE)
+  target_compile_options(slide_optimisation INTERFACE $<$<CONFIG:Release,RelWithDebInfo>:-march=native>)
+endif()

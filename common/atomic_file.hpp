@@ -1,0 +1,21 @@
+// Crash-safe file output: write to a temporary name in the target's folder, then rename.
+// A reader (or a Makefile) never sees a half-written checkpoint, CSV or report, and an
+// existing file stays intact when the writer fails.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string_view>
+
+namespace slide {
+
+/// Calls `write(temporary_path)` and renames the result onto `target`. Creates the
+/// target's folder when needed. If `write` throws, the temporary file is removed and the
+/// exception propagates; `target` is untouched.
+void write_atomically(const std::filesystem::path& target,
+                      const std::function<void(const std::filesystem::path&)>& write);
+
+/// Writes `text` to `target` atomically.
+void write_text_atomically(const std::filesystem::path& target, std::string_view text);
+
+}  // namespace slide

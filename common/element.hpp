@@ -1,0 +1,82 @@
+// The one element interface: reference shapes, shape functions and their derivatives,
+// quadrature rules and isoparametric geometry. The FE solver integrates with it and the
+// transfer places material points with it, so both agree on what an element is.
+//
+// Reference elements (nodes counter-clockwise):
+//   quad4: [−1,1]², nodes (−1,−1) (1,−1) (1,1) (−1,1), N_k = ¼(1+ξ_k ξ)(1+η_k η)
+//   tri3 : nodes (0,0) (1,0) (0,1), N = (1−ξ−η, ξ, η)
+#pragma once
+
+#include <array>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "common/types.hpp"
+
+namespace slide {
+
+/// Geometry of an element.
+enum class ElementShape { quad4, tri3 };
+/// Geometry plus the solver's integration rule.
+enum class ElementType { quad4_1gp, quad4_2x2, tri3 };
+
+/// "quad4-1gp", "quad4-2x2", "tri3" (case files and checkpoints use these names).
+std::string_view to_string(ElementType type);
+ElementType parse_element_type(std::string_view text, std::string_view where);
+/// "quad4" or "tri3" (the `type` attribute of /elements/connectivity).
+std::string_view to_string(ElementShape shape);
+ElementShape parse_element_shape(std::string_view text, std::string_view where);
+
+ElementShape shape_of(ElementType type);
+int nodes_per_element(ElementShape shape);
+inline int nodes_per_element(ElementType type) { return nodes_per_element(shape_of(type)); }
+
+inline constexpr int max_nodes_per_element = 4;
+
+/// A point of the reference element with its weight (weights sum to the reference
+/// measure: 4 for quad4, ½ for tri3).
+struct QuadraturePoint {
+  Vec2 xi;
+  double weight;
+};
+
+/// The rule the FE solver integrates with: 1 point, 2×2 points, or the centroid.
+std::span<const QuadraturePoint> quadrature_rule(ElementType type);
+
+/// Gauss–Legendre rule of `order` points on [−1, 1] (weights sum to 2), any order ≥ 1.
+struct GaussLegendre {
+  std::vector<double> points;
+  std::vector<double> weights;
+};
+GaussLegendre gauss_legendre(int order);
+/// Tensor-product Gauss–Legendre rule of nx × ny points on the reference square,
+/// ordered with ξ fastest.
+std::vector<QuadraturePoint> tensor_gauss_legendre(int nx, int ny);
+
+Vec2 reference_centre(ElementShape shape);
+/// Area of the reference element: 4 (quad4) or ½ (tri3).
+double reference_measure(ElementShape shape);
+
+/// Shape function values; entries past nodes_per_element are zero.
+using ShapeValues = std::array<double, max_nodes_per_element>;
+/// Row k: (∂N_k/∂ξ, ∂N_k/∂η), or (∂N_k/∂x, ∂N_k/∂y) once mapped; unused rows are zero.
+using ShapeGradients = Eigen::Matrix<double, max_nodes_per_element, 2>;
+/// Row k: coordinates of node k; unused rows are ignored.
+using ElementNodes = Eigen::Matrix<double, max_nodes_per_element, 2>;
+
+ShapeValues shape_functions(ElementShape shape, const Vec2& xi);
+ShapeGradients shape_derivatives(ElementShape shape, const Vec2& xi);
+
+/// x(ξ) = Σ_k N_k(ξ) x_k.
+Vec2 map_to_physical(ElementShape shape, const ElementNodes& nodes, const Vec2& xi);
+/// J_ij = ∂x_i/∂ξ_j at ξ.
+Mat2 jacobian(ElementShape shape, const ElementNodes& nodes, const Vec2& xi);
+/// Physical gradients ∂N_k/∂x at ξ; throws nothing, the caller checks det J.
+ShapeGradients physical_gradients(ElementShape shape, const ElementNodes& nodes, const Vec2& xi,
+                                  double* det_jacobian = nullptr);
+/// Signed area (positive for counter-clockwise nodes): the shoelace formula, exact for
+/// straight-sided elements.
+double element_area(ElementShape shape, const ElementNodes& nodes);
+
+}  // namespace slide

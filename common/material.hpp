@@ -1,0 +1,54 @@
+// Material parameters as the user gives them (case file) and as checkpoints store them
+// (`/materials/<id>/` attributes). Angles are in degrees here, as users write them; the
+// constitutive kernels precompute their trigonometry once (constitutive.hpp).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace slide {
+
+/// A handful of models: an enum and a switch, no factory.
+enum class MaterialModel { linear_elastic, mohr_coulomb };
+
+std::string_view to_string(MaterialModel model);
+/// Parses "linear-elastic" or "mohr-coulomb"; throws Error naming `where` otherwise.
+MaterialModel parse_material_model(std::string_view text, std::string_view where);
+
+struct Material {
+  std::string name;
+  /// Model of the failure stage and of the MPM phase. The FE geostatic stage always
+  /// uses the linear elastic model with the same elastic constants (METHOD.md §3).
+  MaterialModel model = MaterialModel::mohr_coulomb;
+  double density = 0.0;          ///< ρ, kg/m³
+  double youngs_modulus = 0.0;   ///< E, Pa
+  double poisson_ratio = 0.0;    ///< ν, –
+  double friction_angle = 0.0;   ///< φ, degrees
+  double cohesion = 0.0;         ///< c, Pa
+  double dilation_angle = 0.0;   ///< ψ, degrees
+  /// Largest admissible principal stress T (Pa, tension positive). A value above the
+  /// Mohr–Coulomb apex c·cot φ leaves only the apex; the default is the apex.
+  double tension_cutoff = 0.0;
+
+  double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  double bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }
+  /// Lamé's first parameter λ.
+  double lame_lambda() const;
+  /// P-wave (constrained) modulus M = E(1−ν)/((1+ν)(1−2ν)).
+  double p_wave_modulus() const;
+  /// Dilatational wave speed c_p = sqrt(M/ρ), used by both Courant conditions.
+  double p_wave_speed() const;
+  /// Earth pressure coefficient at rest of the elastic geostatic stage, K0 = ν/(1−ν).
+  double k0() const { return poisson_ratio / (1.0 - poisson_ratio); }
+  /// The Mohr–Coulomb apex c·cot φ (infinite for φ = 0).
+  double apex_stress() const;
+
+  /// Checks every parameter for physical admissibility; throws Error naming `where`
+  /// (e.g. "case.toml: materials[0]") and the offending key otherwise.
+  void validate(std::string_view where) const;
+};
+
+using MaterialTable = std::vector<Material>;
+
+}  // namespace slide

@@ -1,0 +1,44 @@
+#include "common/particles.hpp"
+
+#include "common/error.hpp"
+
+namespace slide {
+
+void Particles::resize(std::size_t n) {
+  coordinates.resize(n, Vec2::Zero());
+  displacement.resize(n, Vec2::Zero());
+  velocity.resize(n, Vec2::Zero());
+  stress.resize(n, Vec4::Zero());
+  strain.resize(n, Vec4::Zero());
+  eps_q.resize(n, 0.0);
+  pore_pressure.resize(n, 0.0);
+  volume.resize(n, 0.0);
+  mass.resize(n, 0.0);
+  size.resize(n, Vec2::Zero());
+  material_id.resize(n, 0);
+  element.resize(n, -1);
+  id.resize(n, 0);
+  state.resize(n, MaterialState{});
+}
+
+void Particles::check_consistent_sizes() const {
+  const std::size_t n = coordinates.size();
+  auto check = [n](std::size_t entries, const char* name) {
+    if (entries != n) throw Error("particles: field {} has {} entries, expected {}", name, entries, n);
+  };
+  check(displacement.size(), "displacement");
+  check(velocity.size(), "velocity");
+  check(stress.size(), "stress");
+  check(strain.size(), "strain");
+  check(eps_q.size(), "eps_q");
+  check(pore_pressure.size(), "pore_pressure");
+  check(volume.size(), "volume");
+  check(mass.size(), "mass");
+  check(size.size(), "size");
+  check(material_id.size(), "material_id");
+  check(element.size(), "element");
+  check(id.size(), "id");
+  check(state.size(), "state");
+}
+
+}  // namespace slide

@@ -1,0 +1,25 @@
+// What every program's main shares: command-line parsing that reports a bad option in
+// one line, and the translation of any exception into a one-line error on stderr and a
+// non-zero exit status.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace slide {
+
+/// "slide 0.1.0": goes into every file's `producer` attribute with the program name.
+std::string version_string();
+
+/// Parses the command line. Returns an exit status when the program should stop now
+/// (0 after --help or --version, 2 after a bad option, with a one-line message), or
+/// nothing when it should go on.
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
+
+/// Runs `body`; an exception becomes "program: error: message" on stderr and status 1.
+int run_main(const std::string& program, const std::function<void()>& body);
+
+}  // namespace slide
