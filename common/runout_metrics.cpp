@@ -1,0 +1,73 @@
+#include "common/runout_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace slide {
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(values.begin(), values.end());
+  const double rank = p / 100.0 * static_cast<double>(values.size() - 1);
+  const auto below = static_cast<std::size_t>(std::floor(rank));
+  const std::size_t above = std::min(below + 1, values.size() - 1);
+  const double fraction = rank - static_cast<double>(below);
+  return values[below] + fraction * (values[above] - values[below]);
+}
+
+SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width,
+                               double percentile_p) {
+  SurfaceProfile profile;
+  profile.bin_width = bin_width;
+  std::vector<std::vector<double>> bins;
+  for (const Vec2& x : points) {
+    if (x.x() < 0.0) continue;
+    const auto b = static_cast<std::size_t>(x.x() / bin_width);
+    if (b >= bins.size()) bins.resize(b + 1);
+    bins[b].push_back(x.y());
+  }
+  std::size_t contiguous = 0;
+  while (contiguous < bins.size() && !bins[contiguous].empty()) ++contiguous;
+  profile.height.reserve(contiguous);
+  for (std::size_t b = 0; b < contiguous; ++b) {
+    profile.height.push_back(percentile(bins[b], percentile_p));
+  }
+  const double limit = static_cast<double>(contiguous) * bin_width;
+  profile.x_toe = 0.0;
+  for (const Vec2& x : points) {
+    if (x.x() < 0.0) continue;
+    if (x.x() < limit) {
+      profile.x_toe = std::max(profile.x_toe, x.x());
+    } else {
+      ++profile.stray_count;
+    }
+  }
+  return profile;
+}
+
+RunoutMeasures runout_measures(const SurfaceProfile& profile, double initial_length) {
+  RunoutMeasures m;
+  m.x_toe = profile.x_toe;
+  m.runout = profile.x_toe - initial_length;
+  m.runout_normalised = m.runout / initial_length;
+  m.crest_height = profile.height.empty() ? 0.0 : profile.height.front();
+  return m;
+}
+
+double profile_rmse(const SurfaceProfile& run, const SurfaceProfile& reference,
+                    double particle_size) {
+  const auto bins = std::min(reference.height.size(),
+                             static_cast<std::size_t>(reference.x_toe / reference.bin_width) + 1);
+  if (bins == 0) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (std::size_t b = 0; b < bins; ++b) {
+    const double y_ref = reference.height[b];
+    const double y = b < run.height.size() ? run.height[b] : 0.0;
+    const double e = (y - y_ref) / (y_ref + particle_size);
+    sum += e * e;
+  }
+  return std::sqrt(sum / static_cast<double>(bins));
+}
+
+}  // namespace slide

@@ -1,0 +1,35 @@
+// Building the FE mesh a case describes, and checking it.
+//
+//  - "profile": a mapped mesh of the polygon between the base y = 0 and a surface
+//    polyline: vertical lines of nodes at x positions that hit every surface point,
+//    the same number of element rows in every column (round(max height / h)), each
+//    column's nodes spread evenly between the base and the surface.
+//  - "blocks": transfinite (bilinear) mapped blocks with explicit corners and cell
+//    counts; coincident nodes of neighbouring blocks are merged.
+//  - "gmsh": a Gmsh .msh file (gmsh_reader.hpp).
+// tri3 meshes of the generated kinds split every quad into two triangles, alternating
+// the diagonal so that the mesh has no preferred direction.
+//
+// Generated meshes carry the node sets "left" (x = x_min), "right" (x = x_max) and
+// "base" (y = y_min) with outward normals (−1,0), (1,0), (0,−1).
+#pragma once
+
+#include <string_view>
+
+#include "common/case_file.hpp"
+#include "common/mesh.hpp"
+
+namespace slide::fem {
+
+/// The mesh of `c.mesh` with material ids from `c.materials`; validated.
+Mesh build_mesh(const Case& c);
+
+Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id);
+Mesh generate_block_mesh(const MeshSpec& spec, const MaterialTable& materials);
+
+/// Throws Error naming `source` and the first offending element or node: inverted or
+/// zero-area elements (det J ≤ 0 at a corner), nodes no element references, node sets
+/// that are empty or not straight, material ids out of range.
+void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t material_count);
+
+}  // namespace slide::fem

@@ -1,0 +1,82 @@
+// The shared nodal velocity update: constraints, Coulomb friction, damping.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "common/nodal_update.hpp"
+
+namespace slide {
+namespace {
+
+const NodalConstraint base{BoundaryCondition::friction, Vec2(0.0, -1.0)};
+const NodalConstraint left_wall{BoundaryCondition::roller, Vec2(-1.0, 0.0)};
+
+TEST(NodalUpdate, FrictionSlipRemovesMuTimesTheNormalImpulse) {
+  const double m = 2.0, dt = 0.01, mu = 0.5;
+  const Vec2 trial = damped_trial_velocity(m, Vec2(3.0, 0.0), Vec2(0.0, -m * 9.81), dt, {});
+  const Vec2 v = apply_constraint(base, mu, trial);
+  EXPECT_DOUBLE_EQ(v.y(), 0.0);
+  EXPECT_NEAR(v.x(), 3.0 - mu * 9.81 * dt, 1e-14);
+}
+
+TEST(NodalUpdate, FrictionSticksWhenTheTangentialImpulseIsWithinTheCone) {
+  const Vec2 v = apply_constraint(base, 0.5, Vec2(0.04, -0.1));
+  EXPECT_EQ(v, Vec2::Zero());
+  // Just outside the cone it slips by exactly the cone's share.
+  const Vec2 w = apply_constraint(base, 0.5, Vec2(0.06, -0.1));
+  EXPECT_NEAR(w.x(), 0.01, 1e-15);
+  EXPECT_EQ(w.y(), 0.0);
+}
+
+TEST(NodalUpdate, NodePullingAwayFromTheBaseGetsNoFriction) {
+  const Vec2 v = apply_constraint(base, 0.5, Vec2(2.0, 0.3));
+  EXPECT_EQ(v, Vec2(2.0, 0.0));
+}
+
+TEST(NodalUpdate, BlockSlidingOnTheBaseStopsAfterVSquaredOverTwoMuG) {
+  // One node carrying a rigid block: the discrete stopping distance converges to
+  // v0²/(2μg) as dt → 0 (the error is one step's travel).
+  const double m = 1.0, mu = 0.466, v0 = 5.0, dt = 1e-4;
+  Vec2 x = Vec2::Zero(), v(v0, 0.0);
+  const std::array<NodalConstraint, 1> constraints{base};
+  for (int step = 0; step < 1000000 && v.x() > 0.0; ++step) {
+    v = apply_constraints(constraints, mu,
+                          damped_trial_velocity(m, v, Vec2(0.0, -m * 9.81), dt, {}));
+    x += dt * v;
+  }
+  const double expected = v0 * v0 / (2.0 * mu * 9.81);
+  EXPECT_NEAR(x.x(), expected, v0 * dt);
+}
+
+TEST(NodalUpdate, CornerNodeWithRollerAndFrictionIsHeld) {
+  const std::array<NodalConstraint, 2> corner{base, left_wall};
+  EXPECT_EQ(apply_constraints(corner, 0.3, Vec2(-1.0, -2.0)), Vec2::Zero());
+}
+
+TEST(NodalUpdate, RollerOnAnInclinedBoundaryKeepsOnlyTheTangentialComponent) {
+  const Vec2 n = Vec2(1.0, -1.0).normalized();
+  const Vec2 v = apply_constraint({BoundaryCondition::roller, n}, 0.0, Vec2(2.0, 1.0));
+  EXPECT_NEAR(v.dot(n), 0.0, 1e-15);
+  EXPECT_NEAR(v.x(), 1.5, 1e-15);
+  EXPECT_NEAR(v.y(), 1.5, 1e-15);
+}
+
+TEST(NodalUpdate, LocalDampingOpposesTheVelocityByAlphaTimesTheForce) {
+  const NodalDamping damping{0.0, 0.2};
+  const Vec2 v = damped_trial_velocity(1.0, Vec2(1.0, -1.0), Vec2(10.0, 10.0), 0.1, damping);
+  EXPECT_NEAR(v.x(), 1.0 + 0.1 * (10.0 - 2.0), 1e-14);
+  EXPECT_NEAR(v.y(), -1.0 + 0.1 * (10.0 + 2.0), 1e-14);
+}
+
+TEST(NodalUpdate, RayleighMassDampingDecaysFreeMotionExponentially) {
+  const double alpha = 2.0, dt = 1e-5;
+  Vec2 v(1.0, 0.0);
+  for (int step = 0; step < 100000; ++step) {
+    v = damped_trial_velocity(3.0, v, Vec2::Zero(), dt, {alpha, 0.0});
+  }
+  EXPECT_NEAR(v.x(), std::exp(-alpha * 1.0), 1e-4);
+}
+
+}  // namespace
+}  // namespace slide

@@ -1,0 +1,55 @@
+// Runout measures of METHOD.md §6 on hand-computed particle sets.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/runout_metrics.hpp"
+
+namespace slide {
+namespace {
+
+TEST(RunoutMetrics, PercentileInterpolatesLinearlyBetweenOrderStatistics) {
+  EXPECT_DOUBLE_EQ(percentile({5.0, 1.0, 4.0, 2.0, 3.0}, 99.0), 4.96);
+  EXPECT_DOUBLE_EQ(percentile({5.0, 1.0, 4.0, 2.0, 3.0}, 50.0), 3.0);
+  EXPECT_DOUBLE_EQ(percentile({7.0}, 99.0), 7.0);
+  EXPECT_DOUBLE_EQ(percentile({1.0, 2.0}, 100.0), 2.0);
+  EXPECT_TRUE(std::isnan(percentile({}, 99.0)));
+}
+
+// Bin 0 holds y = 1, 2, 3; bin 1 holds y = 0.5 at x = 3.5; bin 2 is empty; the particle
+// in bin 3 is a stray.
+const std::vector<Vec2> sample{{0.5, 1.0}, {1.0, 2.0}, {1.9, 3.0}, {3.5, 0.5}, {6.5, 10.0}};
+
+TEST(RunoutMetrics, ProfileAndToeIgnoreParticlesBeyondAnEmptyBin) {
+  const SurfaceProfile profile = surface_profile(sample, 2.0, 99.0);
+  ASSERT_EQ(profile.height.size(), 2u);
+  EXPECT_DOUBLE_EQ(profile.height[0], 2.98);  // rank 1.98 of {1, 2, 3}
+  EXPECT_DOUBLE_EQ(profile.height[1], 0.5);
+  EXPECT_DOUBLE_EQ(profile.x_toe, 3.5);
+  EXPECT_EQ(profile.stray_count, 1u);
+}
+
+TEST(RunoutMetrics, RunoutIsMeasuredFromTheInitialLength) {
+  const RunoutMeasures m = runout_measures(surface_profile(sample, 2.0, 99.0), 2.0);
+  EXPECT_DOUBLE_EQ(m.x_toe, 3.5);
+  EXPECT_DOUBLE_EQ(m.runout, 1.5);
+  EXPECT_DOUBLE_EQ(m.runout_normalised, 0.75);
+  EXPECT_DOUBLE_EQ(m.crest_height, 2.98);
+}
+
+TEST(RunoutMetrics, RmseNormalisesByReferenceHeightPlusParticleSize) {
+  SurfaceProfile reference;
+  reference.bin_width = 2.0;
+  reference.height = {2.0, 1.0, 0.2};
+  reference.x_toe = 3.5;  // toe in bin 1: bins 0 and 1 count, bin 2 does not
+  SurfaceProfile run;
+  run.bin_width = 2.0;
+  run.height = {3.0};  // the run stops in bin 0: bin 1 counts as height 0
+  run.x_toe = 1.5;
+  const double e0 = (3.0 - 2.0) / (2.0 + 0.5), e1 = (0.0 - 1.0) / (1.0 + 0.5);
+  EXPECT_DOUBLE_EQ(profile_rmse(run, reference, 0.5), std::sqrt((e0 * e0 + e1 * e1) / 2.0));
+  EXPECT_DOUBLE_EQ(profile_rmse(reference, reference, 0.5), 0.0);
+}
+
+}  // namespace
+}  // namespace slide
