@@ -3,6 +3,7 @@
 // constitutive kernels precompute their trigonometry once (constitutive.hpp).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,9 +28,10 @@ struct Material {
   double friction_angle = 0.0;   ///< φ, degrees
   double cohesion = 0.0;         ///< c, Pa
   double dilation_angle = 0.0;   ///< ψ, degrees
-  /// Largest admissible principal stress T (Pa, tension positive). A value above the
-  /// Mohr–Coulomb apex c·cot φ leaves only the apex; the default is the apex.
-  double tension_cutoff = 0.0;
+  /// Largest admissible principal stress T (Pa, tension positive), taken literally:
+  /// T = 0 is a no-tension material; a value at or above the Mohr–Coulomb apex c·cot φ
+  /// (the default, +∞) leaves only the apex.
+  double tension_cutoff = std::numeric_limits<double>::infinity();
 
   double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   double bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }
