@@ -1,0 +1,452 @@
+// The case-file reader: the five cases of METHOD.md §7 load with the values METHOD.md
+// gives, and broken case files are refused with a one-line message naming the file, the
+// line and the dotted key at fault.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "common/case_file.hpp"
+#include "common/error.hpp"
+
+namespace slide {
+namespace {
+
+namespace fs = std::filesystem;
+
+Case load_repository_case(std::string_view name) {
+  return load_case(fs::path(SLIDE_SOURCE_DIR) / "cases" / name / "case.toml");
+}
+
+// ----------------------------------------------------------------------------- the five cases
+
+TEST(CaseFile, ColumnShortLoads) {
+  const Case c = load_repository_case("column-short");
+  EXPECT_EQ(c.name, "column-short");
+  ASSERT_EQ(c.materials.size(), 1u);
+  const Material& soil = c.materials[0];
+  EXPECT_EQ(soil.model, MaterialModel::mohr_coulomb);
+  EXPECT_DOUBLE_EQ(soil.density, 1700.0);
+  EXPECT_DOUBLE_EQ(soil.youngs_modulus, 23.8e6);
+  EXPECT_DOUBLE_EQ(soil.friction_angle, 22.2);
+  EXPECT_DOUBLE_EQ(soil.tension_cutoff, soil.apex_stress());  // default: the apex
+  EXPECT_EQ(c.mesh.generator, MeshGenerator::profile);
+  EXPECT_EQ(c.mesh.element_type, ElementType::quad4_1gp);
+  ASSERT_EQ(c.mesh.surface.size(), 2u);
+  EXPECT_EQ(c.mesh.surface[1], Vec2(50.0, 40.0));
+  EXPECT_TRUE(c.fem.failure_stage);
+  EXPECT_DOUBLE_EQ(c.fem.end_time, 8.0);
+  EXPECT_DOUBLE_EQ(c.fem.friction_coefficient, 0.466);
+  EXPECT_EQ(c.fem.geostatic_boundaries.at("right"), BoundaryCondition::roller);
+  EXPECT_EQ(c.fem.failure_boundaries.at("right"), BoundaryCondition::free);
+  EXPECT_EQ(c.fem.failure_boundaries.at("base"), BoundaryCondition::friction);
+  EXPECT_EQ(c.transfer.particles_x, 4);
+  EXPECT_EQ(c.transfer.particles_y, 4);
+  EXPECT_EQ(c.transfer.sweep_times.size(), 9u);
+  EXPECT_EQ(c.mpm.domain_max, Vec2(200.0, 45.0));
+  EXPECT_DOUBLE_EQ(c.mpm.end_time, 20.0);
+  EXPECT_EQ(c.mpm.boundaries.at("base"), BoundaryCondition::friction);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_length, 50.0);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_height, 40.0);
+  EXPECT_EQ(c.material_index("soil"), 0);
+  EXPECT_THROW(c.material_index("rock"), Error);
+}
+
+TEST(CaseFile, GeostaticLoads) {
+  const Case c = load_repository_case("geostatic-4x4");
+  EXPECT_EQ(c.materials[0].model, MaterialModel::linear_elastic);
+  EXPECT_DOUBLE_EQ(c.materials[0].poisson_ratio, 0.23);
+  EXPECT_DOUBLE_EQ(c.mesh.element_size, 0.25);
+  EXPECT_FALSE(c.fem.failure_stage);
+  EXPECT_TRUE(c.fem.failure_boundaries.empty());
+  EXPECT_EQ(c.fem.geostatic_boundaries.size(), 3u);
+  EXPECT_DOUBLE_EQ(c.transfer.main_time, 0.0);
+  EXPECT_DOUBLE_EQ(c.mpm.cell_size, 0.25);
+  EXPECT_EQ(c.mpm.initial_stress, InitialStress::k0);
+  EXPECT_EQ(c.mpm.boundaries.at("base"), BoundaryCondition::roller);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_height, 4.0);
+}
+
+TEST(CaseFile, ColumnTallLoads) {
+  const Case c = load_repository_case("column-tall");
+  EXPECT_EQ(c.mesh.surface[1], Vec2(20.0, 80.0));
+  EXPECT_DOUBLE_EQ(c.fem.end_time, 6.0);
+  EXPECT_DOUBLE_EQ(c.transfer.main_time, 3.0);
+  EXPECT_EQ(c.transfer.sweep_times.back(), 6.0);
+  EXPECT_EQ(c.mpm.domain_max, Vec2(300.0, 85.0));
+  EXPECT_DOUBLE_EQ(c.metrics.initial_length, 20.0);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_height, 80.0);
+}
+
+TEST(CaseFile, SlopeFrictionalLoads) {
+  const Case c = load_repository_case("slope-frictional");
+  EXPECT_DOUBLE_EQ(c.materials[0].friction_angle, 10.0);
+  EXPECT_DOUBLE_EQ(c.materials[0].cohesion, 500.0);
+  EXPECT_EQ(c.mesh.generator, MeshGenerator::blocks);
+  ASSERT_EQ(c.mesh.blocks.size(), 4u);
+  EXPECT_EQ(c.mesh.blocks[0].cells_u, 20);
+  // The three blocks under the face meet at the triangle's centroid.
+  const Vec2 centroid(80.0 / 3.0, 20.0 / 3.0);
+  EXPECT_NEAR((c.mesh.blocks[1].corners[2] - centroid).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((c.mesh.blocks[2].corners[3] - centroid).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((c.mesh.blocks[3].corners[1] - centroid).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(c.fem.friction_coefficient, std::tan(10.0 * std::numbers::pi / 180.0), 1e-4);
+  EXPECT_EQ(c.fem.failure_boundaries.at("right"), BoundaryCondition::free);
+  EXPECT_DOUBLE_EQ(c.mpm.local_damping, 0.01);
+  EXPECT_DOUBLE_EQ(c.mpm.end_time, 30.0);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_length, 40.0);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_height, 20.0);
+}
+
+TEST(CaseFile, SlopeCohesiveLoads) {
+  const Case c = load_repository_case("slope-cohesive");
+  EXPECT_DOUBLE_EQ(c.materials[0].density, 1690.0);
+  EXPECT_DOUBLE_EQ(c.materials[0].friction_angle, 3.6);
+  EXPECT_DOUBLE_EQ(c.materials[0].cohesion, 5800.0);
+  ASSERT_EQ(c.mesh.surface.size(), 4u);
+  EXPECT_EQ(c.mesh.surface[2], Vec2(50.0, 5.0));
+  EXPECT_EQ(c.mesh.surface[3], Vec2(120.0, 5.0));
+  EXPECT_EQ(c.fem.failure_boundaries.at("right"), BoundaryCondition::roller);
+  EXPECT_NEAR(c.mpm.friction_coefficient, std::tan(3.6 * std::numbers::pi / 180.0), 1e-4);
+  EXPECT_EQ(c.mpm.boundaries.at("right"), BoundaryCondition::roller);
+  EXPECT_EQ(c.transfer.sweep_times.size(), 12u);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_length, 50.0);
+  EXPECT_DOUBLE_EQ(c.metrics.initial_height, 10.0);
+}
+
+// ----------------------------------------------------------------------------- a small valid case
+
+const std::string profile_mesh = R"([mesh]
+generator = "profile"
+element_size = 1.0
+surface = [[0.0, 4.0], [4.0, 4.0]]
+material = "soil"
+)";
+
+const std::string blocks_mesh = R"([mesh]
+generator = "blocks"
+
+[[mesh.blocks]]
+corners = [[0.0, 0.0], [2.0, 0.0], [2.0, 4.0], [0.0, 4.0]]
+cells = [2, 4]
+material = "soil"
+
+[[mesh.blocks]]
+corners = [[2.0, 0.0], [4.0, 0.0], [4.0, 2.0], [2.0, 2.0]]
+cells = [2, 2]
+material = "soil"
+
+[[mesh.blocks]]
+corners = [[2.0, 2.0], [4.0, 2.0], [4.0, 4.0], [2.0, 4.0]]
+cells = [2, 2]
+material = "soil"
+)";
+
+std::string small_case(const std::string& mesh = profile_mesh) {
+  return R"([case]
+name = "unit-test"
+
+[[materials]]
+name = "soil"
+model = "mohr-coulomb"
+density = 1700.0
+youngs_modulus = 23.8e6
+poisson_ratio = 0.23
+friction_angle = 22.2
+cohesion = 1000.0
+dilation_angle = 0.0
+
+)" + mesh +
+         R"(
+[fem]
+end_time = 2.0
+checkpoint_every = 1.0
+friction_coefficient = 0.5
+
+[fem.geostatic.boundaries]
+left = "roller"
+right = "roller"
+base = "roller"
+
+[fem.failure.boundaries]
+left = "roller"
+right = "free"
+base = "friction"
+
+[transfer]
+particles_per_element = [4, 4]
+sweep_times = [0.0, 1.0, 2.0]
+main_time = 1.0
+
+[mpm]
+domain = [[0.0, 0.0], [20.0, 5.0]]
+cell_size = 1.0
+end_time = 5.0
+friction_coefficient = 0.5
+
+[mpm.boundaries]
+left = "roller"
+right = "roller"
+base = "friction"
+
+[metrics]
+initial_length = 4.0
+initial_height = 4.0
+)";
+}
+
+TEST(CaseFile, SmallCaseLoadsWithDefaults) {
+  const Case c = parse_case(small_case(), "case.toml");
+  EXPECT_EQ(c.file, fs::path("case.toml"));
+  EXPECT_EQ(c.fem.kinematics, Kinematics::small_strain);
+  EXPECT_DOUBLE_EQ(c.fem.courant, 0.5);
+  EXPECT_DOUBLE_EQ(c.fem.hourglass_coefficient, 1.0);
+  EXPECT_EQ(c.transfer.particles_triangle, 16);
+  EXPECT_EQ(c.transfer.stress_interpolation, StressInterpolation::rbf);
+  EXPECT_FALSE(c.transfer.rbf_polynomial.has_value());
+  EXPECT_EQ(c.mpm.shape_function, ShapeFunction::gimp);
+  EXPECT_EQ(c.mpm.update_scheme, UpdateScheme::musl);
+  EXPECT_EQ(c.mpm.particle_exit, ParticleExit::freeze);
+  EXPECT_EQ(c.mpm.boundaries.count("top"), 0u);  // unlisted boundaries are free
+  EXPECT_DOUBLE_EQ(c.metrics.bin_width, 2.0);
+  EXPECT_DOUBLE_EQ(c.metrics.profile_percentile, 99.0);
+}
+
+TEST(CaseFile, BlocksWithMatchingEdgesLoad) {
+  const Case c = parse_case(small_case(blocks_mesh), "case.toml");
+  ASSERT_EQ(c.mesh.blocks.size(), 3u);
+  EXPECT_EQ(c.mesh.blocks[2].corners[2], Vec2(4.0, 4.0));
+  EXPECT_EQ(c.mesh.blocks[0].cells_v, 4);
+}
+
+TEST(CaseFile, ParticleCountMayBeOneInteger) {
+  std::string text = small_case();
+  text.replace(text.find("particles_per_element = [4, 4]"), 30, "particles_per_element = 3");
+  const Case c = parse_case(text, "case.toml");
+  EXPECT_EQ(c.transfer.particles_x, 3);
+  EXPECT_EQ(c.transfer.particles_y, 3);
+}
+
+TEST(CaseFile, TensionCutoffDefaultsToTheApexAndIsInfiniteWithoutFriction) {
+  std::string text = small_case();
+  text.replace(text.find("friction_angle = 22.2"), 21, "friction_angle = 0.0");
+  const Case c = parse_case(text, "case.toml");
+  EXPECT_EQ(c.materials[0].tension_cutoff, std::numeric_limits<double>::infinity());
+  text.replace(text.find("dilation_angle = 0.0"), 20, "tension_cutoff = 250.0");
+  EXPECT_DOUBLE_EQ(parse_case(text, "case.toml").materials[0].tension_cutoff, 250.0);
+}
+
+TEST(CaseFile, GmshFileIsFoundRelativeToTheCaseFolder) {
+  const fs::path folder = fs::temp_directory_path() / "slide-test-case-file-gmsh";
+  fs::create_directories(folder);
+  std::ofstream(folder / "slope.msh") << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  const std::string mesh =
+      "[mesh]\ngenerator = \"gmsh\"\nelement = \"tri3\"\nfile = \"slope.msh\"\n";
+  std::string text = small_case(mesh);
+  // Gmsh meshes name their own boundaries (physical lines).
+  text.replace(text.find("right = \"free\""), 14, "toe_face = \"free\"");
+  const Case c = parse_case(text, folder / "case.toml");
+  EXPECT_EQ(c.mesh.generator, MeshGenerator::gmsh);
+  EXPECT_EQ(c.mesh.element_type, ElementType::tri3);
+  EXPECT_TRUE(c.mesh.gmsh_file.is_absolute());
+  EXPECT_TRUE(fs::equivalent(c.mesh.gmsh_file, folder / "slope.msh"));
+  EXPECT_EQ(c.fem.failure_boundaries.at("toe_face"), BoundaryCondition::free);
+  fs::remove_all(folder);
+}
+
+TEST(CaseFile, NameMustMatchTheFolderUnderCases) {
+  const std::string text = small_case();
+  EXPECT_NO_THROW(parse_case(text, "/somewhere/cases/unit-test/case.toml"));
+  try {
+    parse_case(text, "/somewhere/cases/other-name/case.toml");
+    FAIL() << "a case named unlike its folder was accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("case.name"), std::string::npos) << error.what();
+  }
+}
+
+TEST(CaseFile, MissingFileIsAnError) {
+  EXPECT_THROW(load_case("/nonexistent/cases/none/case.toml"), Error);
+}
+
+TEST(CaseFile, EnumNamesAreTheCaseFileSpellings) {
+  EXPECT_EQ(to_string(Kinematics::updated_lagrangian), "updated-lagrangian");
+  EXPECT_EQ(to_string(StressInterpolation::rbf_local), "rbf-local");
+  EXPECT_EQ(to_string(RbfPolynomial::linear), "linear");
+  EXPECT_EQ(to_string(ShapeFunction::gimp), "gimp");
+  EXPECT_EQ(to_string(UpdateScheme::usl), "usl");
+}
+
+// ----------------------------------------------------------------------------- broken files
+
+/// One broken case file: `find` (first occurrence) in the small case is replaced by
+/// `replace` (empty `find`: `replace` is appended). The error must name `key` and, when
+/// `line_of` is given, the line of the first occurrence of `line_of` in the broken text.
+struct Broken {
+  std::string_view label;
+  std::string_view find;
+  std::string_view replace;
+  std::string_view key;
+  std::string_view line_of;
+  bool blocks = false;  ///< edit the blocks variant of the small case
+};
+
+const Broken broken_cases[] = {
+    {"unknown table", "", "[extra]\nx = 1\n", "extra: unknown key", "[extra]"},
+    {"misspelt key", "density = 1700.0", "densty = 1700.0", "materials[0].densty: unknown key",
+     "densty"},
+    {"unknown key in a nested table", "checkpoint_every = 1.0", "checkpoint_evry = 1.0",
+     "fem.checkpoint_evry: unknown key", "checkpoint_evry"},
+    {"missing required key", "generator = \"profile\"\n", "",
+     "mesh.generator: missing required key", "[mesh]"},
+    {"missing required table", "[metrics]\ninitial_length = 4.0\ninitial_height = 4.0\n", "",
+     "metrics: missing required table", ""},
+    {"string for a number", "end_time = 2.0", "end_time = \"2\"", "fem.end_time: expected a number",
+     "end_time = \"2\""},
+    {"string for a boolean", "[fem]\n", "[fem]\nfailure_stage = \"no\"\n", "fem.failure_stage",
+     "failure_stage"},
+    {"float for an integer", "particles_per_element = [4, 4]", "particles_per_element = [4.0, 4]",
+     "transfer.particles_per_element[0]: expected an integer", "particles_per_element"},
+    {"negative density", "density = 1700.0", "density = -1700.0",
+     "materials[0].density = -1700 is not admissible", "density ="},
+    {"incompressible", "poisson_ratio = 0.23", "poisson_ratio = 0.5", "materials[0].poisson_ratio",
+     "poisson_ratio"},
+    {"friction angle 90", "friction_angle = 22.2", "friction_angle = 90.0",
+     "materials[0].friction_angle", "friction_angle"},
+    {"dilation above friction", "dilation_angle = 0.0", "dilation_angle = 30.0",
+     "materials[0].dilation_angle", "dilation_angle"},
+    {"unknown model", "\"mohr-coulomb\"", "\"drucker-prager\"", "materials[0].model",
+     "drucker-prager"},
+    {"strength on an elastic material", "\"mohr-coulomb\"", "\"linear-elastic\"",
+     "materials[0].friction_angle", "friction_angle"},
+    {"materials as one table", "[[materials]]", "[materials]", "materials", ""},
+    {"duplicate material name", "",
+     "[[materials]]\nname = \"soil\"\nmodel = \"linear-elastic\"\ndensity = 1.0\n"
+     "youngs_modulus = 1.0\npoisson_ratio = 0.2\n",
+     "materials[1].name", "name = \"soil\"\nmodel = \"linear"},
+    {"unknown element", "generator = \"profile\"", "generator = \"profile\"\nelement = \"quad8\"",
+     "mesh.element", "quad8"},
+    {"unknown generator", "generator = \"profile\"", "generator = \"triangle\"", "mesh.generator",
+     "triangle"},
+    {"unknown material in the mesh", "material = \"soil\"", "material = \"rock\"", "mesh.material",
+     "rock"},
+    {"surface x not increasing", "[[0.0, 4.0], [4.0, 4.0]]", "[[0.0, 4.0], [4.0, 4.0], [3.0, 2.0]]",
+     "mesh.surface[2]", "surface ="},
+    {"surface away from the wall", "[[0.0, 4.0], [4.0, 4.0]]", "[[1.0, 4.0], [4.0, 4.0]]",
+     "mesh.surface[0]", "surface ="},
+    {"surface below the base", "[[0.0, 4.0], [4.0, 4.0]]", "[[0.0, 4.0], [4.0, 0.0]]",
+     "mesh.surface[1]", "surface ="},
+    {"geometry of another generator", "element_size = 1.0", "element_size = 1.0\nfile = \"x.msh\"",
+     "mesh.file: not used by generator", "file ="},
+    {"block corners clockwise", "[[0.0, 0.0], [2.0, 0.0], [2.0, 4.0], [0.0, 4.0]]",
+     "[[0.0, 0.0], [0.0, 4.0], [2.0, 4.0], [2.0, 0.0]]", "mesh.blocks[0].corners",
+     "corners =", true},
+    {"block edges with hanging nodes", "cells = [2, 4]", "cells = [2, 3]", "mesh.blocks[1].cells",
+     "", true},
+    {"profile key in a blocks mesh", "generator = \"blocks\"",
+     "generator = \"blocks\"\nelement_size = 1.0", "mesh.element_size", "element_size", true},
+    {"courant 0", "end_time = 2.0", "end_time = 2.0\ncourant = 0.0", "fem.courant", "courant"},
+    {"checkpoint after the end", "checkpoint_every = 1.0", "checkpoint_times = [1.0, 3.0]",
+     "fem.checkpoint_times[1]", "checkpoint_times"},
+    {"failure settings without a failure stage", "[fem]\n", "[fem]\nfailure_stage = false\n",
+     "fem.end_time: only used when fem.failure_stage = true", "end_time = 2.0"},
+    {"unknown boundary name", "right = \"free\"", "rigth = \"free\"",
+     "fem.failure.boundaries.rigth: unknown key", "rigth"},
+    {"unknown boundary condition", "right = \"free\"", "right = \"loose\"",
+     "fem.failure.boundaries.right", "loose"},
+    {"friction without coefficient", "friction_coefficient = 0.5\n", "",
+     "fem.failure.boundaries.base", "base = \"friction\""},
+    {"friction in the geostatic stage", "base = \"roller\"", "base = \"friction\"",
+     "fem.geostatic.boundaries.base", "base = \"friction\""},
+    {"too many particles", "particles_per_element = [4, 4]", "particles_per_element = [11, 4]",
+     "transfer.particles_per_element[0]", "particles_per_element"},
+    {"no such triangle rule", "[transfer]\n", "[transfer]\nparticles_per_triangle = 5\n",
+     "transfer.particles_per_triangle", "particles_per_triangle"},
+    {"unknown interpolation", "[transfer]\n", "[transfer]\nstress_interpolation = \"kriging\"\n",
+     "transfer.stress_interpolation", "kriging"},
+    {"sweep beyond the FE run", "sweep_times = [0.0, 1.0, 2.0]", "sweep_times = [0.0, 1.0, 3.0]",
+     "transfer.sweep_times[2]", "sweep_times"},
+    {"sweep not increasing", "sweep_times = [0.0, 1.0, 2.0]", "sweep_times = [0.0, 2.0, 1.0]",
+     "transfer.sweep_times[2]", "sweep_times"},
+    {"cell size not dividing the domain", "cell_size = 1.0", "cell_size = 0.3", "mpm.cell_size",
+     "cell_size"},
+    {"domain upside down", "[[0.0, 0.0], [20.0, 5.0]]", "[[0.0, 5.0], [20.0, 0.0]]", "mpm.domain",
+     "domain ="},
+    {"domain not containing the body", "[[0.0, 0.0], [20.0, 5.0]]", "[[0.0, 0.0], [20.0, 3.0]]",
+     "mpm.domain", "domain ="},
+    {"pic fraction 2", "cell_size = 1.0", "cell_size = 1.0\npic_fraction = 2.0", "mpm.pic_fraction",
+     "pic_fraction"},
+    {"local damping 1", "cell_size = 1.0", "cell_size = 1.0\nlocal_damping = 1.0",
+     "mpm.local_damping", "local_damping"},
+    {"MPM ends before the transfer", "end_time = 5.0", "end_time = 1.5", "mpm.end_time",
+     "end_time = 1.5"},
+    {"grid boundary name", "base = \"friction\"\n\n[metrics]", "bottom = \"friction\"\n\n[metrics]",
+     "mpm.boundaries.bottom: unknown key", "bottom"},
+    {"gravity stage without duration", "cell_size = 1.0",
+     "cell_size = 1.0\ninitial_stress = \"gravity\"",
+     "mpm.gravity_stage_duration: missing required key", "[mpm]"},
+    {"missing metric", "initial_height = 4.0\n", "", "metrics.initial_height: missing required key",
+     "[metrics]"},
+    {"percentile above 100", "initial_height = 4.0",
+     "initial_height = 4.0\nprofile_percentile = 101", "metrics.profile_percentile",
+     "profile_percentile"},
+    {"badly formed case name", "name = \"unit-test\"", "name = \"Unit Test\"", "case.name",
+     "Unit Test"},
+    {"TOML syntax error", "density = 1700.0", "density = = 1700.0", "TOML syntax error",
+     "density = ="},
+    {"TOML duplicate key", "density = 1700.0", "density = 1700.0\ndensity = 1800.0",
+     "TOML syntax error", "density = 1800.0"},
+};
+
+int line_of(const std::string& text, std::string_view needle) {
+  const auto at = text.find(needle);
+  if (at == std::string::npos) return 0;
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+}
+
+class CaseFileBroken : public testing::TestWithParam<Broken> {};
+
+TEST_P(CaseFileBroken, IsRefusedWithKeyAndLine) {
+  const Broken& broken = GetParam();
+  std::string text = broken.blocks ? small_case(blocks_mesh) : small_case();
+  if (broken.find.empty()) {
+    text += "\n";
+    text += broken.replace;
+  } else {
+    const auto at = text.find(broken.find);
+    ASSERT_NE(at, std::string::npos) << "the edit does not apply: " << broken.find;
+    text.replace(at, broken.find.size(), broken.replace);
+  }
+  try {
+    parse_case(text, "case.toml");
+    FAIL() << broken.label << ": accepted";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_TRUE(message.starts_with("case.toml")) << message;
+    EXPECT_NE(message.find(broken.key), std::string::npos) << message;
+    if (!broken.line_of.empty()) {
+      const int line = line_of(text, broken.line_of);
+      ASSERT_GT(line, 0) << "no such text: " << broken.line_of;
+      EXPECT_TRUE(message.starts_with(fmt::format("case.toml:{}: ", line)))
+          << message << " (expected line " << line << ")";
+    }
+  }
+}
+
+std::string test_name(const testing::TestParamInfo<Broken>& info) {
+  std::string name;
+  for (char ch : info.param.label) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(CaseFile, CaseFileBroken, testing::ValuesIn(broken_cases), test_name);
+
+}  // namespace
+}  // namespace slide
