@@ -1000,7 +1000,8 @@ MpmSpec read_mpm(const Section& root, const MeshSpec& mesh, const TransferSpec& 
 
 MetricsSpec read_metrics(const Section& root) {
   const Section s = root.table("metrics", Section::Keys{"initial_length", "initial_height",
-                                                        "bin_width", "profile_percentile"});
+                                                        "bin_width", "profile_percentile",
+                                                        "foundation_level"});
   MetricsSpec metrics;
   metrics.initial_length = s.number("initial_length", positive("m"));
   metrics.initial_height = s.number("initial_height", positive("m"));
@@ -1008,6 +1009,7 @@ MetricsSpec read_metrics(const Section& root) {
   metrics.profile_percentile =
       s.number("profile_percentile", Range{.min = 0.0, .max = 100.0, .max_closed = true},
                metrics.profile_percentile);
+  metrics.foundation_level = s.number("foundation_level", non_negative("m"), 0.0);
   return metrics;
 }
 

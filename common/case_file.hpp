@@ -144,6 +144,9 @@ struct MetricsSpec {
   double initial_height = 0.0;  ///< H_0, m (τ_c = sqrt(H_0/g))
   double bin_width = 2.0;       ///< profile bins, m
   double profile_percentile = 99.0;
+  /// Particles at or below this height are left out of the profile and the toe: the
+  /// top of a foundation layer that stays in place (slope-cohesive), m. 0: none.
+  double foundation_level = 0.0;
 };
 
 // ----------------------------------------------------------------------------- case

@@ -17,12 +17,15 @@ double percentile(std::vector<double> values, double p) {
 }
 
 SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width,
-                               double percentile_p) {
+                               double percentile_p, double foundation_level) {
   SurfaceProfile profile;
   profile.bin_width = bin_width;
   std::vector<std::vector<double>> bins;
+  auto measured = [foundation_level](const Vec2& x) {
+    return x.x() >= 0.0 && x.y() > foundation_level;
+  };
   for (const Vec2& x : points) {
-    if (x.x() < 0.0) continue;
+    if (!measured(x)) continue;
     const auto b = static_cast<std::size_t>(x.x() / bin_width);
     if (b >= bins.size()) bins.resize(b + 1);
     bins[b].push_back(x.y());
@@ -36,7 +39,7 @@ SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width,
   const double limit = static_cast<double>(contiguous) * bin_width;
   profile.x_toe = 0.0;
   for (const Vec2& x : points) {
-    if (x.x() < 0.0) continue;
+    if (!measured(x)) continue;
     if (x.x() < limit) {
       profile.x_toe = std::max(profile.x_toe, x.x());
     } else {

@@ -33,8 +33,11 @@ struct SurfaceProfile {
   std::size_t stray_count = 0;  ///< particles beyond the first empty bin
 };
 
+/// Profile of the particles above `foundation_level` (METHOD.md §6 uses all of them:
+/// level 0; a foundation layer that fills every bin to the grid's end would otherwise
+/// put the toe there).
 SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width,
-                               double percentile_p = 99.0);
+                               double percentile_p = 99.0, double foundation_level = 0.0);
 
 struct RunoutMeasures {
   double x_toe = 0.0;

@@ -51,5 +51,16 @@ TEST(RunoutMetrics, RmseNormalisesByReferenceHeightPlusParticleSize) {
   EXPECT_DOUBLE_EQ(profile_rmse(reference, reference, 0.5), 0.0);
 }
 
+TEST(RunoutMetrics, FoundationLayerIsLeftOutOfTheProfileAndToe) {
+  // A foundation layer (y ≤ 1) reaching x = 9 and debris on it up to x = 3.5.
+  std::vector<Vec2> points{{0.5, 3.0}, {1.5, 2.0}, {3.5, 1.5}};
+  for (double x = 0.25; x < 9.0; x += 0.5) points.emplace_back(x, 0.75);
+  EXPECT_DOUBLE_EQ(surface_profile(points, 2.0).x_toe, 8.75);
+  const SurfaceProfile above = surface_profile(points, 2.0, 99.0, 1.0);
+  EXPECT_DOUBLE_EQ(above.x_toe, 3.5);
+  ASSERT_EQ(above.height.size(), 2u);
+  EXPECT_DOUBLE_EQ(above.height[1], 1.5);
+}
+
 }  // namespace
 }  // namespace slide
