@@ -1,0 +1,131 @@
+// slide-metrics: measurements for the case pipelines (METHOD.md §6, CONTRACT.md).
+//
+//   slide-metrics case-info CASE.toml             make variables of a case
+//   slide-metrics transfer-times CASE.toml FEM_HISTORY.csv
+//                                                 the sweep's valid transfer times
+//   slide-metrics measure CASE.toml PARTICLES.h5  toe, R, R_N, H_c of one state
+//   slide-metrics sweep CASE.toml OUT/            OUT/sweep.csv and OUT/sweep.md
+//
+// `sweep` looks in OUT/ for tt<T>/mpm_final.h5, pure-mpm/mpm_final.h5 and
+// pure-fem/particles_final.h5, and reads the FE mesh quality at each transfer time
+// from OUT/fem/fem_history.csv. Errors and RMSE are against the tt0 run. It also
+// writes OUT/sweep.md (the table for the report) and OUT/profiles.csv (every run's
+// surface profile, for the plots).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "common/atomic_file.hpp"
+#include "common/case_file.hpp"
+#include "common/error.hpp"
+#include "common/program.hpp"
+#include "tools/sweep_metrics.hpp"
+
+namespace fs = std::filesystem;
+using namespace slide;
+using namespace slide::tools;
+
+namespace {
+
+std::string join(const std::vector<double>& values) {
+  std::string text;
+  for (double v : values) text += fmt::format("{}{:g}", text.empty() ? "" : " ", v);
+  return text;
+}
+
+void case_info(const fs::path& case_file) {
+  const Case c = load_case(case_file);
+  fmt::print("NAME={}\n", c.name);
+  fmt::print("MAIN_TT={:g}\n", c.transfer.main_time);
+  fmt::print("SWEEP_TTS={}\n", join(c.transfer.sweep_times));
+  fmt::print("FEM_END={:g}\n", c.fem.failure_stage ? c.fem.end_time : 0.0);
+  fmt::print("MPM_END={:g}\n", c.mpm.end_time);
+  fmt::print("TAU_C={:.6g}\n", critical_time(c));
+}
+
+void transfer_times(const fs::path& case_file, const fs::path& history_file) {
+  const Case c = load_case(case_file);
+  fmt::print("{}\n", join(valid_transfer_times(c, read_fem_history(history_file))));
+}
+
+void measure(const fs::path& case_file, const fs::path& particles) {
+  const Case c = load_case(case_file);
+  const RunMetrics m = measure_run(c, particles.stem().string(), std::nullopt, particles);
+  fmt::print("x_toe={:.4f} runout={:.4f} runout_normalised={:.5f} crest_height={:.4f} "
+             "bins={} strays={}\n",
+             m.measures.x_toe, m.measures.runout, m.measures.runout_normalised,
+             m.measures.crest_height, m.profile.height.size(), m.profile.stray_count);
+}
+
+void sweep(const fs::path& case_file, const fs::path& out) {
+  const Case c = load_case(case_file);
+  const auto history_file = out / "fem" / "fem_history.csv";
+  std::vector<FemHistoryRow> history;
+  if (fs::exists(history_file)) history = read_fem_history(history_file);
+
+  std::vector<std::pair<double, fs::path>> transfers;
+  if (fs::is_directory(out)) {
+    for (const auto& entry : fs::directory_iterator(out)) {
+      const std::string name = entry.path().filename().string();
+      if (!entry.is_directory() || !name.starts_with("tt")) continue;
+      const auto final_file = entry.path() / "mpm_final.h5";
+      if (!fs::exists(final_file)) continue;
+      try {
+        transfers.emplace_back(std::stod(name.substr(2)), final_file);
+      } catch (const std::exception&) {
+        continue;  // not a transfer folder
+      }
+    }
+  }
+  std::sort(transfers.begin(), transfers.end());
+  std::vector<RunMetrics> runs;
+  for (const auto& [tt, file] : transfers) {
+    RunMetrics run = measure_run(c, file.parent_path().filename().string(), tt, file);
+    run.fem_at_transfer = history_at(history, tt);
+    runs.push_back(std::move(run));
+  }
+  for (const auto& [name, file] : {std::pair{"pure-mpm", out / "pure-mpm" / "mpm_final.h5"},
+                                   std::pair{"pure-fem", out / "pure-fem" / "particles_final.h5"}}) {
+    if (fs::exists(file)) runs.push_back(measure_run(c, name, std::nullopt, file));
+  }
+  if (runs.empty()) throw Error("{}: no finished run to measure", out.string());
+  const std::string reference = runs.front().run == "tt0" ? "tt0" : "";
+  if (reference.empty()) {
+    fmt::print(stderr, "slide-metrics: warning: no tt0 run in {}: errors and RMSE left empty\n",
+               out.string());
+  }
+  write_text_atomically(out / "sweep.csv", sweep_csv(c, runs, reference));
+  write_text_atomically(out / "sweep.md", sweep_markdown(c, runs, reference));
+  write_text_atomically(out / "profiles.csv", profiles_csv(runs));
+  fmt::print("slide-metrics: {} runs measured: {}\n", runs.size(), (out / "sweep.csv").string());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"slide-metrics: surface profiles, runout and sweep tables (METHOD.md §6)",
+               "slide-metrics"};
+  app.require_subcommand(1);
+  std::string case_file, second;
+  auto* info = app.add_subcommand("case-info", "print a case's make variables");
+  info->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
+  auto* times = app.add_subcommand("transfer-times", "print the sweep's valid transfer times");
+  times->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
+  times->add_option("history", second, "fem_history.csv")->required()->check(CLI::ExistingFile);
+  auto* one = app.add_subcommand("measure", "measure one particle state");
+  one->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
+  one->add_option("particles", second, "particles or mpm checkpoint")
+      ->required()
+      ->check(CLI::ExistingFile);
+  auto* all = app.add_subcommand("sweep", "measure every run of a case's output folder");
+  all->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
+  all->add_option("out", second, "the case's output folder")->required();
+  if (auto status = parse_command_line(app, argc, argv)) return *status;
+  return run_main("slide-metrics", [&] {
+    if (*info) case_info(case_file);
+    if (*times) transfer_times(case_file, second);
+    if (*one) measure(case_file, second);
+    if (*all) sweep(case_file, second);
+  });
+}

@@ -1,0 +1,210 @@
+#include "tools/sweep_metrics.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "common/checkpoint.hpp"
+#include "common/error.hpp"
+
+namespace slide::tools {
+
+namespace {
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream stream(line);
+  std::string cell;
+  while (std::getline(stream, cell, ',')) {
+    const auto begin = cell.find_first_not_of(" \t\r");
+    const auto end = cell.find_last_not_of(" \t\r");
+    cells.push_back(begin == std::string::npos ? "" : cell.substr(begin, end - begin + 1));
+  }
+  return cells;
+}
+
+double parse_number(const std::string& text, const std::filesystem::path& path, int line) {
+  if (text.empty() || text == "nan" || text == "NaN") return std::nan("");
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used != text.size()) throw std::invalid_argument(text);
+    return value;
+  } catch (const std::exception&) {
+    throw Error("{}:{}: \"{}\" is not a number", path.string(), line, text);
+  }
+}
+
+std::string cell(std::optional<double> value, const char* format = "{:.6g}") {
+  if (!value || !std::isfinite(*value)) return "";
+  return fmt::format(fmt::runtime(format), *value);
+}
+
+const RunMetrics* find_run(const std::vector<RunMetrics>& runs, const std::string& name) {
+  for (const auto& run : runs) {
+    if (run.run == name) return &run;
+  }
+  return nullptr;
+}
+
+/// The derived quantities of one row, shared by the CSV and Markdown writers.
+struct SweepRow {
+  std::optional<double> tt, tt_over_tauc, runout, runout_normalised, runout_normalised_error,
+      crest_height, crest_height_error, rmse, jacobian_ratio_min, jacobian_ratio_avg, eps_q_avg;
+};
+
+SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* reference) {
+  SweepRow row;
+  row.tt = run.tt;
+  if (run.tt) row.tt_over_tauc = *run.tt / critical_time(c);
+  row.runout = run.measures.runout;
+  row.runout_normalised = run.measures.runout_normalised;
+  row.crest_height = run.measures.crest_height;
+  if (reference != nullptr) {
+    const auto& ref = reference->measures;
+    row.runout_normalised_error =
+        (run.measures.runout_normalised - ref.runout_normalised) / ref.runout_normalised;
+    row.crest_height_error = (run.measures.crest_height - ref.crest_height) / ref.crest_height;
+    row.rmse = profile_rmse(run.profile, reference->profile, particle_spacing(c));
+  }
+  if (run.fem_at_transfer) {
+    row.jacobian_ratio_min = run.fem_at_transfer->jacobian_ratio_min;
+    row.jacobian_ratio_avg = run.fem_at_transfer->jacobian_ratio_avg;
+    row.eps_q_avg = run.fem_at_transfer->eps_q_avg;
+  }
+  return row;
+}
+
+}  // namespace
+
+std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("{}: cannot open the FE history", path.string());
+  std::string line;
+  if (!std::getline(in, line)) throw Error("{}: empty file, expected a header line", path.string());
+  const auto header = split_csv_line(line);
+  std::map<std::string, std::size_t> column;
+  for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
+  const std::vector<std::pair<std::string, double FemHistoryRow::*>> fields{
+      {"time", &FemHistoryRow::time},
+      {"kinetic_energy", &FemHistoryRow::kinetic_energy},
+      {"pe0", &FemHistoryRow::pe0},
+      {"ke_over_pe0", &FemHistoryRow::ke_over_pe0},
+      {"jacobian_ratio_min", &FemHistoryRow::jacobian_ratio_min},
+      {"jacobian_ratio_avg", &FemHistoryRow::jacobian_ratio_avg},
+      {"eps_q_avg", &FemHistoryRow::eps_q_avg},
+      {"eps_q_max", &FemHistoryRow::eps_q_max},
+      {"n_elements_yielding", &FemHistoryRow::n_elements_yielding}};
+  for (const auto& [name, member] : fields) {
+    if (!column.contains(name)) throw Error("{}: missing column {}", path.string(), name);
+  }
+  std::vector<FemHistoryRow> rows;
+  int line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty()) continue;
+    const auto cells = split_csv_line(line);
+    if (cells.size() != header.size()) {
+      throw Error("{}:{}: {} cells, expected {}", path.string(), line_number, cells.size(),
+                  header.size());
+    }
+    FemHistoryRow row;
+    for (const auto& [name, member] : fields) {
+      row.*member = parse_number(cells[column[name]], path, line_number);
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::optional<FemHistoryRow> history_at(const std::vector<FemHistoryRow>& history, double time) {
+  for (const auto& row : history) {
+    if (std::abs(row.time - time) < 1e-6) return row;
+  }
+  return std::nullopt;
+}
+
+std::vector<double> valid_transfer_times(const Case& c,
+                                         const std::vector<FemHistoryRow>& history) {
+  std::vector<double> times;
+  for (double t : c.transfer.sweep_times) {
+    if (t > c.fem.end_time + 1e-9) break;
+    const auto row = history_at(history, t);
+    if (!row || !(row->jacobian_ratio_min > 0.0)) break;
+    times.push_back(t);
+  }
+  return times;
+}
+
+double particle_spacing(const Case& c) { return c.mpm.cell_size / c.mpm.particles_x; }
+
+double critical_time(const Case& c) {
+  return std::sqrt(c.metrics.initial_height / gravity_acceleration);
+}
+
+RunMetrics measure_run(const Case& c, const std::string& run, std::optional<double> tt,
+                       const std::filesystem::path& particle_file) {
+  const ParticleCheckpoint checkpoint = read_particle_checkpoint(particle_file);
+  RunMetrics metrics;
+  metrics.run = run;
+  metrics.tt = tt;
+  metrics.profile = surface_profile(checkpoint.particles.coordinates, c.metrics.bin_width,
+                                    c.metrics.profile_percentile, c.metrics.foundation_level);
+  metrics.measures = runout_measures(metrics.profile, c.metrics.initial_length);
+  return metrics;
+}
+
+std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,
+                      const std::string& reference) {
+  const RunMetrics* ref = find_run(runs, reference);
+  std::string csv =
+      "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
+      "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\n";
+  for (const auto& run : runs) {
+    const SweepRow r = sweep_row(c, run, ref);
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", run.run, cell(r.tt),
+                       cell(r.tt_over_tauc), cell(r.runout), cell(r.runout_normalised),
+                       cell(r.runout_normalised_error), cell(r.crest_height),
+                       cell(r.crest_height_error), cell(r.rmse), cell(r.jacobian_ratio_min),
+                       cell(r.jacobian_ratio_avg), cell(r.eps_q_avg));
+  }
+  return csv;
+}
+
+std::string profiles_csv(const std::vector<RunMetrics>& runs) {
+  std::string csv = "run,bin,x_centre,height\n";
+  for (const auto& run : runs) {
+    const double w = run.profile.bin_width;
+    for (std::size_t b = 0; b < run.profile.height.size(); ++b) {
+      csv += fmt::format("{},{},{:.6g},{:.6g}\n", run.run, b, (static_cast<double>(b) + 0.5) * w,
+                         run.profile.height[b]);
+    }
+  }
+  return csv;
+}
+
+std::string sweep_markdown(const Case& c, const std::vector<RunMetrics>& runs,
+                           const std::string& reference) {
+  const RunMetrics* ref = find_run(runs, reference);
+  std::string md =
+      "| run | t_T (s) | t_T/τc | R (m) | R_N | R_N error | H_c (m) | H_c error | RMSE | "
+      "(|J_t|/|J_0|)_min | (|J_t|/|J_0|)_avg | εq,avg |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  auto percent = [](std::optional<double> v) { return v ? cell(*v * 100.0, "{:+.1f} %") : ""; };
+  for (const auto& run : runs) {
+    const SweepRow r = sweep_row(c, run, ref);
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", run.run,
+                      cell(r.tt, "{:.3g}"), cell(r.tt_over_tauc, "{:.2f}"),
+                      cell(r.runout, "{:.1f}"), cell(r.runout_normalised, "{:.3f}"),
+                      percent(r.runout_normalised_error), cell(r.crest_height, "{:.2f}"),
+                      percent(r.crest_height_error), cell(r.rmse, "{:.3f}"),
+                      cell(r.jacobian_ratio_min, "{:.3f}"), cell(r.jacobian_ratio_avg, "{:.3f}"),
+                      r.eps_q_avg ? cell(*r.eps_q_avg * 100.0, "{:.1f} %") : "");
+  }
+  return md;
+}
+
+}  // namespace slide::tools

@@ -1,0 +1,63 @@
+// The measurements of a transfer-time sweep (METHOD.md §6, CONTRACT.md sweep.csv):
+// one row per run (tt0, tt1, ..., pure-mpm, pure-fem) with runout, crest height and
+// profile RMSE against the tt0 run, and the FE mesh quality at the transfer time.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/case_file.hpp"
+#include "common/runout_metrics.hpp"
+
+namespace slide::tools {
+
+/// One row of fem_history.csv.
+struct FemHistoryRow {
+  double time = 0.0;
+  double kinetic_energy = 0.0, pe0 = 0.0, ke_over_pe0 = 0.0;
+  double jacobian_ratio_min = 0.0, jacobian_ratio_avg = 0.0;
+  double eps_q_avg = 0.0, eps_q_max = 0.0;
+  double n_elements_yielding = 0.0;
+};
+
+/// Reads fem_history.csv (CONTRACT.md columns, by name); throws Error naming the file.
+std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path);
+
+/// The row at `time` (within 1e-6 s), if any.
+std::optional<FemHistoryRow> history_at(const std::vector<FemHistoryRow>& history, double time);
+
+/// Transfer times of the sweep: the case's sweep_times within the FE end time, for as
+/// long as the mesh has not entangled ((|J_t|/|J_0|)_min > 0 at that time).
+std::vector<double> valid_transfer_times(const Case& c, const std::vector<FemHistoryRow>& history);
+
+struct RunMetrics {
+  std::string run;            ///< "tt2", "pure-mpm", "pure-fem"
+  std::optional<double> tt;   ///< transfer time, s (none for pure runs)
+  SurfaceProfile profile;
+  RunoutMeasures measures;
+  std::optional<FemHistoryRow> fem_at_transfer;
+};
+
+/// Measures the final particles of one run (a "particles" or "mpm" checkpoint).
+RunMetrics measure_run(const Case& c, const std::string& run, std::optional<double> tt,
+                       const std::filesystem::path& particle_file);
+
+/// Writes sweep.csv (CONTRACT.md columns) with errors and RMSE against the run called
+/// `reference` (normally "tt0"); empty cells where a value is not defined.
+std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,
+                      const std::string& reference);
+/// The same table in Markdown, for the report.
+std::string sweep_markdown(const Case& c, const std::vector<RunMetrics>& runs,
+                           const std::string& reference);
+
+/// The surface profiles of all runs, long format: run, bin, x_centre, height.
+std::string profiles_csv(const std::vector<RunMetrics>& runs);
+
+/// Initial particle spacing p of the case (MPM cell size / particles per cell).
+double particle_spacing(const Case& c);
+/// Critical time τc = sqrt(H0 / g).
+double critical_time(const Case& c);
+
+}  // namespace slide::tools
