@@ -12,11 +12,11 @@
 #include "common/material.hpp"
 #include "common/mesh.hpp"
 
-namespace slide::fem {
+namespace slide {
 
 /// Reads `path` into a mesh of `type`; throws Error (file, line, problem) on a malformed
 /// file, an unsupported element, an unknown material name or a missing physical group.
 Mesh read_gmsh(const std::filesystem::path& path, ElementType type,
                const MaterialTable& materials);
 
-}  // namespace slide::fem
+}  // namespace slide

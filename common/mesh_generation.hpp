@@ -1,4 +1,5 @@
-// Building the FE mesh a case describes, and checking it.
+// Building the FE mesh a case describes, and checking it. In common/ because the FE
+// phase meshes the body with it and pure MPM fills the same body with particles.
 //
 //  - "profile": a mapped mesh of the polygon between the base y = 0 and a surface
 //    polyline: vertical lines of nodes at x positions that hit every surface point,
@@ -19,7 +20,7 @@
 #include "common/case_file.hpp"
 #include "common/mesh.hpp"
 
-namespace slide::fem {
+namespace slide {
 
 /// The mesh of `c.mesh` with material ids from `c.materials`; validated.
 Mesh build_mesh(const Case& c);
@@ -32,4 +33,4 @@ Mesh generate_block_mesh(const MeshSpec& spec, const MaterialTable& materials);
 /// that are empty or not straight, material ids out of range.
 void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t material_count);
 
-}  // namespace slide::fem
+}  // namespace slide

@@ -1,0 +1,259 @@
+// Gmsh import: the hand-written files in tests/common/data/ (the same two-quad mesh as
+// 2.2 and 4.1, and broken files), and small broken files written on the fly.
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/error.hpp"
+#include "common/gmsh_reader.hpp"
+#include "common/mesh_generation.hpp"
+
+namespace slide {
+namespace {
+
+const std::filesystem::path data_dir = std::filesystem::path(SLIDE_SOURCE_DIR) / "tests/common/data";
+
+// Two materials, so that the name, not the position, picks "soil" (id 1).
+MaterialTable materials() {
+  Material rock;
+  rock.name = "rock";
+  Material soil;
+  soil.name = "soil";
+  return {rock, soil};
+}
+
+std::string error_of(const auto& function) {
+  try {
+    function();
+  } catch (const Error& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+/// Writes `text` to a scratch file named `name` and returns its path.
+std::filesystem::path scratch_file(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "slide_tests_fem_gmsh";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// The error of reading `text` as a .msh file, with the scratch folder cut off.
+std::string read_error(const std::string& name, const std::string& text,
+                       ElementType type = ElementType::quad4_1gp) {
+  const auto path = scratch_file(name, text);
+  std::string message = error_of([&] { read_gmsh(path, type, materials()); });
+  const std::string prefix = path.parent_path().string() + "/";
+  if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
+  return message;
+}
+
+/// A 2.2 file of one unit quad (nodes 1–4) with the given extra physical names and
+/// elements; the quad is element 1 in physical surface 1 "soil".
+std::string unit_quad_22(const std::string& names, const std::string& elements) {
+  return "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n" + names +
+         "$EndPhysicalNames\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n"
+         "$Elements\n" +
+         elements + "$EndElements\n";
+}
+
+void expect_two_quads(const Mesh& mesh) {
+  EXPECT_EQ(mesh.element_type, ElementType::quad4_1gp);
+  // Nodes 1 2 3 7 8 9 in tag order; node 20 (used by no element) is dropped.
+  const std::vector<Vec2> nodes{{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}};
+  EXPECT_EQ(mesh.nodes, nodes);
+  // Element 8 was clockwise (2 8 9 3): it comes back as 2 3 9 8.
+  EXPECT_EQ(mesh.connectivity, (std::vector<Index>{0, 1, 4, 3, 1, 2, 5, 4}));
+  EXPECT_EQ(mesh.material_id, (std::vector<std::int32_t>{1, 1}));
+  // Physical lines in tag order; the top line is in no group and gives no set.
+  ASSERT_EQ(mesh.node_sets.size(), 3U);
+  EXPECT_EQ(mesh.node_sets[0].name, "base");
+  EXPECT_EQ(mesh.node_sets[0].nodes, (std::vector<Index>{0, 1, 2}));
+  EXPECT_EQ(mesh.node_sets[0].normal, Vec2(0, -1));
+  EXPECT_EQ(mesh.node_sets[1].name, "left");
+  EXPECT_EQ(mesh.node_sets[1].nodes, (std::vector<Index>{0, 3}));
+  EXPECT_EQ(mesh.node_sets[1].normal, Vec2(-1, 0));
+  EXPECT_EQ(mesh.node_sets[2].name, "toe");
+  EXPECT_EQ(mesh.node_sets[2].nodes, (std::vector<Index>{2, 5}));
+  EXPECT_EQ(mesh.node_sets[2].normal, Vec2(1, 0));
+  EXPECT_NO_THROW(validate_mesh(mesh, "two quads", 2));
+}
+
+TEST(GmshReader, Reads22) {
+  expect_two_quads(read_gmsh(data_dir / "two_quads_v22.msh", ElementType::quad4_1gp, materials()));
+}
+
+TEST(GmshReader, Reads41) {
+  expect_two_quads(read_gmsh(data_dir / "two_quads_v41.msh", ElementType::quad4_1gp, materials()));
+}
+
+TEST(GmshReader, Formats22And41GiveTheSameMesh) {
+  for (const auto type : {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3}) {
+    const Mesh a = read_gmsh(data_dir / "two_quads_v22.msh", type, materials());
+    const Mesh b = read_gmsh(data_dir / "two_quads_v41.msh", type, materials());
+    EXPECT_EQ(a.element_type, type);
+    EXPECT_EQ(a.nodes, b.nodes);
+    EXPECT_EQ(a.connectivity, b.connectivity);
+    EXPECT_EQ(a.material_id, b.material_id);
+    ASSERT_EQ(a.node_sets.size(), b.node_sets.size());
+    for (std::size_t s = 0; s < a.node_sets.size(); ++s) {
+      EXPECT_EQ(a.node_sets[s].name, b.node_sets[s].name);
+      EXPECT_EQ(a.node_sets[s].nodes, b.node_sets[s].nodes);
+      EXPECT_EQ(a.node_sets[s].normal, b.node_sets[s].normal);
+    }
+  }
+}
+
+TEST(GmshReader, SplitsQuadsForTri3) {
+  const Mesh mesh = read_gmsh(data_dir / "two_quads_v41.msh", ElementType::tri3, materials());
+  // Square quads: equal diagonals, the tie goes to a–c.
+  EXPECT_EQ(mesh.connectivity, (std::vector<Index>{0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4}));
+  EXPECT_EQ(mesh.material_id, (std::vector<std::int32_t>{1, 1, 1, 1}));
+  double area = 0.0;
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const double a = element_area(ElementShape::tri3, mesh.element_nodes(e, mesh.nodes));
+    EXPECT_DOUBLE_EQ(a, 0.5);
+    area += a;
+  }
+  EXPECT_DOUBLE_EQ(area, 2.0);
+  EXPECT_NO_THROW(validate_mesh(mesh, "two quads tri3", 2));
+}
+
+TEST(GmshReader, SplitsAlongTheShorterDiagonal) {
+  const std::string text = unit_quad_22("1\n2 1 \"soil\"\n", "1\n1 3 2 1 1 1 2 3 4\n");
+  // Quad (0,0) (3,0) (1,1) (0,1): a–c is the shorter diagonal.
+  std::string moved = text;
+  moved.replace(moved.find("\n2 1 0 0\n"), 9, "\n2 3 0 0\n");
+  auto path = scratch_file("short_diagonal.msh", moved);
+  Mesh mesh = read_gmsh(path, ElementType::tri3, materials());
+  EXPECT_EQ(mesh.connectivity, (std::vector<Index>{0, 1, 2, 0, 2, 3}));
+  // Quad (0,0) (1,0) (3,1) (0,1): now b–d is.
+  moved = text;
+  moved.replace(moved.find("\n3 1 1 0\n"), 9, "\n3 3 1 0\n");
+  path = scratch_file("short_diagonal.msh", moved);
+  mesh = read_gmsh(path, ElementType::tri3, materials());
+  EXPECT_EQ(mesh.connectivity, (std::vector<Index>{0, 1, 3, 1, 2, 3}));
+}
+
+TEST(GmshReader, RelativePathsAreRelativeToTheCaseFile) {
+  Case c;
+  c.file = data_dir / "case.toml";
+  c.materials = materials();
+  c.mesh.generator = MeshGenerator::gmsh;
+  c.mesh.gmsh_file = "two_quads_v41.msh";
+  c.fem.geostatic_boundaries = {{"left", BoundaryCondition::roller},
+                                {"base", BoundaryCondition::roller},
+                                {"toe", BoundaryCondition::roller}};
+  c.fem.failure_boundaries = {{"left", BoundaryCondition::roller},
+                              {"base", BoundaryCondition::friction}};
+  expect_two_quads(build_mesh(c));
+}
+
+TEST(GmshReader, RejectsABoundaryWithNoPhysicalGroup) {
+  Case c;
+  c.file = data_dir / "case.toml";
+  c.materials = materials();
+  c.mesh.generator = MeshGenerator::gmsh;
+  c.mesh.gmsh_file = "two_quads_v41.msh";
+  c.fem.failure_boundaries = {{"left", BoundaryCondition::roller},
+                              {"crest", BoundaryCondition::free}};
+  EXPECT_EQ(error_of([&] { build_mesh(c); }),
+            (data_dir / "two_quads_v41.msh").string() +
+                ": boundary 'crest' used in fem.failure.boundaries has no physical group of that "
+                "name (physical lines: base, left, toe)");
+}
+
+TEST(GmshReader, RejectsAnInvertedElement) {
+  // A dart: counter-clockwise with positive area, but det J < 0 at its reflex corner.
+  Case c;
+  c.file = data_dir / "case.toml";
+  c.materials = materials();
+  c.mesh.generator = MeshGenerator::gmsh;
+  c.mesh.gmsh_file = "inverted.msh";
+  const std::string message = error_of([&] { build_mesh(c); });
+  const std::string expected_start =
+      (data_dir / "inverted.msh").string() +
+      ": element 0 at (0.65, 0.65) is inverted or has zero area: det J = ";
+  EXPECT_EQ(message.rfind(expected_start, 0), 0U) << message;
+  EXPECT_NE(message.find("at its corner 2 (node 2 at (0.6, 0.6))"), std::string::npos) << message;
+  // det J at the reflex corner: ((x2 − x3) × (x2 − x1)) / 4 = −0.4.
+  const std::size_t det_at = expected_start.size();
+  EXPECT_NEAR(std::stod(message.substr(det_at)), -0.4, 1e-12);
+}
+
+TEST(GmshReader, RejectsAnUnknownElementType) {
+  const auto path = data_dir / "unknown_element_type.msh";
+  EXPECT_EQ(error_of([&] { read_gmsh(path, ElementType::tri3, materials()); }),
+            path.string() +
+                ":19: unsupported element type 9 (6-node triangle) in element 1: only 4-node "
+                "quadrangles (3), 3-node triangles (2), 2-node lines (1) and points (15) are "
+                "read");
+}
+
+TEST(GmshReader, RejectsATruncatedNodesSection) {
+  const auto path = data_dir / "truncated_nodes.msh";
+  EXPECT_EQ(error_of([&] { read_gmsh(path, ElementType::quad4_1gp, materials()); }),
+            path.string() + ":13: truncated $Nodes section: expected node 4 of 4, found $EndNodes");
+}
+
+TEST(GmshReader, RejectsMalformedFiles) {
+  const std::string good_format = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
+  EXPECT_EQ(read_error("header.msh", "$Mesh\n2.2 0 8\n"),
+            "header.msh:1: not a Gmsh mesh: bad header (expected $MeshFormat, found '$Mesh')");
+  EXPECT_EQ(read_error("version.msh", "\n$MeshFormat\n4.0 0 8\n$EndMeshFormat\n"),
+            "version.msh:3: unsupported .msh version 4.0 (expected 4.1 or 2.2, ASCII)");
+  EXPECT_EQ(read_error("binary.msh", "$MeshFormat\n4.1 1 8\n"),
+            "binary.msh:2: binary .msh files are not supported (export the mesh as ASCII)");
+  EXPECT_EQ(read_error("eof.msh", good_format + "$Nodes\n2\n1 0 0 0\n"),
+            "eof.msh:6: truncated $Nodes section: end of file while reading node 2 of 2");
+  EXPECT_EQ(read_error("skipped.msh", good_format + "$NodeData\n1\n\"u\"\n"),
+            "skipped.msh:6: truncated $NodeData section: end of file while reading $EndNodeData");
+  EXPECT_EQ(read_error("number.msh", good_format + "$Nodes\n1\n1 0 zero 0\n$EndNodes\n"),
+            "number.msh:6: expected node 1 of 1 (a number), found 'zero'");
+  EXPECT_EQ(read_error("count.msh", good_format + "$Nodes\n1\n1 0 0 0\n2 1 0 0\n$EndNodes\n"),
+            "count.msh:7: expected $EndNodes (more entries than the section's count announces?), "
+            "found '2'");
+  EXPECT_EQ(read_error("z.msh", good_format + "$Nodes\n1\n1 0 0 2\n$EndNodes\n"),
+            "z.msh:6: node 1 has z = 2 (a plane strain mesh lies in the plane z = 0)");
+}
+
+TEST(GmshReader, RejectsMeshesWithoutMeaning) {
+  const std::string soil = "1\n2 1 \"soil\"\n";
+  // Line 17 of unit_quad_22 is the first element.
+  EXPECT_EQ(read_error("unknown_tag.msh", unit_quad_22(soil, "1\n1 3 2 1 1 1 2 3 5\n")),
+            "unknown_tag.msh:17: element 1 refers to node 5, an unknown node tag");
+  EXPECT_EQ(read_error("no_group.msh", unit_quad_22(soil, "1\n1 3 2 0 1 1 2 3 4\n")),
+            "no_group.msh:17: surface element 1 is in no physical group (every surface needs a "
+            "physical group named after its material)");
+  EXPECT_EQ(read_error("clay.msh", unit_quad_22("1\n2 1 \"clay\"\n", "1\n1 3 2 1 1 1 2 3 4\n")),
+            "clay.msh:6: physical surface 'clay' is not a material of the case (materials: rock, "
+            "soil)");
+  EXPECT_EQ(read_error("triangles.msh", unit_quad_22(soil, "1\n1 2 2 1 1 1 2 3\n"),
+                       ElementType::quad4_2x2),
+            "triangles.msh:17: element 1 is a triangle, which element type quad4-2x2 cannot use (a "
+            "triangle mesh serves tri3 only)");
+  EXPECT_EQ(read_error("twice.msh", unit_quad_22("2\n2 1 \"soil\"\n2 2 \"rock\"\n",
+                                                 "2\n1 3 2 1 1 1 2 3 4\n1 3 2 2 1 1 2 3 4\n")),
+            "twice.msh:19: surface element 1 appears twice (is it in two physical groups?); every "
+            "surface element needs exactly one, naming its material");
+  // An L-shaped boundary group has no single normal.
+  EXPECT_EQ(
+      read_error("bent.msh", unit_quad_22("2\n2 1 \"soil\"\n1 2 \"corner\"\n",
+                                          "3\n1 3 2 1 1 1 2 3 4\n2 1 2 2 1 1 2\n3 1 2 2 1 2 3\n")),
+      "bent.msh:19: physical group 'corner' is not straight: line element 2 is turned by 45° "
+      "from the group's mean normal (0.707107, -0.707107) (a boundary needs one outward "
+      "normal)");
+  // A boundary line through the inside of the mesh has no outward normal either.
+  EXPECT_EQ(read_error("inner.msh", unit_quad_22("2\n2 1 \"soil\"\n1 2 \"diagonal\"\n",
+                                                 "2\n1 3 2 1 1 1 2 3 4\n2 1 2 2 1 1 3\n")),
+            "inner.msh:19: line element 2 (nodes 1 and 3) of physical group 'diagonal' is not an "
+            "edge of any surface element");
+}
+
+}  // namespace
+}  // namespace slide
