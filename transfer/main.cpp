@@ -1,0 +1,113 @@
+// fem2mpm: turns the FE model at the transfer time t_T into material points
+// (METHOD.md §4). Reads one FE checkpoint, writes the particle file mpm-solve starts
+// from, and prints and writes the transfer report (PARTICLES.transfer.json).
+//
+//   fem2mpm out/fem/fem_t2.000.h5 -o out/tt2/particles.h5 --particles-per-element 4
+//
+// Settings come from the built-in defaults, then the case's [transfer] table (--case),
+// then the command line.
+#include <CLI/CLI.hpp>
+
+#include "common/atomic_file.hpp"
+#include "common/checkpoint.hpp"
+#include "common/error.hpp"
+#include "common/log.hpp"
+#include "common/program.hpp"
+#include "transfer/transfer.hpp"
+
+namespace {
+
+using namespace slide;
+
+struct CommandLine {
+  std::string input;
+  std::string output;
+  std::string particles_per_element;
+  std::string stress_interpolation;
+  std::string rbf_polynomial;
+  double rbf_shape = 0.0;
+  int rbf_neighbours = 0;
+  bool allow_inverted = false;
+  std::string case_file;
+  bool quiet = false;
+};
+
+transfer::TransferOptions options_for(const CommandLine& line, const CLI::App& app) {
+  transfer::TransferOptions options;
+  if (!line.case_file.empty()) options = transfer::options_from(load_case(line.case_file).transfer);
+  if (app.count("--particles-per-element") > 0) {
+    options.particles = transfer::parse_particles_per_element(line.particles_per_element,
+                                                              "--particles-per-element");
+  }
+  if (app.count("--stress-interpolation") > 0) {
+    options.stress_interpolation = line.stress_interpolation == "rbf" ? StressInterpolation::rbf
+                                   : line.stress_interpolation == "rbf-local"
+                                       ? StressInterpolation::rbf_local
+                                       : StressInterpolation::element;
+  }
+  if (app.count("--rbf-polynomial") > 0) {
+    options.rbf_polynomial =
+        line.rbf_polynomial == "linear" ? RbfPolynomial::linear : RbfPolynomial::none;
+  }
+  if (app.count("--rbf-shape") > 0) options.rbf_shape = line.rbf_shape;
+  if (app.count("--rbf-neighbours") > 0) options.rbf_neighbours = line.rbf_neighbours;
+  options.allow_inverted = line.allow_inverted;
+  return options;
+}
+
+void run(const CommandLine& line, const CLI::App& app) {
+  const Logger logger("fem2mpm", line.quiet);
+  const transfer::TransferOptions options = options_for(line, app);
+  const FemCheckpoint fem = read_fem_checkpoint(line.input);
+  logger.info("read {} (t = {} s, case \"{}\")", line.input, fem.header.time, fem.header.case_name);
+  transfer::TransferResult result = transfer::transfer(fem, options, &logger);
+  result.report.input = line.input;
+  result.report.output = line.output;
+  if (!result.report.inverted_elements.empty()) {
+    logger.warning("{} inverted element(s) transferred with their reference volume, first {}",
+                   result.report.inverted_elements.size(), result.report.inverted_elements.front());
+  }
+  write_checkpoint(line.output, result.particles);
+  const auto json = transfer::report_path(line.output);
+  write_text_atomically(json, transfer::report_json(result.report));
+  for (const auto& text : transfer::format_report_lines(result.report)) logger.info("{}", text);
+  logger.info("wrote {} and {}", line.output, json.string());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app(
+      "fem2mpm: converts an FE checkpoint at the transfer time into material points "
+      "(positions, velocities, stresses, state, masses, volumes) for mpm-solve",
+      "fem2mpm");
+  CommandLine line;
+  app.add_option("fem_checkpoint", line.input, "FE checkpoint (kind \"fem\")")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("-o,--output", line.output, "particle file to write (HDF5)")->required();
+  app.add_option("--particles-per-element", line.particles_per_element,
+                 "N (N×N per quad, N per triangle) or NxM; default 4 (triangles: 16)");
+  app.add_option("--stress-interpolation", line.stress_interpolation,
+                 "Gauss-point fields: rbf (global multiquadric, default), rbf-local (k nearest "
+                 "Gauss points) or element (the element's own Gauss value)")
+      ->check(CLI::IsMember({"rbf", "rbf-local", "element"}));
+  app.add_option("--rbf-shape", line.rbf_shape,
+                 "multiquadric shape parameter c in m (default sqrt(A_box/N_g))")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--rbf-polynomial", line.rbf_polynomial,
+                 "none or linear (exact for linear fields); default none for rbf, linear for "
+                 "rbf-local")
+      ->check(CLI::IsMember({"none", "linear"}));
+  app.add_option(
+         "--rbf-neighbours", line.rbf_neighbours,
+         "k of rbf-local (default " + std::to_string(transfer::default_rbf_neighbours) + ")")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--allow-inverted", line.allow_inverted,
+               "transfer inverted elements (with their reference volume) instead of stopping");
+  app.add_option("--case", line.case_file, "case file whose [transfer] table gives the defaults")
+      ->check(CLI::ExistingFile);
+  app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");
+  if (const auto status = parse_command_line(app, argc, argv)) return *status;
+  return run_main("fem2mpm", [&] { run(line, app); });
+}

@@ -1,0 +1,562 @@
+#include "transfer/transfer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "common/error.hpp"
+#include "common/program.hpp"
+#include "transfer/rbf_interpolation.hpp"
+
+namespace slide::transfer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// Compensated (Neumaier) sum: the conservation totals of the report compare sums over
+/// millions of terms to 1e-12, below what naive summation guarantees.
+class CompensatedSum {
+ public:
+  void add(double value) {
+    const double t = sum_ + value;
+    compensation_ += std::abs(sum_) >= std::abs(value) ? (sum_ - t) + value : (value - t) + sum_;
+    sum_ = t;
+  }
+  double value() const { return sum_ + compensation_; }
+
+ private:
+  double sum_ = 0.0;
+  double compensation_ = 0.0;
+};
+
+// ---------------------------------------------------------------- Gauss-point fields
+//
+// Every Gauss-point field is interpolated as one block of columns, so a single RBF
+// factorisation serves all of them: [σxx σyy σzz σxy | εxx εyy εzz γxy | state…].
+// εq is not a column: it is recomputed from the transferred strain, which keeps it
+// consistent with that strain and non-negative (an interpolated εq can undershoot).
+constexpr Eigen::Index stress_column = 0;
+constexpr Eigen::Index strain_column = 4;
+constexpr Eigen::Index state_column = 8;
+constexpr Eigen::Index state_columns = 2;
+constexpr Eigen::Index field_columns = state_column + state_columns;
+static_assert(sizeof(MaterialState) == state_columns * sizeof(double),
+              "a new MaterialState field needs its column in pack_gauss_fields/unpack");
+
+MaterialState default_state() {
+  return MaterialState{};
+}
+
+FieldValues pack_gauss_fields(const FemCheckpoint& fem) {
+  const auto n = static_cast<Eigen::Index>(fem.stress.size());
+  FieldValues values(n, field_columns);
+  for (Eigen::Index g = 0; g < n; ++g) {
+    const auto i = static_cast<std::size_t>(g);
+    values.row(g).segment<4>(stress_column) = fem.stress[i].transpose();
+    values.row(g).segment<4>(strain_column) = fem.strain[i].transpose();
+    const MaterialState state = fem.state.empty() ? default_state() : fem.state[i];
+    values(g, state_column + 0) = state.plastic_shear_strain;
+    values(g, state_column + 1) = state.plastic_volumetric_strain;
+  }
+  return values;
+}
+
+// ---------------------------------------------------------------- validation
+
+template <typename T>
+void check_size(const std::vector<T>& field, std::size_t expected, std::string_view dataset) {
+  if (field.size() != expected) {
+    throw Error("FE checkpoint: {} has {} entries, expected {}", dataset, field.size(), expected);
+  }
+}
+
+bool is_finite(double v) {
+  return std::isfinite(v);
+}
+template <typename Derived>
+bool is_finite(const Eigen::MatrixBase<Derived>& v) {
+  return v.allFinite();
+}
+bool is_finite(const MaterialState& s) {
+  return std::isfinite(s.plastic_shear_strain) && std::isfinite(s.plastic_volumetric_strain);
+}
+
+template <typename T>
+void check_finite(const std::vector<T>& field, std::string_view dataset) {
+  for (std::size_t i = 0; i < field.size(); ++i) {
+    if (!is_finite(field[i])) {
+      throw Error("FE checkpoint: {} entry {} is not finite (NaN or Inf)", dataset, i);
+    }
+  }
+}
+
+void validate(const FemCheckpoint& fem) {
+  if (fem.header.kind != CheckpointKind::fem) {
+    throw Error("expected an FE checkpoint (kind \"fem\"), got kind \"{}\"",
+                to_string(fem.header.kind));
+  }
+  const Mesh& mesh = fem.mesh;
+  const std::size_t nodes = mesh.nodes.size();
+  const auto elements = static_cast<std::size_t>(mesh.element_count());
+  const std::size_t gauss = fem.gauss_element.size();
+  if (elements == 0) throw Error("FE checkpoint: the mesh has no elements");
+  check_size(mesh.connectivity, elements * static_cast<std::size_t>(mesh.nodes_per_element()),
+             "/elements/connectivity");
+  for (const Index node : mesh.connectivity) {
+    if (node < 0 || static_cast<std::size_t>(node) >= nodes) {
+      throw Error("FE checkpoint: /elements/connectivity refers to node {} of {}", node, nodes);
+    }
+  }
+  check_size(fem.coordinates, nodes, "/nodes/coordinates");
+  check_size(fem.displacement, nodes, "/nodes/displacement");
+  check_size(fem.velocity, nodes, "/nodes/velocity");
+  if (!fem.pore_pressure.empty()) check_size(fem.pore_pressure, nodes, "/nodes/pore_pressure");
+  check_size(fem.volume_reference, elements, "/elements/volume_reference");
+  check_size(fem.volume, elements, "/elements/volume");
+  check_size(fem.gauss_local_coordinates, gauss, "/gauss_points/local_coordinates");
+  check_size(fem.gauss_coordinates, gauss, "/gauss_points/coordinates");
+  check_size(fem.stress, gauss, "/gauss_points/stress");
+  check_size(fem.strain, gauss, "/gauss_points/strain");
+  if (!fem.state.empty()) check_size(fem.state, gauss, "/gauss_points/state");
+  for (std::size_t e = 0; e < elements; ++e) {
+    const auto id = mesh.material_id[e];
+    if (id < 0 || static_cast<std::size_t>(id) >= fem.materials.size()) {
+      throw Error("FE checkpoint: element {} has material {} of {}", e, id, fem.materials.size());
+    }
+  }
+  for (std::size_t m = 0; m < fem.materials.size(); ++m) {
+    const double rho = fem.materials[m].density;
+    if (!(rho > 0.0) || !std::isfinite(rho)) {
+      throw Error("FE checkpoint: /materials/{} density = {} is not admissible (expected > 0)", m,
+                  rho);
+    }
+  }
+  for (std::size_t e = 0; e < elements; ++e) {
+    if (!(fem.volume_reference[e] > 0.0)) {
+      throw Error("FE checkpoint: /elements/volume_reference of element {} is {} (expected > 0)", e,
+                  fem.volume_reference[e]);
+    }
+  }
+  check_finite(fem.coordinates, "/nodes/coordinates");
+  check_finite(fem.displacement, "/nodes/displacement");
+  check_finite(fem.velocity, "/nodes/velocity");
+  check_finite(fem.pore_pressure, "/nodes/pore_pressure");
+  check_finite(fem.volume_reference, "/elements/volume_reference");
+  check_finite(fem.volume, "/elements/volume");
+  check_finite(fem.gauss_local_coordinates, "/gauss_points/local_coordinates");
+  check_finite(fem.gauss_coordinates, "/gauss_points/coordinates");
+  check_finite(fem.stress, "/gauss_points/stress");
+  check_finite(fem.strain, "/gauss_points/strain");
+  check_finite(fem.state, "/gauss_points/state");
+}
+
+/// Gauss points of each element as offsets into a list sorted by element (stable, so
+/// an element's points keep the order of its rule).
+struct GaussIndex {
+  std::vector<std::size_t> offsets;  // n_elements + 1
+  std::vector<std::size_t> points;
+};
+
+GaussIndex index_gauss_points(const FemCheckpoint& fem) {
+  const auto elements = static_cast<std::size_t>(fem.mesh.element_count());
+  GaussIndex index;
+  index.offsets.assign(elements + 1, 0);
+  for (std::size_t g = 0; g < fem.gauss_element.size(); ++g) {
+    const Index e = fem.gauss_element[g];
+    if (e < 0 || static_cast<std::size_t>(e) >= elements) {
+      throw Error("FE checkpoint: /gauss_points/element entry {} refers to element {} of {}", g, e,
+                  elements);
+    }
+    ++index.offsets[static_cast<std::size_t>(e) + 1];
+  }
+  for (std::size_t e = 0; e < elements; ++e) {
+    if (index.offsets[e + 1] == 0) throw Error("FE checkpoint: element {} has no Gauss point", e);
+    index.offsets[e + 1] += index.offsets[e];
+  }
+  index.points.resize(fem.gauss_element.size());
+  std::vector<std::size_t> next(index.offsets.begin(), index.offsets.end() - 1);
+  for (std::size_t g = 0; g < fem.gauss_element.size(); ++g) {
+    index.points[next[static_cast<std::size_t>(fem.gauss_element[g])]++] = g;
+  }
+  return index;
+}
+
+/// Elements whose current geometry is inverted: V_t^e ≤ 0, or det J ≤ 0 at the centre
+/// or at any particle point (a non-convex quad can keep a positive centre Jacobian).
+std::vector<Index> find_inverted_elements(const FemCheckpoint& fem, const ParticleLayout& layout,
+                                          double* worst_det, Vec2* worst_xi) {
+  const Mesh& mesh = fem.mesh;
+  const ElementShape shape = mesh.shape();
+  std::vector<Index> inverted;
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const ElementNodes x = mesh.element_nodes(e, fem.coordinates);
+    double smallest = jacobian(shape, x, reference_centre(shape)).determinant();
+    Vec2 where = reference_centre(shape);
+    for (const auto& point : layout.points) {
+      const double det = jacobian(shape, x, point.xi).determinant();
+      if (det < smallest) {
+        smallest = det;
+        where = point.xi;
+      }
+    }
+    if (smallest <= 0.0 || fem.volume[static_cast<std::size_t>(e)] <= 0.0) {
+      if (inverted.empty()) {
+        *worst_det = smallest;
+        *worst_xi = where;
+      }
+      inverted.push_back(e);
+    }
+  }
+  return inverted;
+}
+
+// ---------------------------------------------------------------- FE momentum and energy
+
+/// Lumped nodal masses by row sums of the consistent mass matrix on the reference
+/// configuration, m_k = Σ_e ρ_e ∫ N_k dV_0, scaled so each element's shares add up to
+/// its checkpoint mass ρ_e V_0^e. The quadrature (2×2 Gauss for quads, the 3-point rule
+/// for triangles) is exact for N_k det J.
+std::vector<double> lumped_nodal_masses(const FemCheckpoint& fem) {
+  const Mesh& mesh = fem.mesh;
+  const ElementShape shape = mesh.shape();
+  const std::vector<QuadraturePoint> rule =
+      shape == ElementShape::quad4 ? tensor_gauss_legendre(2, 2) : triangle_layout(3).points;
+  std::vector<double> mass(mesh.nodes.size(), 0.0);
+  const int npe = mesh.nodes_per_element();
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
+    std::array<double, max_nodes_per_element> share{};
+    double total = 0.0;
+    for (const auto& q : rule) {
+      const double det = jacobian(shape, x, q.xi).determinant();
+      const ShapeValues n = shape_functions(shape, q.xi);
+      for (int k = 0; k < npe; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        share[kk] += n[kk] * det * q.weight;
+        total += n[kk] * det * q.weight;
+      }
+    }
+    const auto ee = static_cast<std::size_t>(e);
+    const double element_mass =
+        fem.materials[static_cast<std::size_t>(mesh.material_id[ee])].density *
+        fem.volume_reference[ee];
+    const auto nodes = mesh.element(e);
+    for (int k = 0; k < npe; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      // A reference element with a non-positive Jacobian somewhere still gets equal shares.
+      const double fraction = total > 0.0 && share[kk] > 0.0 ? share[kk] / total : 1.0 / npe;
+      mass[static_cast<std::size_t>(nodes[kk])] += element_mass * fraction;
+    }
+  }
+  return mass;
+}
+
+void fe_momentum_and_energy(const FemCheckpoint& fem, TransferReport& report) {
+  const std::vector<double> nodal_mass = lumped_nodal_masses(fem);
+  for (std::size_t k = 0; k < nodal_mass.size(); ++k) {
+    report.momentum_fe_nodal += nodal_mass[k] * fem.velocity[k];
+    report.kinetic_energy_fe_nodal += 0.5 * nodal_mass[k] * fem.velocity[k].squaredNorm();
+  }
+  // METHOD.md §3: KE_FEM = Σ_e ½ m_e |v̄_e|², v̄_e the mean velocity of the element's nodes.
+  const Mesh& mesh = fem.mesh;
+  CompensatedSum mass, volume;
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const auto ee = static_cast<std::size_t>(e);
+    Vec2 mean = Vec2::Zero();
+    for (const Index node : mesh.element(e)) mean += fem.velocity[static_cast<std::size_t>(node)];
+    mean /= mesh.nodes_per_element();
+    const double m = fem.materials[static_cast<std::size_t>(mesh.material_id[ee])].density *
+                     fem.volume_reference[ee];
+    mass.add(m);
+    volume.add(fem.volume[ee]);
+    report.momentum_fe_element += m * mean;
+    report.kinetic_energy_fe_element += 0.5 * m * mean.squaredNorm();
+  }
+  report.mass_fe = mass.value();
+  report.volume_fe = volume.value();
+}
+
+// ---------------------------------------------------------------- interpolation
+
+struct Interpolated {
+  FieldValues at_particles;
+  FieldValues at_gauss_points;  // empty for the element baseline
+  RbfDiagnostics diagnostics;
+};
+
+Interpolated interpolate_gauss_fields(const FemCheckpoint& fem, const FieldValues& values,
+                                      std::span<const Vec2> particle_coordinates,
+                                      std::span<const std::int64_t> particle_element,
+                                      std::span<const Vec2> particle_xi, const GaussIndex& index,
+                                      const TransferOptions& options, double shape, int neighbours,
+                                      RbfPolynomial polynomial) {
+  Interpolated out;
+  const std::span<const Vec2> centres(fem.gauss_coordinates);
+  switch (options.stress_interpolation) {
+    case StressInterpolation::rbf: {
+      const std::size_t limit = options.dense_memory_limit > 0 ? options.dense_memory_limit
+                                                               : default_dense_memory_limit();
+      const DenseRbf rbf(centres, values, shape, polynomial, limit);
+      out.at_particles = rbf.evaluate(particle_coordinates);
+      out.at_gauss_points = rbf.evaluate(centres);
+      out.diagnostics = rbf.diagnostics();
+      break;
+    }
+    case StressInterpolation::rbf_local: {
+      const LocalRbfOptions local{shape, polynomial, neighbours};
+      out.at_particles =
+          interpolate_local_rbf(centres, values, particle_coordinates, local, &out.diagnostics);
+      RbfDiagnostics at_gauss;
+      out.at_gauss_points = interpolate_local_rbf(centres, values, centres, local, &at_gauss);
+      break;
+    }
+    case StressInterpolation::element: {
+      // The owning element's Gauss point nearest to the particle in reference
+      // coordinates (the only one for one-point elements); ties go to the first.
+      const auto count = static_cast<std::ptrdiff_t>(particle_coordinates.size());
+      out.at_particles.resize(static_cast<Eigen::Index>(count), values.cols());
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t p = 0; p < count; ++p) {
+        const auto e = static_cast<std::size_t>(particle_element[static_cast<std::size_t>(p)]);
+        const Vec2& xi = particle_xi[static_cast<std::size_t>(p)];
+        std::size_t best = index.points[index.offsets[e]];
+        double best_distance = std::numeric_limits<double>::infinity();
+        for (std::size_t i = index.offsets[e]; i < index.offsets[e + 1]; ++i) {
+          const std::size_t g = index.points[i];
+          const double d = (fem.gauss_local_coordinates[g] - xi).squaredNorm();
+          if (d < best_distance) {
+            best_distance = d;
+            best = g;
+          }
+        }
+        out.at_particles.row(static_cast<Eigen::Index>(p)) =
+            values.row(static_cast<Eigen::Index>(best));
+      }
+      break;
+    }
+  }
+  return out;
+}
+
+void report_residuals(const FieldValues& values, const FieldValues& at_gauss,
+                      TransferReport& report) {
+  if (at_gauss.size() == 0) return;
+  const FieldValues residual = at_gauss - values;
+  const auto stress = residual.middleCols(stress_column, 4);
+  report.residual_stress_max = stress.cwiseAbs().maxCoeff();
+  report.residual_stress_rms = std::sqrt(stress.squaredNorm() / static_cast<double>(stress.size()));
+  double relative = 0.0;
+  for (Eigen::Index c = 0; c < values.cols(); ++c) {
+    const double scale = values.col(c).cwiseAbs().maxCoeff();
+    const double worst = residual.col(c).cwiseAbs().maxCoeff();
+    if (scale > 0.0) relative = std::max(relative, worst / scale);
+  }
+  report.residual_relative_max = relative;
+}
+
+}  // namespace
+
+TransferOptions options_from(const TransferSpec& spec) {
+  TransferOptions options;
+  options.particles.nx = spec.particles_x;
+  options.particles.ny = spec.particles_y;
+  options.particles.triangle = spec.particles_triangle;
+  options.stress_interpolation = spec.stress_interpolation;
+  options.rbf_polynomial = spec.rbf_polynomial;
+  options.rbf_shape = spec.rbf_shape;
+  options.rbf_neighbours = spec.rbf_neighbours;
+  return options;
+}
+
+RbfPolynomial effective_polynomial(const TransferOptions& options) {
+  if (options.rbf_polynomial) return *options.rbf_polynomial;
+  return options.stress_interpolation == StressInterpolation::rbf_local ? RbfPolynomial::linear
+                                                                        : RbfPolynomial::none;
+}
+
+std::size_t default_dense_memory_limit() {
+  constexpr std::size_t cap = std::size_t{16} << 30;
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  std::size_t kib = 0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit) {
+    if (key == "MemAvailable:") return std::min(cap, kib * 1024 / 4 * 3);
+  }
+  return std::size_t{4} << 30;  // no /proc/meminfo: a modest guess
+}
+
+TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options,
+                        const Logger* logger) {
+  const Clock::time_point started = Clock::now();
+  validate(fem);
+  const GaussIndex gauss_index = index_gauss_points(fem);
+  const Mesh& mesh = fem.mesh;
+  const ElementShape shape = mesh.shape();
+  const ParticleLayout layout = make_layout(shape, options.particles);
+  const RbfPolynomial polynomial = effective_polynomial(options);
+  if (options.rbf_shape < 0.0 || !std::isfinite(options.rbf_shape)) {
+    throw Error("--rbf-shape {} is not admissible (expected > 0 m)", options.rbf_shape);
+  }
+  if (options.rbf_neighbours < 0) {
+    throw Error("--rbf-neighbours {} is not admissible (expected ≥ 1)", options.rbf_neighbours);
+  }
+
+  TransferResult result;
+  TransferReport& report = result.report;
+  report.case_name = fem.header.case_name;
+  report.time = fem.header.time;
+  report.element_type = std::string(to_string(mesh.element_type));
+  report.elements = static_cast<std::size_t>(mesh.element_count());
+  report.gauss_points = fem.gauss_element.size();
+  report.particles_per_element = layout.label;
+  report.particle_rule = layout.rule;
+  report.stress_interpolation = std::string(to_string(options.stress_interpolation));
+
+  // Inverted elements: an error naming the first, unless the user accepts them.
+  double worst_det = 0.0;
+  Vec2 worst_xi = Vec2::Zero();
+  const std::vector<Index> inverted = find_inverted_elements(fem, layout, &worst_det, &worst_xi);
+  if (!inverted.empty() && !options.allow_inverted) {
+    const auto e = static_cast<std::size_t>(inverted.front());
+    throw Error(
+        "element {} is inverted at t = {} s (det J = {:.3g} at ξ = ({:.3g}, {:.3g}), V_t = {:.3g} "
+        "m³/m){}; transfer an earlier checkpoint, or pass --allow-inverted to transfer it with its "
+        "reference volume",
+        e, fem.header.time, worst_det, worst_xi.x(), worst_xi.y(), fem.volume[e],
+        inverted.size() > 1 ? fmt::format(", and {} more element(s)", inverted.size() - 1)
+                            : std::string());
+  }
+  report.inverted_elements = inverted;
+  std::vector<std::uint8_t> is_inverted(report.elements, 0);
+  for (const Index e : inverted) is_inverted[static_cast<std::size_t>(e)] = 1;
+
+  // ---- particles: positions and nodal fields by the element's shape functions
+  const auto per_element = static_cast<std::size_t>(layout.count());
+  const std::size_t count = report.elements * per_element;
+  Particles& particles = result.particles.particles;
+  particles.resize(count);
+  std::vector<Vec2> particle_xi(count);
+  const int npe = mesh.nodes_per_element();
+  const auto elements = static_cast<std::ptrdiff_t>(report.elements);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t e = 0; e < elements; ++e) {
+    const auto ee = static_cast<std::size_t>(e);
+    const auto nodes = mesh.element(e);
+    const double density = fem.materials[static_cast<std::size_t>(mesh.material_id[ee])].density;
+    // V_p from the deformed element, M_p from the undeformed one (METHOD.md §4).
+    const double element_volume = is_inverted[ee] ? fem.volume_reference[ee] : fem.volume[ee];
+    const double element_mass = density * fem.volume_reference[ee];
+    for (std::size_t i = 0; i < per_element; ++i) {
+      const std::size_t p = ee * per_element + i;
+      const QuadraturePoint& point = layout.points[i];
+      const ShapeValues n = shape_functions(shape, point.xi);
+      Vec2 x = Vec2::Zero(), u = Vec2::Zero(), v = Vec2::Zero();
+      double pore = 0.0;
+      for (int k = 0; k < npe; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        const auto node = static_cast<std::size_t>(nodes[kk]);
+        x += n[kk] * fem.coordinates[node];
+        u += n[kk] * fem.displacement[node];
+        v += n[kk] * fem.velocity[node];
+        if (!fem.pore_pressure.empty()) pore += n[kk] * fem.pore_pressure[node];
+      }
+      particles.coordinates[p] = x;
+      particles.displacement[p] = u;
+      particles.velocity[p] = v;
+      particles.pore_pressure[p] = pore;
+      particles.volume[p] = element_volume * point.weight;
+      particles.mass[p] = element_mass * point.weight;
+      // GIMP domain: a square of the particle's volume (METHOD.md §4).
+      const double side = std::sqrt(particles.volume[p]);
+      particles.size[p] = Vec2(side, side);
+      particles.material_id[p] = mesh.material_id[ee];
+      particles.element[p] = e;
+      particles.id[p] = static_cast<std::int64_t>(p);
+      particle_xi[p] = point.xi;
+    }
+  }
+
+  // ---- Gauss-point fields
+  const FieldValues values = pack_gauss_fields(fem);
+  const double shape_parameter =
+      options.rbf_shape > 0.0 ? options.rbf_shape : default_shape_parameter(fem.gauss_coordinates);
+  const int neighbours =
+      options.rbf_neighbours > 0 ? options.rbf_neighbours : default_rbf_neighbours;
+  const bool uses_rbf = options.stress_interpolation != StressInterpolation::element;
+  report.rbf_polynomial = uses_rbf ? std::string(to_string(polynomial)) : std::string();
+  report.rbf_shape = uses_rbf ? shape_parameter : 0.0;
+  report.rbf_neighbours = options.stress_interpolation == StressInterpolation::rbf_local
+                              ? static_cast<int>(std::min<std::size_t>(
+                                    static_cast<std::size_t>(neighbours), report.gauss_points))
+                              : 0;
+  if (logger != nullptr) {
+    logger->info("{} elements ({}), {} Gauss points -> {} particles; interpolating by {}",
+                 report.elements, report.element_type, report.gauss_points, count,
+                 report.stress_interpolation);
+  }
+  const Clock::time_point interpolation_started = Clock::now();
+  const Interpolated interpolated =
+      interpolate_gauss_fields(fem, values, particles.coordinates, particles.element, particle_xi,
+                               gauss_index, options, shape_parameter, neighbours, polynomial);
+  report.seconds_interpolation = seconds_since(interpolation_started);
+  report.condition_estimate = interpolated.diagnostics.condition_estimate;
+  report.factorisations = interpolated.diagnostics.factorisations;
+  report.reduced_polynomial = interpolated.diagnostics.reduced_polynomial;
+  report_residuals(values, interpolated.at_gauss_points, report);
+
+  const FieldValues& at = interpolated.at_particles;
+  for (std::size_t p = 0; p < count; ++p) {
+    const auto row = static_cast<Eigen::Index>(p);
+    particles.stress[p] = at.row(row).segment<4>(stress_column).transpose();
+    particles.strain[p] = at.row(row).segment<4>(strain_column).transpose();
+    particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
+    MaterialState& state = particles.state[p];
+    state.plastic_shear_strain = at(row, state_column + 0);
+    state.plastic_volumetric_strain = at(row, state_column + 1);
+    // An accumulated plastic shear strain is never negative; an RBF can undershoot.
+    if (state.plastic_shear_strain < 0.0) {
+      state.plastic_shear_strain = 0.0;
+      ++report.clamped_plastic_strain;
+    }
+  }
+
+  // ---- the particle file and the report totals
+  ParticleCheckpoint& out = result.particles;
+  out.header = fem.header;
+  out.header.kind = CheckpointKind::particles;
+  out.header.schema_version = checkpoint_schema_version;
+  out.header.producer = fmt::format("fem2mpm ({})", version_string());
+  out.materials = fem.materials;
+  out.transfer.transfer_time = fem.header.time;
+  out.transfer.particles_per_element = layout.label;
+  out.transfer.stress_interpolation = report.stress_interpolation;
+  out.transfer.rbf_polynomial = uses_rbf ? report.rbf_polynomial : std::string("none");
+  out.transfer.rbf_shape = report.rbf_shape;
+  out.transfer.rbf_neighbours = report.rbf_neighbours;
+
+  fe_momentum_and_energy(fem, report);
+  report.particles = count;
+  CompensatedSum mass, volume;
+  for (std::size_t p = 0; p < count; ++p) {
+    mass.add(particles.mass[p]);
+    volume.add(particles.volume[p]);
+    report.momentum_particles += particles.mass[p] * particles.velocity[p];
+    report.kinetic_energy_particles +=
+        0.5 * particles.mass[p] * particles.velocity[p].squaredNorm();
+  }
+  report.mass_particles = mass.value();
+  report.volume_particles = volume.value();
+  report.seconds_total = seconds_since(started);
+  return result;
+}
+
+}  // namespace slide::transfer

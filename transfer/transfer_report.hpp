@@ -1,0 +1,75 @@
+// The transfer report: what fem2mpm prints and writes next to the particle file
+// (PARTICLES.h5 → PARTICLES.transfer.json). It lets a user check that the particles are
+// the FE model: conserved totals (mass exactly, volume exactly), momentum and kinetic
+// energy before and after, and how well the Gauss-point fields were interpolated.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/types.hpp"
+
+namespace slide::transfer {
+
+struct TransferReport {
+  std::string input;   ///< FE checkpoint path ("" when transferred in memory)
+  std::string output;  ///< particle file path
+  std::string case_name;
+  double time = 0.0;  ///< t_T, s
+
+  std::string element_type;  ///< "quad4-1gp", …
+  std::size_t elements = 0;
+  std::size_t gauss_points = 0;
+  std::size_t particles = 0;
+  std::string particles_per_element;  ///< "4x4" or "16"
+  std::string particle_rule;          ///< e.g. "4x4 Gauss–Legendre"
+
+  std::string stress_interpolation;  ///< "rbf", "rbf-local" or "element"
+  std::string rbf_polynomial;        ///< "none" or "linear" ("" for element)
+  double rbf_shape = 0.0;            ///< c, m (0: not used)
+  int rbf_neighbours = 0;            ///< k (0: not used)
+  /// 1-norm condition estimate of the RBF system (rbf-local: the worst neighbourhood);
+  /// 0 when no system was solved.
+  double condition_estimate = 0.0;
+  std::size_t factorisations = 0;
+  std::size_t reduced_polynomial = 0;  ///< systems with collinear centres (linear → constant)
+
+  /// Interpolant minus data at the Gauss points: stress in Pa; `residual_relative_max` is
+  /// the largest residual of any component over that component's largest |value|.
+  double residual_stress_max = 0.0;
+  double residual_stress_rms = 0.0;
+  double residual_relative_max = 0.0;
+
+  // Conservation (per metre out of plane).
+  double mass_fe = 0.0;           ///< Σ_e ρ V_0^e, kg/m
+  double mass_particles = 0.0;    ///< Σ_p M_p
+  double volume_fe = 0.0;         ///< Σ_e V_t^e, m³/m (deformed)
+  double volume_particles = 0.0;  ///< Σ_p V_p
+  /// Linear momentum (kg·m/s per m) and kinetic energy (J/m): FE with the lumped nodal
+  /// masses, FE with element masses and mean nodal velocities (METHOD.md §3), particles.
+  Vec2 momentum_fe_nodal = Vec2::Zero();
+  Vec2 momentum_fe_element = Vec2::Zero();
+  Vec2 momentum_particles = Vec2::Zero();
+  double kinetic_energy_fe_nodal = 0.0;
+  double kinetic_energy_fe_element = 0.0;
+  double kinetic_energy_particles = 0.0;
+
+  /// Elements inverted at t_T, transferred because of --allow-inverted.
+  std::vector<Index> inverted_elements;
+  /// Particles whose interpolated accumulated plastic shear strain came out negative
+  /// (RBF undershoot) and was set to zero.
+  std::size_t clamped_plastic_strain = 0;
+
+  double seconds_interpolation = 0.0;
+  double seconds_total = 0.0;
+};
+
+/// Multi-line text for the console (each line without the program prefix).
+std::vector<std::string> format_report_lines(const TransferReport& report);
+/// The same as a JSON object (non-finite numbers become null).
+std::string report_json(const TransferReport& report);
+/// PARTICLES.h5 → PARTICLES.transfer.json (any other name: name + ".transfer.json").
+std::filesystem::path report_path(const std::filesystem::path& particle_file);
+
+}  // namespace slide::transfer
