@@ -398,10 +398,23 @@ std::vector<std::string> Group::member_names() const {
   return names;
 }
 
+namespace {
+
+// Creation properties without modification times in the object headers: the same data
+// then gives the same file byte for byte, which the pipelines and tests rely on.
+Handle untimed_creation_properties(hid_t property_class) {
+  Handle properties(H5Pcreate(property_class), &H5Pclose);
+  H5Pset_obj_track_times(properties.id(), false);
+  return properties;
+}
+
+}  // namespace
+
 Group Group::create_group(std::string_view name) {
   const std::string path = child_path(name);
+  const Handle properties = untimed_creation_properties(H5P_GROUP_CREATE);
   Handle group = checked(
-      H5Gcreate2(handle_.id(), c_string(name).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      H5Gcreate2(handle_.id(), c_string(name).c_str(), H5P_DEFAULT, properties.id(), H5P_DEFAULT),
       &H5Gclose, fmt::format("{}: {}", file_label_, path), "cannot create group");
   return Group(std::move(group), file_label_, path);
 }
@@ -463,8 +476,9 @@ Dataset Group::write_dataset(std::string_view name, const void* values, std::siz
           ? scalar_space()
           : Handle(H5Screate_simple(static_cast<int>(extents.size()), extents.data(), nullptr),
                    &H5Sclose);
+  const Handle properties = untimed_creation_properties(H5P_DATASET_CREATE);
   Handle dataset = checked(H5Dcreate2(handle_.id(), c_string(name).c_str(), file_type, space.id(),
-                                      H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                                      H5P_DEFAULT, properties.id(), H5P_DEFAULT),
                            &H5Dclose, at, "cannot create dataset");
   if (count > 0) {
     check(H5Dwrite(dataset.id(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), at,
