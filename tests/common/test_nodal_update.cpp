@@ -1,8 +1,8 @@
 // The shared nodal velocity update: constraints, Coulomb friction, damping.
-#include <gtest/gtest.h>
-
 #include <array>
 #include <cmath>
+
+#include <gtest/gtest.h>
 
 #include "common/nodal_update.hpp"
 
@@ -29,9 +29,23 @@ TEST(NodalUpdate, FrictionSticksWhenTheTangentialImpulseIsWithinTheCone) {
   EXPECT_EQ(w.y(), 0.0);
 }
 
-TEST(NodalUpdate, NodePullingAwayFromTheBaseGetsNoFriction) {
+TEST(NodalUpdate, NodePullingAwayFromTheBaseIsLeftFree) {
   const Vec2 v = apply_constraint(base, 0.5, Vec2(2.0, 0.3));
-  EXPECT_EQ(v, Vec2(2.0, 0.0));
+  EXPECT_EQ(v, Vec2(2.0, 0.3));
+}
+
+TEST(NodalUpdate, LiftedNodeLandsExactlyOnTheBaseAndOnlyTheExcessImpulseBrakes) {
+  // 1 mm above the base, falling at 3 m/s with dt = 1 ms: 2 m/s of the normal speed
+  // would carry it below the base; that excess is the normal impulse per unit mass.
+  const ContactGap gap{contact_gap(base, Vec2(0.0, 1e-3)), 1e-3};
+  EXPECT_DOUBLE_EQ(gap.gap, 1e-3);
+  const Vec2 slipping = apply_constraint(base, 0.5, Vec2(4.0, -3.0), gap);
+  EXPECT_DOUBLE_EQ(slipping.y(), -1.0);  // lands: 1 mm in 1 ms
+  EXPECT_DOUBLE_EQ(slipping.x(), 3.0);   // 4 − μ·2
+  const Vec2 sticking = apply_constraint(base, 0.5, Vec2(0.5, -3.0), gap);
+  EXPECT_EQ(sticking, Vec2(0.0, -1.0));
+  // Falling too slowly to reach the base in this step: free.
+  EXPECT_EQ(apply_constraint(base, 0.5, Vec2(4.0, -0.5), gap), Vec2(4.0, -0.5));
 }
 
 TEST(NodalUpdate, BlockSlidingOnTheBaseStopsAfterVSquaredOverTwoMuG) {
