@@ -1,0 +1,72 @@
+// Benchmark of the FE step loop (not a timed test; docs/fem.md quotes the figures).
+//
+//   OMP_NUM_THREADS=1 build/benchmarks/fem/bench_fem [CASE.toml] [ELEMENT...]
+//
+// For the case (default cases/column-short/case.toml) and each element type (default:
+// quad4-1gp, quad4-2x2, tri3): geostatic stage, switch to the failure models, then the
+// failure stage from t = 0 to fem.end_time with the Courant step and no output at all:
+// the cost of the physics alone (element forces, nodal update, stress update). Prints
+// element-steps per second of that loop.
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "common/case_file.hpp"
+#include "common/mesh_generation.hpp"
+#include "common/program.hpp"
+#include "fem/explicit_dynamics.hpp"
+#include "fem/fem_model.hpp"
+#include "fem/geostatic.hpp"
+
+namespace {
+
+using namespace slide;
+using namespace slide::fem;
+using Clock = std::chrono::steady_clock;
+
+void benchmark(Case c, ElementType type) {
+  c.mesh.element_type = type;
+  const FemModel model =
+      make_model(build_mesh(c), c.materials, c.fem.kinematics, c.fem.hourglass_coefficient);
+  FemState state = make_rest_state(model);
+  solve_geostatic(model, make_constraints(model.mesh, c.fem.geostatic_boundaries, "geostatic"),
+                  state);
+  std::vector<ConstitutiveModel> models;
+  for (const auto& material : model.materials) models.push_back(ConstitutiveModel::from(material));
+  ExplicitSolver solver(model, make_constraints(model.mesh, c.fem.failure_boundaries, "failure"),
+                        c.fem.friction_coefficient,
+                        NodalDamping{c.fem.damping.rayleigh_mass, c.fem.damping.local},
+                        std::move(models));
+  solver.return_to_yield_surface(state);
+  const double dt =
+      c.fem.time_step > 0.0 ? c.fem.time_step : solver.stable_time_step(state, c.fem.courant);
+  const auto start = Clock::now();
+  Index steps = 0;
+  while (state.time < c.fem.end_time) {
+    solver.step(state, dt);
+    ++steps;
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const double element_steps = static_cast<double>(steps * model.element_count());
+  fmt::print(
+      "{:<10} elements={} gauss_points={} steps={} wall_s={:.3f} element_steps_per_s={:.3g}\n",
+      to_string(type), model.element_count(), model.gauss_count(), steps, seconds,
+      element_steps / seconds);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return slide::run_main("bench_fem", [&] {
+    const std::string file = argc > 1 ? argv[1] : SLIDE_SOURCE_DIR "/cases/column-short/case.toml";
+    const Case c = load_case(file);
+    std::vector<ElementType> types;
+    for (int i = 2; i < argc; ++i) types.push_back(parse_element_type(argv[i], "bench_fem"));
+    if (types.empty()) types = {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3};
+    fmt::print("bench_fem: {} ({}), failure stage 0 → {} s, no output\n", c.name,
+               to_string(c.fem.kinematics), c.fem.end_time);
+    for (const auto type : types) benchmark(c, type);
+  });
+}

@@ -1,0 +1,71 @@
+// Element kernels of the FE phase: free functions over all elements, specialised at
+// compile time for the three element types (quad4-1gp, quad4-2x2, tri3), with no
+// allocation and no virtual call inside the element loops.
+//
+// Notation: b_k = ∂N_k/∂x at a Gauss point, w its weight w·det J, v_k and u_k nodal
+// velocity and displacement, σ = [σxx, σyy, σzz, σxy].
+//
+//  - Strain increment (plane strain):
+//      Δε = Δt [Σ b_kx v_kx, Σ b_ky v_ky, 0, Σ (b_ky v_kx + b_kx v_ky)].
+//  - Internal force: f_k = Σ_gp w [b_kx σxx + b_ky σxy, b_ky σyy + b_kx σxy].
+//  - Hourglass control of one-point quads (Flanagan & Belytschko 1981, with a physical
+//    stiffness): with h = (1, −1, 1, −1) and b the gradients at the centre,
+//      γ_k = ¼ [h_k − (h·x) b_kx − (h·y) b_ky],   q = Σ_k γ_k u_k,
+//    q is the ξη coefficient of the displacement field once its linear part is removed
+//    (γ·1 = γ·x = γ·y = 0, γ·h = 1). The strain of the mode u = q ξη is
+//      ε(ξ, η) = η sym(q ⊗ ∇ξ) + ξ sym(q ⊗ ∇η),
+//    and its elastic energy over the element (det J = |J_0| constant on a parallelogram,
+//    ∫η² = ∫ξ² = 4/3, ∫ξη = 0) is ½ qᵀ K_q q with
+//      K_q = (4/3) |J_0| Σ_{g ∈ {∇ξ, ∇η}} G_gᵀ C G_g,
+//      G_g q = [g_x q_x, g_y q_y, g_y q_x + g_x q_y].
+//    The generalised hourglass force is Q = K_q q and the nodal forces f_k = γ_k Q. On a
+//    parallelogram the 2×2 Gauss rule integrates the same quadratic energy exactly, so
+//    the stabilised one-point element has exactly the stiffness of the 2×2 element.
+//    Q is accumulated incrementally, Q ← Q + K_q Δq with Δq = Σ_k γ_k Δu_k, which for
+//    small strain (constant γ, K_q) is the total K_q q plus the geostatic Q, and for
+//    updated Lagrangian uses the current γ and K_q.
+#pragma once
+
+#include <cstddef>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "common/constitutive.hpp"
+#include "fem/fem_model.hpp"
+
+namespace slide::fem {
+
+/// Evaluates `geometry` (gradients, weights, and for one-point quads γ and K_q) on
+/// `coordinates`. Returns the first element with det J ≤ 0 at one of its Gauss points
+/// or at its centre (an inverted or degenerate element), or −1 when there is none; the
+/// geometry of an inverted element is left as computed (non-finite gradients).
+Index compute_geometry(const FemModel& model, std::span<const Vec2> coordinates,
+                       ElementGeometry& geometry);
+
+/// Nodal forces of each element, −(internal + hourglass), into `element_force`
+/// (n_elements × nodes_per_element, element-major): what the element pushes its nodes
+/// with.
+void compute_element_forces(const FemModel& model, const ElementGeometry& geometry,
+                            const FemState& state, std::span<Vec2> element_force);
+
+/// Advances strain, stress, material state and hourglass forces by one step of length
+/// `dt` from the nodal velocities in `state` (the mid-step velocity). With `jaumann` the
+/// stress is first rotated by the spin increment (updated Lagrangian). `models` is
+/// indexed by material id. Returns the number of Gauss points that yielded; the
+/// per-point flags go to state.yielded.
+std::size_t update_stresses(const FemModel& model, const ElementGeometry& geometry,
+                            std::span<const ConstitutiveModel> models, double dt, bool jaumann,
+                            FemState& state);
+
+/// Elastic element stiffness (2n × 2n, DOFs ordered [u_0x, u_0y, u_1x, …]) of element
+/// `e`: Σ_gp w Bᵀ C B plus, for one-point quads, the hourglass stiffness γγᵀ ⊗ K_q.
+using ElementMatrix = Eigen::Matrix<double, 2 * max_nodes_per_element, 2 * max_nodes_per_element>;
+ElementMatrix element_stiffness(const FemModel& model, const ElementGeometry& geometry, Index e);
+
+/// Stable time step of the Courant condition, dt = C·min_e(l_e / c_p), with l_e the area
+/// over the longest edge (quads) or twice the area over the longest edge (triangles) on
+/// `coordinates`, and c_p the P-wave speed of the element's material.
+double courant_time_step(const FemModel& model, std::span<const Vec2> coordinates, double courant);
+
+}  // namespace slide::fem

@@ -1,0 +1,129 @@
+#include "fem/explicit_dynamics.hpp"
+
+#include "fem/element_kernels.hpp"
+
+namespace slide::fem {
+
+namespace {
+
+// How far a node of the frictional base has lifted off it (0 for nodes on no frictional
+// boundary): base nodes start on the base, so the gap follows from the displacement.
+double base_gap(std::span<const NodalConstraint> constraints, const Vec2& displacement) {
+  double gap = 0.0;
+  for (const auto& c : constraints) {
+    if (c.condition == BoundaryCondition::friction) gap = contact_gap(c, displacement);
+  }
+  return gap;
+}
+
+}  // namespace
+
+ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constraints,
+                               double friction_coefficient, NodalDamping damping,
+                               std::vector<ConstitutiveModel> models)
+    : model_(model),
+      constraints_(std::move(constraints)),
+      friction_coefficient_(friction_coefficient),
+      damping_(damping),
+      models_(std::move(models)),
+      updated_lagrangian_(model.kinematics == Kinematics::updated_lagrangian),
+      element_force_(static_cast<std::size_t>(model.element_count() * model.nodes_per_element)) {}
+
+std::size_t ExplicitSolver::return_to_yield_surface(FemState& state) const {
+  // dt = 0: every strain increment is exactly zero, only the return map acts.
+  return update_stresses(model_, model_.reference, models_, 0.0, false, state);
+}
+
+const ElementGeometry& ExplicitSolver::geometry_for(const FemState& state) {
+  if (!updated_lagrangian_) return model_.reference;
+  if (geometry_step_ != state.step) {
+    update_coordinates(model_, state, coordinates_);
+    compute_geometry(model_, coordinates_, current_);
+    geometry_step_ = state.step;
+  }
+  return current_;
+}
+
+double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
+  if (!updated_lagrangian_) return courant_time_step(model_, model_.mesh.nodes, courant);
+  update_coordinates(model_, state, coordinates_);
+  return courant_time_step(model_, coordinates_, courant);
+}
+
+Vec2 ExplicitSolver::nodal_force(Index node) const {
+  const auto n = static_cast<std::size_t>(node);
+  Vec2 force = model_.gravity_force[n];
+  const auto begin = static_cast<std::size_t>(model_.node_slot_offsets[n]);
+  const auto end = static_cast<std::size_t>(model_.node_slot_offsets[n + 1]);
+  for (std::size_t i = begin; i < end; ++i) {
+    force += element_force_[static_cast<std::size_t>(model_.node_slots[i])];
+  }
+  return force;
+}
+
+void ExplicitSolver::update_nodes(FemState& state, double dt) const {
+  const Index n_nodes = model_.node_count();
+  for (Index node = 0; node < n_nodes; ++node) {
+    const auto n = static_cast<std::size_t>(node);
+    const Vec2 previous = state.velocity[n];
+    const Vec2 trial =
+        damped_trial_velocity(model_.nodal_mass[n], previous, nodal_force(node), dt, damping_);
+    const auto constraints = constraints_.of(node);
+    const Vec2 velocity =
+        constraints.empty() ? trial
+                            : apply_constraints(constraints, friction_coefficient_, trial,
+                                                {base_gap(constraints, state.displacement[n]), dt});
+    state.acceleration[n] = (velocity - previous) / dt;
+    state.velocity[n] = velocity;
+    state.displacement[n] += dt * velocity;
+  }
+}
+
+Index ExplicitSolver::step(FemState& state, double dt) {
+  compute_element_forces(model_, geometry_for(state), state, element_force_);
+  if (!updated_lagrangian_) {
+    update_nodes(state, dt);
+    yielded_count_ = update_stresses(model_, model_.reference, models_, dt, false, state);
+  } else {
+    saved_displacement_ = state.displacement;
+    saved_velocity_ = state.velocity;
+    saved_acceleration_ = state.acceleration;
+    update_nodes(state, dt);
+    update_coordinates(model_, state, coordinates_);
+    const Index inverted = compute_geometry(model_, coordinates_, current_);
+    if (inverted >= 0) {
+      state.displacement.swap(saved_displacement_);
+      state.velocity.swap(saved_velocity_);
+      state.acceleration.swap(saved_acceleration_);
+      geometry_step_ = -1;
+      return inverted;
+    }
+    yielded_count_ = update_stresses(model_, current_, models_, dt, true, state);
+    geometry_step_ = state.step + 1;
+  }
+  state.time += dt;
+  state.step += 1;
+  return -1;
+}
+
+void ExplicitSolver::synchronised_velocity(const FemState& state, double dt,
+                                           std::vector<Vec2>& velocity) {
+  velocity.resize(state.velocity.size());
+  if (!(dt > 0.0)) {
+    velocity = state.velocity;
+    return;
+  }
+  compute_element_forces(model_, geometry_for(state), state, element_force_);
+  for (Index node = 0; node < model_.node_count(); ++node) {
+    const auto n = static_cast<std::size_t>(node);
+    const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], state.velocity[n],
+                                             nodal_force(node), 0.5 * dt, damping_);
+    const auto constraints = constraints_.of(node);
+    velocity[n] = constraints.empty()
+                      ? trial
+                      : apply_constraints(constraints, friction_coefficient_, trial,
+                                          {base_gap(constraints, state.displacement[n]), 0.5 * dt});
+  }
+}
+
+}  // namespace slide::fem

@@ -1,0 +1,197 @@
+#include "fem/fem_model.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <string>
+
+#include "common/error.hpp"
+#include "fem/element_kernels.hpp"
+
+namespace slide::fem {
+
+Mat3 plane_strain_elasticity(const Material& material) {
+  const double lambda = material.lame_lambda();
+  const double g = material.shear_modulus();
+  Mat3 c;
+  c << lambda + 2.0 * g, lambda, 0.0,  //
+      lambda, lambda + 2.0 * g, 0.0,   //
+      0.0, 0.0, g;
+  return c;
+}
+
+namespace {
+
+/// Row-sum lumped mass of element e: m_k = ∫ N_k ρ dA. Quads integrate it exactly with
+/// the 2×2 rule (N bilinear, det J linear); for triangles it is ρA/3 at every node.
+void add_element_mass(const Mesh& mesh, Index e, double density, std::vector<double>& nodal_mass) {
+  const ElementShape shape = mesh.shape();
+  const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
+  const auto nodes = mesh.element(e);
+  if (shape == ElementShape::tri3) {
+    const double share = density * element_area(shape, x) / 3.0;
+    for (Index node : nodes) nodal_mass[static_cast<std::size_t>(node)] += share;
+    return;
+  }
+  for (const auto& point : quadrature_rule(ElementType::quad4_2x2)) {
+    const ShapeValues n = shape_functions(shape, point.xi);
+    const double w = point.weight * jacobian(shape, x, point.xi).determinant();
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      nodal_mass[static_cast<std::size_t>(nodes[k])] += density * n[k] * w;
+    }
+  }
+}
+
+void build_node_slots(FemModel& model) {
+  const auto n_nodes = static_cast<std::size_t>(model.node_count());
+  const auto& connectivity = model.mesh.connectivity;
+  model.node_slot_offsets.assign(n_nodes + 1, 0);
+  for (Index node : connectivity) ++model.node_slot_offsets[static_cast<std::size_t>(node) + 1];
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    model.node_slot_offsets[n + 1] += model.node_slot_offsets[n];
+  }
+  model.node_slots.resize(connectivity.size());
+  std::vector<Index> fill(model.node_slot_offsets.begin(), model.node_slot_offsets.end() - 1);
+  for (std::size_t slot = 0; slot < connectivity.size(); ++slot) {
+    const auto node = static_cast<std::size_t>(connectivity[slot]);
+    model.node_slots[static_cast<std::size_t>(fill[node]++)] = static_cast<Index>(slot);
+  }
+}
+
+}  // namespace
+
+FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
+                    double hourglass_coefficient) {
+  FemModel model;
+  model.mesh = std::move(mesh);
+  model.materials = std::move(materials);
+  model.kinematics = kinematics;
+  model.hourglass_coefficient = hourglass_coefficient;
+  const Mesh& m = model.mesh;
+  const ElementType type = m.element_type;
+  model.nodes_per_element = m.nodes_per_element();
+  const auto rule = quadrature_rule(type);
+  model.gauss_per_element = static_cast<int>(rule.size());
+  model.hourglass = type == ElementType::quad4_1gp;
+  for (const auto& point : rule) {
+    model.gauss_local.push_back(point.xi);
+    model.gauss_rule_weight.push_back(point.weight);
+  }
+  for (const auto& material : model.materials) {
+    model.elasticity.push_back(plane_strain_elasticity(material));
+    model.wave_speed.push_back(material.p_wave_speed());
+  }
+
+  const auto n_elements = static_cast<std::size_t>(m.element_count());
+  for (std::size_t e = 0; e < n_elements; ++e) {
+    const auto id = m.material_id[e];
+    if (id < 0 || static_cast<std::size_t>(id) >= model.materials.size()) {
+      throw Error("mesh: element {} has material id {} but there are {} materials", e, id,
+                  model.materials.size());
+    }
+  }
+
+  const Index inverted = compute_geometry(model, m.nodes, model.reference);
+  if (inverted >= 0) {
+    throw Error(
+        "mesh: element {} is inverted or degenerate (det J ≤ 0 in the reference "
+        "configuration)",
+        inverted);
+  }
+
+  model.centre_det_reference.resize(n_elements);
+  model.volume_reference.resize(n_elements);
+  model.element_mass.resize(n_elements);
+  model.nodal_mass.assign(static_cast<std::size_t>(m.node_count()), 0.0);
+  const Vec2 centre = reference_centre(m.shape());
+  for (std::size_t e = 0; e < n_elements; ++e) {
+    const auto ei = static_cast<Index>(e);
+    const ElementNodes x = m.element_nodes(ei, m.nodes);
+    const double density = model.material_of(ei).density;
+    model.centre_det_reference[e] = jacobian(m.shape(), x, centre).determinant();
+    model.volume_reference[e] = element_area(m.shape(), x);
+    model.element_mass[e] = density * model.volume_reference[e];
+    add_element_mass(m, ei, density, model.nodal_mass);
+  }
+  model.gravity_force.resize(model.nodal_mass.size());
+  for (std::size_t n = 0; n < model.nodal_mass.size(); ++n) {
+    if (!(model.nodal_mass[n] > 0.0)) throw Error("mesh: node {} belongs to no element", n);
+    model.gravity_force[n] = model.nodal_mass[n] * gravity_vector();
+  }
+
+  double y_max = -std::numeric_limits<double>::infinity();
+  model.y_min = std::numeric_limits<double>::infinity();
+  for (const Vec2& x : m.nodes) {
+    model.y_min = std::min(model.y_min, x.y());
+    y_max = std::max(y_max, x.y());
+  }
+  model.height = y_max - model.y_min;
+  build_node_slots(model);
+  return model;
+}
+
+FemState make_rest_state(const FemModel& model) {
+  FemState state;
+  const auto n_nodes = static_cast<std::size_t>(model.node_count());
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_count());
+  state.displacement.assign(n_nodes, Vec2::Zero());
+  state.velocity.assign(n_nodes, Vec2::Zero());
+  state.acceleration.assign(n_nodes, Vec2::Zero());
+  state.stress.assign(n_gauss, Vec4::Zero());
+  state.strain.assign(n_gauss, Vec4::Zero());
+  state.material_state.assign(n_gauss, MaterialState{});
+  state.yielded.assign(n_gauss, 0);
+  if (model.hourglass) {
+    state.hourglass_force.assign(static_cast<std::size_t>(model.element_count()), Vec2::Zero());
+  }
+  return state;
+}
+
+std::vector<Vec2> current_coordinates(const FemModel& model, const FemState& state) {
+  std::vector<Vec2> x;
+  update_coordinates(model, state, x);
+  return x;
+}
+
+void update_coordinates(const FemModel& model, const FemState& state, std::vector<Vec2>& x) {
+  x.resize(model.mesh.nodes.size());
+  for (std::size_t n = 0; n < x.size(); ++n) x[n] = model.mesh.nodes[n] + state.displacement[n];
+}
+
+NodalConstraints make_constraints(const Mesh& mesh, const BoundaryTable& table,
+                                  std::string_view where) {
+  for (const auto& [name, condition] : table) {
+    if (mesh.find_node_set(name) == nullptr) {
+      std::string known;
+      for (const auto& set : mesh.node_sets) known += (known.empty() ? "" : ", ") + set.name;
+      throw Error("{}: boundary \"{}\" is not a node set of the mesh (node sets: {})", where, name,
+                  known.empty() ? "none" : known);
+    }
+  }
+  const auto n_nodes = static_cast<std::size_t>(mesh.node_count());
+  std::vector<std::vector<NodalConstraint>> per_node(n_nodes);
+  for (const auto& set : mesh.node_sets) {
+    const auto found = table.find(set.name);
+    if (found == table.end() || found->second == BoundaryCondition::free) continue;
+    for (Index node : set.nodes) {
+      per_node[static_cast<std::size_t>(node)].push_back({found->second, set.normal});
+    }
+  }
+  NodalConstraints result;
+  result.offsets.assign(n_nodes + 1, 0);
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    result.constraints.insert(result.constraints.end(), per_node[n].begin(), per_node[n].end());
+    result.offsets[n + 1] = static_cast<Index>(result.constraints.size());
+  }
+  return result;
+}
+
+std::vector<BoundaryCondition> node_set_conditions(const Mesh& mesh, const BoundaryTable& table) {
+  std::vector<BoundaryCondition> conditions;
+  for (const auto& set : mesh.node_sets) {
+    const auto found = table.find(set.name);
+    conditions.push_back(found == table.end() ? BoundaryCondition::free : found->second);
+  }
+  return conditions;
+}
+
+}  // namespace slide::fem

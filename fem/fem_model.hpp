@@ -1,0 +1,139 @@
+// The finite element model of the FE phase (METHOD.md §3): the mesh with everything the
+// kernels precompute from it, and the state that the stages advance.
+//
+//  - FemModel: constant during a run. Reference geometry per Gauss point (shape-function
+//    gradients ∂N/∂x and integration weights w·det J), hourglass data of one-point quads,
+//    the lumped (row-sum) nodal masses m_I = Σ_e ∫ N_I ρ dA, gravity loads m_I g and the
+//    node → element adjacency used to gather nodal forces.
+//  - FemState: what evolves and what a checkpoint stores (nodal u, v, a; Gauss-point
+//    stress, strain, material state; hourglass generalised forces).
+//  - NodalConstraints: the boundary conditions of one stage, node by node, in the form
+//    the shared nodal update (common/nodal_update.hpp) consumes.
+//
+// Everything is a structure of arrays indexed by node, element or Gauss point; Gauss
+// points are stored element by element in the order of the element's quadrature rule.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "common/case_file.hpp"
+#include "common/constitutive.hpp"
+#include "common/element.hpp"
+#include "common/material.hpp"
+#include "common/mesh.hpp"
+#include "common/nodal_update.hpp"
+#include "common/types.hpp"
+
+namespace slide::fem {
+
+/// Plane-strain elastic matrix on [εxx, εyy, γxy]: [[λ+2G, λ, 0], [λ, λ+2G, 0], [0, 0, G]].
+using Mat3 = Eigen::Matrix3d;
+Mat3 plane_strain_elasticity(const Material& material);
+
+/// What the kernels integrate with. Small strain evaluates it once on the reference
+/// geometry; updated Lagrangian re-evaluates it on the current geometry every step.
+struct ElementGeometry {
+  std::vector<ShapeGradients> gradients;  ///< per Gauss point: row k = ∂N_k/∂x, 1/m
+  std::vector<double> weight;             ///< per Gauss point: w·det J, m² (per m)
+  /// One-point quads only, per element: the Flanagan–Belytschko hourglass vector γ and
+  /// the physical hourglass stiffness K_q (already scaled by the hourglass coefficient).
+  std::vector<Vec4> hourglass_vector;
+  std::vector<Mat2> hourglass_stiffness;
+};
+
+struct FemModel {
+  Mesh mesh;
+  MaterialTable materials;
+  Kinematics kinematics = Kinematics::small_strain;
+  double hourglass_coefficient = 1.0;
+
+  int nodes_per_element = 4;
+  int gauss_per_element = 1;
+  bool hourglass = false;  ///< quad4-1gp: physical hourglass stabilisation is on
+
+  ElementGeometry reference;                 ///< on the reference coordinates X
+  std::vector<Mat3> elasticity;              ///< per material, plane strain
+  std::vector<double> wave_speed;            ///< per material: c_p = sqrt(M/ρ), m/s
+  std::vector<Vec2> gauss_local;             ///< per Gauss point of one element: ξ of the rule
+  std::vector<double> gauss_rule_weight;     ///< per Gauss point of one element: w of the rule
+  std::vector<double> centre_det_reference;  ///< per element: det J at the centre on X
+  std::vector<double> volume_reference;      ///< per element: V_0^e, m² (per m)
+  std::vector<double> element_mass;          ///< per element: m_e = ρ V_0^e, kg (per m)
+  std::vector<double> nodal_mass;            ///< per node: lumped mass, kg (per m)
+  std::vector<Vec2> gravity_force;           ///< per node: m_I g, N (per m)
+  double y_min = 0.0;                        ///< lowest reference elevation, m
+  double height = 0.0;                       ///< H: reference height of the model, m
+
+  /// Node → element slots (e·nodes_per_element + k), CSR: the forces of node n are the
+  /// slots node_slots[node_slot_offsets[n] .. node_slot_offsets[n+1]).
+  std::vector<Index> node_slot_offsets;
+  std::vector<Index> node_slots;
+
+  Index node_count() const { return mesh.node_count(); }
+  Index element_count() const { return mesh.element_count(); }
+  Index gauss_count() const { return element_count() * gauss_per_element; }
+  const Material& material_of(Index element) const {
+    return materials[static_cast<std::size_t>(mesh.material_id[static_cast<std::size_t>(element)])];
+  }
+};
+
+/// Precomputes everything from a validated mesh. Throws Error when an element has
+/// det J ≤ 0 at a Gauss point of its rule or when a material id is out of range.
+FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
+                    double hourglass_coefficient);
+
+struct FemState {
+  double time = 0.0;  ///< s, t = 0 at the start of the failure stage
+  Index step = 0;     ///< time steps since t = 0
+
+  // Nodes. The velocity is the mid-step velocity v_{n+1/2} of the leapfrog scheme
+  // (the one the last position update used); the acceleration is (v_{n+1/2} − v_{n−1/2})/dt.
+  std::vector<Vec2> displacement;  ///< u since t = 0, m
+  std::vector<Vec2> velocity;      ///< m/s
+  std::vector<Vec2> acceleration;  ///< m/s²
+
+  // Gauss points.
+  std::vector<Vec4> stress;  ///< [σxx, σyy, σzz, σxy], Pa, tension positive
+  std::vector<Vec4> strain;  ///< total strain since t = 0, [εxx, εyy, εzz, γxy]
+  std::vector<MaterialState> material_state;
+  std::vector<std::uint8_t> yielded;  ///< 1 where the point yielded in the last update
+
+  /// Per element (one-point quads): hourglass generalised force Q = ∫ K_q dq, N (per m).
+  std::vector<Vec2> hourglass_force;
+};
+
+/// Zero displacement, velocity, stress and state for every node and Gauss point.
+FemState make_rest_state(const FemModel& model);
+
+/// Current coordinates x = X + u.
+std::vector<Vec2> current_coordinates(const FemModel& model, const FemState& state);
+/// Same into an existing vector (no allocation once it has the right size).
+void update_coordinates(const FemModel& model, const FemState& state, std::vector<Vec2>& x);
+
+/// The boundary conditions of one stage, node by node (a corner node gets the
+/// constraints of both of its sides).
+struct NodalConstraints {
+  std::vector<Index> offsets;  ///< CSR offsets, n_nodes + 1
+  std::vector<NodalConstraint> constraints;
+
+  std::span<const NodalConstraint> of(Index node) const {
+    const auto begin = static_cast<std::size_t>(offsets[static_cast<std::size_t>(node)]);
+    const auto end = static_cast<std::size_t>(offsets[static_cast<std::size_t>(node) + 1]);
+    return {constraints.data() + begin, end - begin};
+  }
+};
+
+/// Applies `table` (node-set name → condition) to the mesh; `where` names the table in
+/// errors (e.g. "case.toml: fem.failure.boundaries"). A name that is not a node set of
+/// the mesh is an Error; node sets the table does not name are free.
+NodalConstraints make_constraints(const Mesh& mesh, const BoundaryTable& table,
+                                  std::string_view where);
+
+/// The condition each node set of the mesh gets from `table`, in mesh order (free when
+/// the table does not name it): what a checkpoint's /boundary group records.
+std::vector<BoundaryCondition> node_set_conditions(const Mesh& mesh, const BoundaryTable& table);
+
+}  // namespace slide::fem

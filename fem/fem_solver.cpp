@@ -1,0 +1,539 @@
+#include "fem/fem_solver.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "common/atomic_file.hpp"
+#include "common/checkpoint.hpp"
+#include "common/error.hpp"
+#include "common/mesh_generation.hpp"
+#include "fem/element_kernels.hpp"
+#include "fem/explicit_dynamics.hpp"
+#include "fem/fem_model.hpp"
+#include "fem/fem_output.hpp"
+#include "fem/geostatic.hpp"
+#include "fem/mesh_quality.hpp"
+#include "fem/output_schedule.hpp"
+#include "fem/stability_guard.hpp"
+
+namespace slide::fem {
+
+namespace {
+
+constexpr const char* geostatic_stage = "geostatic";
+constexpr const char* failure_stage = "failure";
+
+std::string format_time(std::optional<double> t) {
+  return t ? fmt::format("{:.3f}", *t) : std::string("none");
+}
+
+std::optional<double> setting_double(const SolverSettings& settings, const std::string& key) {
+  const auto found = settings.find(key);
+  if (found == settings.end()) return std::nullopt;
+  if (const auto* value = std::get_if<double>(&found->second)) return *value;
+  return std::nullopt;
+}
+
+std::string setting_string(const SolverSettings& settings, const std::string& key) {
+  const auto found = settings.find(key);
+  if (found == settings.end()) return {};
+  if (const auto* value = std::get_if<std::string>(&found->second)) return *value;
+  return {};
+}
+
+/// One run of fem-solve, from a case (fresh) or from a checkpoint (restart).
+class FemRun {
+ public:
+  FemRun(const Case& c, const FemOptions& options, const Logger& logger);
+  FemRunSummary execute();
+
+ private:
+  void prepare_fresh();
+  void prepare_restart();
+  void create_outputs(bool resume);
+  void run_geostatic_stage();
+  void start_failure_stage(bool switch_models);
+  void advance_to(double stop);
+  void output(bool checkpoint);
+  HistoryRow diagnose(const ElementQuality& quality);
+  void track_zone(const HistoryRow& row);
+  void stop_at_inversion(Index element, double failing_time);
+  void write_fem_checkpoint(const FemState& state, const std::string& stage,
+                            const std::filesystem::path& file);
+  bool written_this_run(const std::filesystem::path& file) const;
+  double total_energy(const Energies& energies) const;
+  const ElementGeometry& energy_geometry();
+  FemRunSummary finish();
+
+  Case case_;
+  FemOptions options_;
+  const Logger& logger_;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+
+  std::unique_ptr<FemModel> model_;
+  FemState state_;
+  std::unique_ptr<ExplicitSolver> solver_;
+  OutputSchedule schedule_;
+  std::unique_ptr<HistoryFile> history_;
+  std::unique_ptr<VtkSeries> vtk_;
+  std::unique_ptr<Progress> progress_;
+
+  std::string restart_stage_;
+  SolverSettings restart_settings_;
+  bool failure_started_ = false;
+  double pe0_ = 0.0;
+  double time_step_ = 0.0;  ///< Courant or fixed step (small strain: constant)
+  double last_step_ = 0.0;  ///< length of the step that led to the current state
+  GuardLimits limits_;
+  Index steps_ = 0;
+  std::vector<std::filesystem::path> written_;
+  std::filesystem::path last_checkpoint_;
+
+  // Recommended transfer zone: the state at the last output inside it.
+  bool zone_exited_ = false;
+  std::optional<FemState> zone_state_;
+
+  // Scratch of the output steps.
+  std::vector<Vec2> coordinates_;
+  std::vector<Vec2> synchronised_;
+  ElementGeometry current_geometry_;
+};
+
+FemRun::FemRun(const Case& c, const FemOptions& options, const Logger& logger)
+    : case_(c),
+      options_(options),
+      logger_(logger),
+      schedule_(options.until.value_or(c.fem.end_time), c.fem.output_every,
+                {c.fem.checkpoint_every, options.checkpoint_every}, c.fem.checkpoint_times) {
+  if (options_.element) case_.mesh.element_type = *options_.element;
+  if (options_.kinematics) case_.fem.kinematics = *options_.kinematics;
+  if (case_.fem.failure_stage && !(schedule_.end_time() > 0.0)) {
+    throw Error("--until {} is not admissible (expected an end time > 0 s)", schedule_.end_time());
+  }
+  if (options_.checkpoint_every < 0.0) {
+    throw Error("--checkpoint-every {} is not admissible (expected ≥ 0 s)",
+                options_.checkpoint_every);
+  }
+}
+
+FemRunSummary FemRun::execute() {
+  if (options_.restart) {
+    prepare_restart();
+  } else {
+    prepare_fresh();
+    run_geostatic_stage();
+    if (!case_.fem.failure_stage) {
+      output(false);
+      return finish();
+    }
+  }
+  start_failure_stage(!options_.restart || restart_stage_ == geostatic_stage);
+  while (state_.time < schedule_.end_time() - OutputSchedule::time_tolerance) {
+    const double stop = schedule_.next_stop(state_.time);
+    advance_to(stop);
+    output(schedule_.is_checkpoint(stop));
+  }
+  return finish();
+}
+
+void FemRun::prepare_fresh() {
+  // Everything that can reject the input happens before the first file is written.
+  Mesh mesh = build_mesh(case_);
+  make_constraints(mesh, case_.fem.geostatic_boundaries, "fem.geostatic.boundaries");
+  if (case_.fem.failure_stage) {
+    make_constraints(mesh, case_.fem.failure_boundaries, "fem.failure.boundaries");
+  }
+  model_ = std::make_unique<FemModel>(make_model(
+      std::move(mesh), case_.materials, case_.fem.kinematics, case_.fem.hourglass_coefficient));
+  state_ = make_rest_state(*model_);
+  create_outputs(false);
+}
+
+void FemRun::prepare_restart() {
+  const std::filesystem::path& file = *options_.restart;
+  const CheckpointHeader header = read_checkpoint_header(file);
+  if (header.kind != CheckpointKind::fem) {
+    throw Error("{}: checkpoint kind is \"{}\", fem-solve restarts from a kind \"fem\" checkpoint",
+                file.string(), to_string(header.kind));
+  }
+  FemCheckpoint checkpoint = read_fem_checkpoint(file);
+  if (checkpoint.header.case_name != case_.name) {
+    throw Error("{}: written for case \"{}\", not for case \"{}\" of {}", file.string(),
+                checkpoint.header.case_name, case_.name, case_.file.string());
+  }
+  if (checkpoint.mesh.element_type != case_.mesh.element_type) {
+    throw Error("{}: the checkpoint has {} elements but the case asks for {}", file.string(),
+                to_string(checkpoint.mesh.element_type), to_string(case_.mesh.element_type));
+  }
+  if (checkpoint.materials.size() != case_.materials.size()) {
+    throw Error("{}: the checkpoint has {} materials, the case {}", file.string(),
+                checkpoint.materials.size(), case_.materials.size());
+  }
+  for (std::size_t i = 0; i < case_.materials.size(); ++i) {
+    if (checkpoint.materials[i].name != case_.materials[i].name) {
+      throw Error("{}: material {} is \"{}\" in the checkpoint but \"{}\" in the case",
+                  file.string(), i, checkpoint.materials[i].name, case_.materials[i].name);
+    }
+  }
+  restart_stage_ = setting_string(checkpoint.solver, "stage");
+  if (restart_stage_ != geostatic_stage && restart_stage_ != failure_stage) {
+    throw Error("{}: /solver attribute stage is \"{}\" (expected \"geostatic\" or \"failure\")",
+                file.string(), restart_stage_);
+  }
+  if (!case_.fem.failure_stage) {
+    throw Error(
+        "{}: the case has no failure stage (fem.failure_stage = false), nothing to "
+        "continue",
+        file.string());
+  }
+  if (!(checkpoint.header.time < schedule_.end_time() - OutputSchedule::time_tolerance)) {
+    throw Error("{}: the checkpoint time {:.3f} s is at or after the end time {:.3f} s",
+                file.string(), checkpoint.header.time, schedule_.end_time());
+  }
+  validate_mesh(checkpoint.mesh, file.string(), case_.materials.size());
+  make_constraints(checkpoint.mesh, case_.fem.failure_boundaries, "fem.failure.boundaries");
+  model_ = std::make_unique<FemModel>(make_model(
+      checkpoint.mesh, case_.materials, case_.fem.kinematics, case_.fem.hourglass_coefficient));
+  state_ = state_from_checkpoint(*model_, checkpoint, file);
+  pe0_ = checkpoint.header.pe0;
+  restart_settings_ = checkpoint.solver;
+  last_checkpoint_ = file;
+  const std::string kinematics = setting_string(checkpoint.solver, "kinematics");
+  if (!kinematics.empty() && kinematics != to_string(case_.fem.kinematics)) {
+    logger_.warning("{}: written with {} kinematics, continued with {}", file.string(), kinematics,
+                    to_string(case_.fem.kinematics));
+  }
+  logger_.info("restart from {} (t = {:.3f} s, step {}, stage {})", file.string(), state_.time,
+               state_.step, restart_stage_);
+  create_outputs(true);
+}
+
+void FemRun::create_outputs(bool resume) {
+  std::filesystem::create_directories(options_.output_dir);
+  history_ = std::make_unique<HistoryFile>(options_.output_dir / "fem_history.csv");
+  if (options_.write_vtk) vtk_ = std::make_unique<VtkSeries>(options_.output_dir);
+  if (!resume) return;
+  history_->resume(state_.time, logger_);
+  if (vtk_) vtk_->resume(state_.time);
+  for (const auto& row : history_->rows()) zone_exited_ = zone_exited_ || !row.inside_zone();
+}
+
+void FemRun::run_geostatic_stage() {
+  const NodalConstraints constraints =
+      make_constraints(model_->mesh, case_.fem.geostatic_boundaries, "fem.geostatic.boundaries");
+  const GeostaticReport report = solve_geostatic(*model_, constraints, state_);
+  pe0_ = compute_energies(*model_, model_->reference, state_, state_.velocity, model_->mesh.nodes)
+             .potential;
+  logger_.info(
+      "geostatic stage: {} elements ({}), {} equations, max |u| = {:.4g} m (reset to 0), "
+      "relative residual {:.2g}, PE0 = {:.6g} J/m",
+      model_->element_count(), to_string(model_->mesh.element_type), report.equations,
+      report.max_displacement, report.relative_residual, pe0_);
+  write_fem_checkpoint(state_, geostatic_stage, options_.output_dir / checkpoint_file_name(0.0));
+}
+
+void FemRun::start_failure_stage(bool switch_models) {
+  std::vector<ConstitutiveModel> models;
+  for (const auto& material : model_->materials)
+    models.push_back(ConstitutiveModel::from(material));
+  const DampingSpec& damping = case_.fem.damping;
+  solver_ = std::make_unique<ExplicitSolver>(
+      *model_,
+      make_constraints(model_->mesh, case_.fem.failure_boundaries, "fem.failure.boundaries"),
+      case_.fem.friction_coefficient, NodalDamping{damping.rayleigh_mass, damping.local},
+      std::move(models));
+  if (switch_models) {
+    const std::size_t returned = solver_->return_to_yield_surface(state_);
+    logger_.info("failure stage: {} of {} Gauss points returned to the yield surface at the switch",
+                 returned, model_->gauss_count());
+  }
+
+  // Energy reference of the instability guard: the state at the start of the stage.
+  update_coordinates(*model_, state_, coordinates_);
+  const Energies energies =
+      compute_energies(*model_, energy_geometry(), state_, state_.velocity, coordinates_);
+  limits_.speed_limit =
+      case_.fem.speed_limit_factor * std::sqrt(2.0 * gravity_acceleration * model_->height);
+  limits_.initial_energy = total_energy(energies);
+  limits_.energy_scale = releasable_potential_energy(*model_) + energies.elastic +
+                         energies.hourglass + energies.kinetic;
+  if (!switch_models) {
+    const auto initial = setting_double(restart_settings_, "initial_total_energy");
+    const auto scale = setting_double(restart_settings_, "energy_scale");
+    if (initial && scale) {
+      limits_.initial_energy = *initial;
+      limits_.energy_scale = *scale;
+    } else {
+      logger_.warning("the checkpoint has no energy reference; the guard starts from its state");
+    }
+  }
+
+  const double courant_step = solver_->stable_time_step(state_, case_.fem.courant);
+  time_step_ = case_.fem.time_step > 0.0 ? case_.fem.time_step : courant_step;
+  if (case_.fem.time_step > 0.0 && case_.fem.time_step > courant_step / case_.fem.courant) {
+    logger_.warning("fem.time_step = {:.4g} s exceeds the stability limit {:.4g} s (C = 1)",
+                    case_.fem.time_step, courant_step / case_.fem.courant);
+  }
+  logger_.info(
+      "failure stage: {} kinematics, dt = {:.4g} s ({}), t = {:.3f} → {:.3f} s",
+      to_string(case_.fem.kinematics), time_step_,
+      case_.fem.time_step > 0.0 ? "fixed" : fmt::format("Courant C = {}", case_.fem.courant),
+      state_.time, schedule_.end_time());
+  failure_started_ = true;
+  progress_ =
+      std::make_unique<Progress>(logger_, "failure stage", state_.time, schedule_.end_time());
+
+  // The first row: at t = 0 after the switch (fem_t0.000.h5 holds the geostatic state
+  // before it); a restart keeps the row its checkpoint's run wrote.
+  const auto& rows = history_->rows();
+  if (rows.empty() || rows.back().time < state_.time - OutputSchedule::time_tolerance) {
+    output(false);
+  } else if (options_.checkpoint_at_zone_exit && !zone_exited_) {
+    zone_state_ = state_;
+  }
+}
+
+void FemRun::advance_to(double stop) {
+  const bool courant_every_step =
+      model_->kinematics == Kinematics::updated_lagrangian && !(case_.fem.time_step > 0.0);
+  while (state_.time < stop) {
+    const double dt =
+        courant_every_step ? solver_->stable_time_step(state_, case_.fem.courant) : time_step_;
+    const double remaining = stop - state_.time;
+    const bool last = remaining <= dt * (1.0 + 1e-6);
+    const double h = last ? remaining : dt;
+    const Index inverted = solver_->step(state_, h);
+    if (inverted >= 0) stop_at_inversion(inverted, state_.time + h);
+    ++steps_;
+    last_step_ = h;
+    if (last) {
+      state_.time = stop;
+      break;
+    }
+    if ((steps_ & 63) == 0) progress_->update(state_.time, state_.step);
+  }
+}
+
+/// The geometry the energies integrate with, on `coordinates_`: the kernels' own.
+const ElementGeometry& FemRun::energy_geometry() {
+  if (model_->kinematics == Kinematics::small_strain) return model_->reference;
+  compute_geometry(*model_, coordinates_, current_geometry_);
+  return current_geometry_;
+}
+
+double FemRun::total_energy(const Energies& energies) const {
+  return energies.kinetic + (energies.potential - pe0_) + energies.elastic + energies.hourglass;
+}
+
+HistoryRow FemRun::diagnose(const ElementQuality& quality) {
+  if (solver_) {
+    solver_->synchronised_velocity(state_, last_step_, synchronised_);
+  } else {
+    synchronised_ = state_.velocity;
+  }
+  const Energies energies =
+      compute_energies(*model_, energy_geometry(), state_, synchronised_, coordinates_);
+  if (failure_started_) {
+    const std::string diagnosis =
+        check_stability(*model_, state_, coordinates_, total_energy(energies), limits_);
+    if (!diagnosis.empty()) {
+      throw Error("{}; stopped, the last good checkpoint is {}", diagnosis,
+                  last_checkpoint_.empty() ? "none" : last_checkpoint_.string());
+    }
+  }
+  const QualitySummary summary = summarise(quality);
+  HistoryRow row;
+  row.time = state_.time;
+  row.kinetic_energy = energies.kinetic;
+  row.pe0 = pe0_;
+  row.ke_over_pe0 =
+      pe0_ != 0.0 ? energies.kinetic / pe0_ : std::numeric_limits<double>::quiet_NaN();
+  row.jacobian_ratio_min = summary.jacobian_ratio_min;
+  row.jacobian_ratio_avg = summary.jacobian_ratio_avg;
+  row.eps_q_avg = summary.eps_q_avg;
+  row.eps_q_max = summary.eps_q_max;
+  row.n_elements_yielding = summary.n_elements_yielding;
+  return row;
+}
+
+void FemRun::output(bool checkpoint) {
+  update_coordinates(*model_, state_, coordinates_);
+  const ElementQuality quality = evaluate_quality(*model_, state_, coordinates_);
+  const HistoryRow row = diagnose(quality);
+  const auto& rows = history_->rows();
+  const bool newly_inverted =
+      row.jacobian_ratio_min < 0.0 && (rows.empty() || rows.back().jacobian_ratio_min >= 0.0);
+  history_->add(row);
+  if (vtk_) vtk_->write(*model_, state_, coordinates_, quality);
+  if (checkpoint) {
+    write_fem_checkpoint(state_, failure_stage,
+                         options_.output_dir / checkpoint_file_name(state_.time));
+  }
+  if (newly_inverted) {
+    logger_.info(
+        "t = {:.3f} s: (|J_t|/|J_0|)_min = {:.3f} < 0, an element is inverted{}", state_.time,
+        row.jacobian_ratio_min,
+        model_->kinematics == Kinematics::small_strain ? " (small strain: the run goes on)" : "");
+  }
+  if (failure_started_) track_zone(row);
+  if (progress_) {
+    progress_->update(state_.time, state_.step, fmt::format("KE/PE0 {:.4f}", row.ke_over_pe0));
+  }
+}
+
+/// Keeps the state of the last output inside the recommended zone (with
+/// --checkpoint-at-zone-exit) and writes it when the zone is left.
+void FemRun::track_zone(const HistoryRow& row) {
+  if (zone_exited_) return;
+  if (row.inside_zone()) {
+    if (options_.checkpoint_at_zone_exit) zone_state_ = state_;
+    return;
+  }
+  zone_exited_ = true;
+  logger_.info(
+      "t = {:.3f} s: left the recommended transfer zone ((|J_t|/|J_0|)_avg = {:.4f}, "
+      "εq,avg = {:.4f})",
+      state_.time, row.jacobian_ratio_avg, row.eps_q_avg);
+  if (!zone_state_) return;
+  const auto file = options_.output_dir / checkpoint_file_name(zone_state_->time);
+  // A regular checkpoint of that time, or fem_t0.000.h5 at t = 0, already serves.
+  if (written_this_run(file) || zone_state_->time <= OutputSchedule::time_tolerance) {
+    logger_.info("zone-exit checkpoint: {} (already written)", file.string());
+  } else {
+    write_fem_checkpoint(*zone_state_, failure_stage, file);
+  }
+  zone_state_.reset();
+}
+
+void FemRun::stop_at_inversion(Index element, double failing_time) {
+  // `state_` is still the last good state, at t_n.
+  update_coordinates(*model_, state_, coordinates_);
+  const Energies energies =
+      compute_energies(*model_, energy_geometry(), state_, state_.velocity, coordinates_);
+  const std::string diagnosis =
+      check_stability(*model_, state_, coordinates_, total_energy(energies), limits_);
+  if (!diagnosis.empty()) {
+    throw Error(
+        "updated Lagrangian: element {} inverts (det J ≤ 0) in the step from t = {:.6f} s "
+        "to {:.6f} s after an {}; stopped, the last good checkpoint is {}",
+        element, state_.time, failing_time, diagnosis,
+        last_checkpoint_.empty() ? "none" : last_checkpoint_.string());
+  }
+  auto file = options_.output_dir / checkpoint_file_name(state_.time);
+  if (written_this_run(file))
+    file = options_.output_dir / fmt::format("fem_t{:.6f}.h5", state_.time);
+  write_fem_checkpoint(state_, failure_stage, file);
+  throw Error(
+      "updated Lagrangian: element {} inverts (det J ≤ 0) in the step from t = {:.6f} s to "
+      "{:.6f} s; stopped, the last good state is in {}",
+      element, state_.time, failing_time, file.string());
+}
+
+bool FemRun::written_this_run(const std::filesystem::path& file) const {
+  for (const auto& written : written_) {
+    if (written == file) return true;
+  }
+  return false;
+}
+
+void FemRun::write_fem_checkpoint(const FemState& state, const std::string& stage,
+                                  const std::filesystem::path& file) {
+  CheckpointContext context;
+  context.case_name = case_.name;
+  context.pe0 = pe0_;
+  const bool geostatic = stage == geostatic_stage;
+  context.boundary_conditions = node_set_conditions(
+      model_->mesh, geostatic ? case_.fem.geostatic_boundaries : case_.fem.failure_boundaries);
+  context.friction_coefficient = case_.fem.friction_coefficient;
+  context.solver["stage"] = stage;
+  context.solver["kinematics"] = std::string(to_string(model_->kinematics));
+  context.solver["element_type"] = std::string(to_string(model_->mesh.element_type));
+  context.solver["courant"] = case_.fem.courant;
+  // The step the state would take next: fixed, or the Courant step of its geometry.
+  context.solver["time_step"] =
+      case_.fem.time_step > 0.0 ? case_.fem.time_step
+      : solver_                 ? solver_->stable_time_step(state, case_.fem.courant)
+                                : courant_time_step(*model_, model_->mesh.nodes, case_.fem.courant);
+  context.solver["hourglass_coefficient"] = model_->hourglass_coefficient;
+  if (!geostatic) {
+    context.solver["initial_total_energy"] = limits_.initial_energy;
+    context.solver["energy_scale"] = limits_.energy_scale;
+  }
+  write_checkpoint(file, make_checkpoint(*model_, state, context));
+  written_.push_back(file);
+  last_checkpoint_ = file;
+  logger_.info("t = {:.3f} s: wrote {}", state.time, file.string());
+}
+
+FemRunSummary FemRun::finish() {
+  if (progress_) progress_->finish();
+  FemRunSummary summary;
+  summary.steps = steps_;
+  summary.elements = model_->element_count();
+  summary.end_time = state_.time;
+  summary.checkpoints = written_;
+  summary.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  // Zone, inversion and KE peak from the whole history (also the rows before a restart).
+  bool exited = false;
+  for (const auto& row : history_->rows()) {
+    if (!exited && row.inside_zone()) summary.last_time_in_zone = row.time;
+    if (!exited && !row.inside_zone()) {
+      exited = true;
+      summary.zone_exit_time = row.time;
+    }
+    if (!summary.first_time_inverted && row.jacobian_ratio_min < 0.0) {
+      summary.first_time_inverted = row.time;
+    }
+    if (row.ke_over_pe0 > summary.ke_over_pe0_max) {
+      summary.ke_over_pe0_max = row.ke_over_pe0;
+      summary.ke_over_pe0_max_time = row.time;
+    }
+  }
+  if (case_.fem.failure_stage) {
+    const auto when = [](std::optional<double> t) {
+      return t ? fmt::format("t = {:.3f} s", *t) : std::string("never");
+    };
+    logger_.info(
+        "recommended transfer zone ((|J_t|/|J_0|)_avg ≥ {}, εq,avg ≤ {}): last inside "
+        "at {}, left at {}",
+        zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, when(summary.last_time_in_zone),
+        when(summary.zone_exit_time));
+    logger_.info("(|J_t|/|J_0|)_min < 0 first at {}; KE/PE0 peak {:.5f} at t = {:.3f} s",
+                 when(summary.first_time_inverted), summary.ke_over_pe0_max,
+                 summary.ke_over_pe0_max_time);
+  }
+  const std::string text = fmt::format(
+      "# fem-solve summary of case {} (times in s; METHOD.md §3)\n"
+      "element = {}\n"
+      "kinematics = {}\n"
+      "end_time = {:.6g}\n"
+      "steps = {}\n"
+      "elements = {}\n"
+      "last_time_in_zone = {}\n"
+      "zone_exit_time = {}\n"
+      "first_time_jacobian_ratio_negative = {}\n"
+      "ke_over_pe0_max = {:.6g}\n"
+      "ke_over_pe0_max_time = {:.6g}\n"
+      "wall_s = {:.3f}\n",
+      case_.name, to_string(model_->mesh.element_type), to_string(model_->kinematics),
+      summary.end_time, state_.step, summary.elements, format_time(summary.last_time_in_zone),
+      format_time(summary.zone_exit_time), format_time(summary.first_time_inverted),
+      summary.ke_over_pe0_max, summary.ke_over_pe0_max_time, summary.wall_seconds);
+  write_text_atomically(options_.output_dir / "fem_summary.txt", text);
+  return summary;
+}
+
+}  // namespace
+
+FemRunSummary run(const Case& c, const FemOptions& options, const Logger& logger) {
+  FemRun run(c, options, logger);
+  return run.execute();
+}
+
+}  // namespace slide::fem

@@ -1,0 +1,53 @@
+// The FE phase driver (METHOD.md §3): geostatic stage, switch to the failure models,
+// explicit failure stage with outputs, checkpoints, mesh quality and the instability
+// guard; or the continuation of a run from one of its checkpoints.
+//
+// Output cadence: the run stops exactly (the last step before a stop is shortened) at
+// every output time k·fem.output_every, every checkpoint time (k·fem.checkpoint_every,
+// k·--checkpoint-every, the listed fem.checkpoint_times) and the end time; times within
+// 1 ns count as one. At every stop: instability guard, one fem_history.csv row, one VTK
+// frame, and the checkpoint when the stop is a checkpoint time. Because steps land on
+// the stops and a step depends only on the stored state, a run restarted from any
+// checkpoint reproduces the continuous run bit for bit.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "common/case_file.hpp"
+#include "common/log.hpp"
+
+namespace slide::fem {
+
+struct FemOptions {
+  std::filesystem::path output_dir;
+  std::optional<double> until;                   ///< end time instead of fem.end_time
+  std::optional<std::filesystem::path> restart;  ///< a kind "fem" checkpoint
+  double checkpoint_every = 0.0;                 ///< extra checkpoint cadence, s (0: none)
+  bool checkpoint_at_zone_exit = false;
+  bool write_vtk = true;
+  std::optional<ElementType> element;    ///< overrides mesh.element
+  std::optional<Kinematics> kinematics;  ///< overrides fem.kinematics
+};
+
+struct FemRunSummary {
+  Index steps = 0;  ///< time steps taken by this run
+  Index elements = 0;
+  double wall_seconds = 0.0;
+  double end_time = 0.0;
+  /// From the whole history (including the rows before a restart):
+  std::optional<double> last_time_in_zone;    ///< last output time inside the zone
+  std::optional<double> zone_exit_time;       ///< first output time outside it
+  std::optional<double> first_time_inverted;  ///< first output time with (|J_t|/|J_0|)_min < 0
+  double ke_over_pe0_max = 0.0;
+  double ke_over_pe0_max_time = 0.0;
+  std::vector<std::filesystem::path> checkpoints;  ///< written by this run
+};
+
+/// Runs the FE phase of `c`. Throws Error (one line) on bad input, on an instability
+/// and on an element inversion in updated Lagrangian mode; checkpoints already written
+/// stay as they are and no partial one is left.
+FemRunSummary run(const Case& c, const FemOptions& options, const Logger& logger);
+
+}  // namespace slide::fem

@@ -1,0 +1,160 @@
+#include "fem/geostatic.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "common/error.hpp"
+#include "fem/element_kernels.hpp"
+
+namespace slide::fem {
+
+namespace {
+
+/// The directions in which a node may move: u_I = T_I a_I with T_I one column per free
+/// direction (0, 1 or 2 columns).
+struct FreeDirections {
+  int count = 2;
+  std::array<Vec2, 2> direction{Vec2::UnitX(), Vec2::UnitY()};
+};
+
+FreeDirections free_directions(std::span<const NodalConstraint> constraints) {
+  FreeDirections free;
+  const Vec2* first_normal = nullptr;
+  for (const auto& constraint : constraints) {
+    switch (constraint.condition) {
+      case BoundaryCondition::free:
+        break;
+      case BoundaryCondition::fixed:
+        free.count = 0;
+        return free;
+      case BoundaryCondition::roller:
+      case BoundaryCondition::friction: {
+        const Vec2& n = constraint.normal;
+        if (first_normal == nullptr) {
+          first_normal = &n;
+          free.count = 1;
+          free.direction[0] = Vec2(-n.y(), n.x());
+        } else if (std::abs(first_normal->x() * n.y() - first_normal->y() * n.x()) > 1e-9) {
+          free.count = 0;  // two rollers that are not parallel: a corner
+          return free;
+        }
+        break;
+      }
+    }
+  }
+  return free;
+}
+
+/// Euclidean norm by a plain loop (Eigen's vectorised reduction trips a false
+/// -Wmaybe-uninitialized of GCC 12 with AVX-512).
+double euclidean_norm(const Eigen::VectorXd& v) {
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < v.size(); ++i) sum += v[i] * v[i];
+  return std::sqrt(sum);
+}
+
+double smallest_pivot_ratio(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& solver) {
+  if (solver.info() != Eigen::Success) return 0.0;
+  const Eigen::VectorXd d = solver.vectorD();
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (Eigen::Index i = 0; i < d.size(); ++i) {
+    smallest = std::min(smallest, std::abs(d[i]));
+    largest = std::max(largest, std::abs(d[i]));
+  }
+  return largest > 0.0 ? smallest / largest : 0.0;
+}
+
+}  // namespace
+
+GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& constraints,
+                                FemState& state) {
+  const auto n_nodes = static_cast<std::size_t>(model.node_count());
+  std::vector<FreeDirections> free(n_nodes);
+  std::vector<Index> first_equation(n_nodes + 1, 0);
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    free[n] = free_directions(constraints.of(static_cast<Index>(n)));
+    first_equation[n + 1] = first_equation[n] + free[n].count;
+  }
+  const Index equations = first_equation[n_nodes];
+  if (equations == 0) throw Error("geostatic stage: every node is fixed, nothing to solve");
+
+  // Assemble the reduced stiffness Tᵀ K T and load Tᵀ f.
+  const int npe = model.nodes_per_element;
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(model.element_count() * 4 * npe * npe));
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const ElementMatrix k = element_stiffness(model, model.reference, e);
+    const auto nodes = model.mesh.element(e);
+    for (int i = 0; i < npe; ++i) {
+      const auto ni = static_cast<std::size_t>(nodes[static_cast<std::size_t>(i)]);
+      for (int j = 0; j < npe; ++j) {
+        const auto nj = static_cast<std::size_t>(nodes[static_cast<std::size_t>(j)]);
+        const Mat2 block = k.block<2, 2>(2 * i, 2 * j);
+        for (int a = 0; a < free[ni].count; ++a) {
+          for (int b = 0; b < free[nj].count; ++b) {
+            const double value = free[ni].direction[static_cast<std::size_t>(a)].dot(
+                block * free[nj].direction[static_cast<std::size_t>(b)]);
+            triplets.emplace_back(first_equation[ni] + a, first_equation[nj] + b, value);
+          }
+        }
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> stiffness(equations, equations);
+  stiffness.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::VectorXd load(equations);
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    for (int a = 0; a < free[n].count; ++a) {
+      load[first_equation[n] + a] =
+          free[n].direction[static_cast<std::size_t>(a)].dot(model.gravity_force[n]);
+    }
+  }
+
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(stiffness);
+  Eigen::VectorXd solution;
+  if (solver.info() == Eigen::Success) solution = solver.solve(load);
+  const double load_norm = euclidean_norm(load);
+  const double residual =
+      solution.size() == equations && solution.allFinite()
+          ? euclidean_norm(stiffness * solution - load) / std::max(load_norm, 1e-300)
+          : std::numeric_limits<double>::infinity();
+  // A free rigid-body motion leaves a pivot at round-off level (≈ 1e-16 of the largest)
+  // even when gravity does not load it; the pivots of a supported body stay within a
+  // few orders of magnitude of each other.
+  if (!(residual < 1e-6) || !(smallest_pivot_ratio(solver) > 1e-10)) {
+    throw Error(
+        "geostatic stage: the stiffness matrix is singular (the geostatic boundaries leave a "
+        "rigid-body motion free, or an element has no stiffness)");
+  }
+
+  // Nodal displacements u_I = T_I a_I.
+  std::vector<Vec2> displacement(n_nodes, Vec2::Zero());
+  GeostaticReport report{equations, 0.0, residual};
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    for (int a = 0; a < free[n].count; ++a) {
+      displacement[n] +=
+          solution[first_equation[n] + a] * free[n].direction[static_cast<std::size_t>(a)];
+    }
+    report.max_displacement = std::max(report.max_displacement, displacement[n].norm());
+  }
+
+  // Stresses σ = D B u and hourglass forces Q = K_q q through the explicit stress
+  // kernel: one elastic "step" of length 1 with velocity u from the unstressed state.
+  std::vector<ConstitutiveModel> elastic;
+  for (const auto& material : model.materials)
+    elastic.push_back(ConstitutiveModel::elastic(material));
+  state = make_rest_state(model);
+  state.velocity = displacement;
+  update_stresses(model, model.reference, elastic, 1.0, false, state);
+  const FemState stressed = std::move(state);
+  state = make_rest_state(model);
+  state.stress = stressed.stress;
+  state.hourglass_force = stressed.hourglass_force;
+  return report;
+}
+
+}  // namespace slide::fem

@@ -1,0 +1,68 @@
+// fem-solve: the finite element phase of a landslide (METHOD.md §3).
+//
+// Stage 1 solves the elastic geostatic equilibrium of the case's mesh under gravity
+// (one sparse linear solve) and writes it as the t = 0 checkpoint; stage 2 switches to
+// the materials' plastic models, releases the boundaries the case releases and
+// integrates the dynamics explicitly to the end time, writing checkpoints, the history
+// of energy and mesh quality, and VTK frames. Plane strain, SI units.
+//
+//   fem-solve cases/column-short/case.toml -o cases/column-short/out/fem
+//   fem-solve cases/column-short/case.toml -o out/fem --restart out/fem/fem_t4.000.h5
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "common/case_file.hpp"
+#include "common/element.hpp"
+#include "common/log.hpp"
+#include "common/program.hpp"
+#include "fem/fem_solver.hpp"
+
+int main(int argc, char** argv) {
+  using namespace slide;
+  CLI::App app{
+      "fem-solve: the finite element phase (geostatic stage, failure stage, mesh "
+      "quality, checkpoints)",
+      "fem-solve"};
+  std::string case_file, element, kinematics;
+  fem::FemOptions options;
+  double until = 0.0;
+  std::string restart;
+  bool quiet = false;
+  bool no_vtk = false;
+  app.add_option("case", case_file, "case file (case.toml)")->required();
+  app.add_option("-o,--output", options.output_dir, "output folder")->required();
+  app.add_option("--until", until, "end time in s (instead of fem.end_time)");
+  app.add_option("--restart", restart, "continue from this kind \"fem\" checkpoint");
+  app.add_option("--checkpoint-every", options.checkpoint_every,
+                 "also write a checkpoint every DT s");
+  app.add_flag("--checkpoint-at-zone-exit", options.checkpoint_at_zone_exit,
+               "write a checkpoint of the last output state inside the recommended transfer zone");
+  app.add_option("--element", element, "element type instead of mesh.element")
+      ->check(CLI::IsMember({"quad4-1gp", "quad4-2x2", "tri3"}));
+  app.add_option("--kinematics", kinematics, "kinematics instead of fem.kinematics")
+      ->check(CLI::IsMember({"small-strain", "updated-lagrangian"}));
+  app.add_flag("--no-vtk", no_vtk, "write no VTK files");
+  app.add_flag("-q,--quiet", quiet, "print only warnings, errors and the summary line");
+  if (const auto status = parse_command_line(app, argc, argv)) return *status;
+
+  return run_main("fem-solve", [&] {
+    const Logger logger("fem-solve", quiet);
+    const Case c = load_case(case_file);
+    if (app.count("--until") > 0) options.until = until;
+    if (!restart.empty()) options.restart = restart;
+    if (!element.empty()) options.element = parse_element_type(element, "--element");
+    if (!kinematics.empty()) {
+      options.kinematics = kinematics == "updated-lagrangian" ? Kinematics::updated_lagrangian
+                                                              : Kinematics::small_strain;
+    }
+    options.write_vtk = !no_vtk;
+    const fem::FemRunSummary summary = fem::run(c, options, logger);
+    const double rate =
+        summary.wall_seconds > 0.0
+            ? static_cast<double>(summary.elements * summary.steps) / summary.wall_seconds
+            : 0.0;
+    logger.result("summary: steps={} elements={} wall_s={:.3f} element_steps_per_s={:.4g}",
+                  summary.steps, summary.elements, summary.wall_seconds, rate);
+  });
+}

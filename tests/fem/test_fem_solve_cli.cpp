@@ -1,0 +1,454 @@
+// fem-solve end to end: restart bit for bit, the files of the CONTRACT, the
+// instability guard, the updated-Lagrangian stop, bad input, and a cut column-short
+// regression against stored reference numbers.
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include "common/checkpoint.hpp"
+#include "fem_test_support.hpp"
+
+namespace slide::fem {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::ColumnCase;
+using testing::write_file;
+
+const fs::path source_dir = SLIDE_SOURCE_DIR;
+
+/// A clean scratch folder for one test.
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(SLIDE_BINARY_DIR) / "tests" / "fem" / "cli" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+struct ProgramRun {
+  int status = 0;
+  std::string out;
+  std::string err;
+};
+
+/// Runs fem-solve with `arguments`, capturing stdout and stderr.
+ProgramRun fem_solve(const std::string& arguments, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string command =
+      std::string(FEM_SOLVE) + " " + arguments + " > " + out.string() + " 2> " + err.string();
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+}
+
+fs::path write_case(const fs::path& dir, const std::string& text) {
+  const fs::path file = dir / "case.toml";
+  write_file(file, text);
+  return file;
+}
+
+/// Every file of a folder with its bytes.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (entry.is_regular_file()) files[entry.path().string()] = read_text(entry.path());
+  }
+  return files;
+}
+
+template <typename T>
+void expect_same(const std::vector<T>& a, const std::vector<T>& b, const char* name) {
+  ASSERT_EQ(a.size(), b.size()) << name;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!(a[i] == b[i])) {
+      ADD_FAILURE() << name << " differs at " << i;
+      return;
+    }
+  }
+}
+
+/// Every dataset and attribute of two fem checkpoints, bit for bit.
+void expect_identical(const fs::path& first, const fs::path& second) {
+  const FemCheckpoint a = read_fem_checkpoint(first), b = read_fem_checkpoint(second);
+  EXPECT_EQ(a.header.time, b.header.time);
+  EXPECT_EQ(a.header.step, b.header.step);
+  EXPECT_EQ(a.header.pe0, b.header.pe0);
+  EXPECT_EQ(a.header.case_name, b.header.case_name);
+  expect_same(a.mesh.nodes, b.mesh.nodes, "reference_coordinates");
+  expect_same(a.mesh.connectivity, b.mesh.connectivity, "connectivity");
+  expect_same(a.mesh.material_id, b.mesh.material_id, "material_id");
+  expect_same(a.boundary_conditions, b.boundary_conditions, "boundary");
+  expect_same(a.coordinates, b.coordinates, "coordinates");
+  expect_same(a.displacement, b.displacement, "displacement");
+  expect_same(a.velocity, b.velocity, "velocity");
+  expect_same(a.acceleration, b.acceleration, "acceleration");
+  expect_same(a.pore_pressure, b.pore_pressure, "pore_pressure");
+  expect_same(a.jacobian_ratio, b.jacobian_ratio, "jacobian_ratio");
+  expect_same(a.volume_reference, b.volume_reference, "volume_reference");
+  expect_same(a.volume, b.volume, "volume");
+  expect_same(a.hourglass_force, b.hourglass_force, "hourglass_force");
+  expect_same(a.gauss_element, b.gauss_element, "gauss element");
+  expect_same(a.gauss_local_coordinates, b.gauss_local_coordinates, "gauss local_coordinates");
+  expect_same(a.gauss_coordinates, b.gauss_coordinates, "gauss coordinates");
+  expect_same(a.gauss_weight, b.gauss_weight, "gauss weight");
+  expect_same(a.stress, b.stress, "stress");
+  expect_same(a.strain, b.strain, "strain");
+  expect_same(a.eps_q, b.eps_q, "eps_q");
+  ASSERT_EQ(a.state.size(), b.state.size());
+  for (std::size_t i = 0; i < a.state.size(); ++i) {
+    ASSERT_EQ(a.state[i].plastic_shear_strain, b.state[i].plastic_shear_strain) << i;
+    ASSERT_EQ(a.state[i].plastic_volumetric_strain, b.state[i].plastic_volumetric_strain) << i;
+  }
+  EXPECT_EQ(a.solver, b.solver);
+}
+
+/// A non-zero exit and exactly one error line, the last on stderr (warnings may come
+/// before it), containing `fragment`.
+void expect_one_line_error(const ProgramRun& run, const std::string& fragment) {
+  EXPECT_NE(run.status, 0);
+  const auto start = run.err.find("fem-solve: error: ");
+  ASSERT_NE(start, std::string::npos) << run.err;
+  const std::string error = run.err.substr(start);
+  EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 1) << run.err;
+  EXPECT_EQ(error.back(), '\n');
+  EXPECT_NE(error.find(fragment), std::string::npos) << run.err;
+}
+
+TEST(FemSolveCli, RestartContinuesBitForBit) {
+  struct Variant {
+    std::string element, kinematics;
+  };
+  for (const Variant& v :
+       {Variant{"quad4-1gp", "small-strain"}, Variant{"quad4-2x2", "small-strain"},
+        Variant{"tri3", "updated-lagrangian"}}) {
+    SCOPED_TRACE(v.element + " " + v.kinematics);
+    const fs::path dir = scratch("restart-" + v.element + "-" + v.kinematics);
+    ColumnCase column;
+    column.element = v.element;
+    column.kinematics = v.kinematics;
+    const fs::path case_file = write_case(dir, column.text());
+    const std::string base = case_file.string() + " --quiet -o ";
+    ASSERT_EQ(fem_solve(base + (dir / "one").string(), dir).status, 0);
+    ASSERT_EQ(fem_solve(base + (dir / "two").string() + " --until 0.2", dir).status, 0);
+    ASSERT_EQ(fem_solve(base + (dir / "two").string() + " --restart " +
+                            (dir / "two" / "fem_t0.200.h5").string(),
+                        dir)
+                  .status,
+              0);
+    expect_identical(dir / "one" / "fem_t0.400.h5", dir / "two" / "fem_t0.400.h5");
+    EXPECT_EQ(read_text(dir / "one" / "fem_history.csv"),
+              read_text(dir / "two" / "fem_history.csv"));
+    // From the geostatic checkpoint the switch to the plastic models happens again.
+    ASSERT_EQ(fem_solve(base + (dir / "three").string() + " --restart " +
+                            (dir / "one" / "fem_t0.000.h5").string(),
+                        dir)
+                  .status,
+              0);
+    expect_identical(dir / "one" / "fem_t0.400.h5", dir / "three" / "fem_t0.400.h5");
+  }
+}
+
+TEST(FemSolveCli, WritesTheContractFiles) {
+  const fs::path dir = scratch("files");
+  const fs::path case_file = write_case(dir, ColumnCase{}.text());
+  const ProgramRun run =
+      fem_solve(case_file.string() + " -o " + (dir / "out").string() + " --quiet", dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  // --quiet: only the summary line.
+  EXPECT_EQ(run.out.rfind("summary: steps=", 0), 0U) << run.out;
+  EXPECT_NE(run.out.find(" elements=80 wall_s="), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find(" element_steps_per_s="), std::string::npos) << run.out;
+  EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1);
+  for (const char* name : {"fem_t0.000.h5", "fem_t0.200.h5", "fem_t0.400.h5", "fem_history.csv",
+                           "fem.pvd", "fem_gauss_points.pvd", "fem_summary.txt"}) {
+    EXPECT_TRUE(fs::exists(dir / "out" / name)) << name;
+  }
+  std::istringstream history(read_text(dir / "out" / "fem_history.csv"));
+  std::string line;
+  std::getline(history, line);
+  EXPECT_EQ(line,
+            "time,kinetic_energy,pe0,ke_over_pe0,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+            "eps_q_max,n_elements_yielding");
+  std::vector<double> times;
+  while (std::getline(history, line)) times.push_back(std::stod(line));
+  ASSERT_EQ(times.size(), 5U);
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    EXPECT_NEAR(times[i], 0.1 * static_cast<double>(i), 1e-12);
+  }
+  // t = 0 holds the geostatic state; later checkpoints the failure stage.
+  const FemCheckpoint first = read_fem_checkpoint(dir / "out" / "fem_t0.000.h5");
+  EXPECT_EQ(std::get<std::string>(first.solver.at("stage")), "geostatic");
+  EXPECT_EQ(first.header.time, 0.0);
+  const FemCheckpoint last = read_fem_checkpoint(dir / "out" / "fem_t0.400.h5");
+  EXPECT_EQ(std::get<std::string>(last.solver.at("stage")), "failure");
+  EXPECT_EQ(last.header.pe0, first.header.pe0);
+  EXPECT_EQ(fs::exists(dir / "out" / "vtk" / fmt::format("fem_{:06d}.vtu", last.header.step)),
+            true);
+}
+
+TEST(FemSolveCli, GeostaticOnlyCaseWritesTheTimeZeroCheckpoint) {
+  const fs::path dir = scratch("geostatic-only");
+  const ProgramRun run = fem_solve((source_dir / "cases" / "geostatic-4x4" / "case.toml").string() +
+                                       " -o " + (dir / "out").string() + " --quiet --no-vtk",
+                                   dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.out.rfind("summary: steps=0 elements=256 ", 0), 0U) << run.out;
+  EXPECT_TRUE(fs::exists(dir / "out" / "fem_t0.000.h5"));
+  std::size_t checkpoints = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "out")) {
+    checkpoints += entry.path().extension() == ".h5" ? 1 : 0;
+  }
+  EXPECT_EQ(checkpoints, 1U);
+}
+
+TEST(FemSolveCli, ColumnShortRegression) {
+  // The first two seconds of the column-short failure stage (520 steps), against the
+  // numbers of the reference run (small strain, quad4-1gp; docs/fem.md). Tolerances: 2 %
+  // on KE/PE0 and εq,max, 0.01 on (|J_t|/|J_0|)_min: round-off differences between
+  // compilers grow slowly in this smooth phase, a change of the physics shifts these
+  // numbers by far more.
+  const fs::path dir = scratch("column-short");
+  const ProgramRun run =
+      fem_solve((source_dir / "cases" / "column-short" / "case.toml").string() + " -o " +
+                    (dir / "out").string() + " --quiet --no-vtk --until 2",
+                dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::istringstream history(read_text(dir / "out" / "fem_history.csv"));
+  std::string line;
+  std::getline(history, line);
+  std::map<int, std::vector<double>> rows;  // by time in tenths of a second
+  while (std::getline(history, line)) {
+    std::vector<double> values;
+    std::stringstream fields(line);
+    for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
+    rows[static_cast<int>(std::lround(10.0 * values[0]))] = values;
+  }
+  ASSERT_EQ(rows.size(), 21U);
+  EXPECT_NEAR(rows[10][3] / 0.03715871103, 1.0, 0.02);  // KE/PE0 at 1 s
+  EXPECT_NEAR(rows[20][3] / 0.1361943874, 1.0, 0.02);   // KE/PE0 at 2 s
+  EXPECT_NEAR(rows[10][4], 0.8632082188, 0.01);         // (|J_t|/|J_0|)_min at 1 s
+  EXPECT_NEAR(rows[10][7] / 0.7148994595, 1.0, 0.02);   // εq,max at 1 s
+  EXPECT_GT(rows[18][4], 0.0);                          // not yet inverted at 1.8 s
+  EXPECT_LT(rows[19][4], 0.0);                          // inverted at 1.9 s
+  const std::string summary = read_text(dir / "out" / "fem_summary.txt");
+  EXPECT_NE(summary.find("last_time_in_zone = 1.300\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("zone_exit_time = 1.400\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("first_time_jacobian_ratio_negative = 1.900\n"), std::string::npos);
+}
+
+TEST(FemSolveCli, CheckpointAtZoneExitKeepsTheLastStateInsideTheZone) {
+  const fs::path dir = scratch("zone-exit");
+  ColumnCase column;
+  column.width = 20.0;
+  column.height = 16.0;
+  column.end_time = 1.5;
+  column.checkpoint_every = 0.0;
+  const fs::path case_file = write_case(dir, column.text());
+  const ProgramRun run = fem_solve(
+      case_file.string() + " -o " + (dir / "out").string() + " --no-vtk --checkpoint-at-zone-exit",
+      dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string summary = read_text(dir / "out" / "fem_summary.txt");
+  const auto at = summary.find("last_time_in_zone = ");
+  ASSERT_NE(at, std::string::npos);
+  const std::string last_inside = summary.substr(at + 20, summary.find('\n', at) - at - 20);
+  ASSERT_NE(last_inside, "none") << "the run never left the zone: lengthen it";
+  const fs::path file = dir / "out" / ("fem_t" + last_inside + ".h5");
+  ASSERT_TRUE(fs::exists(file)) << file;
+  EXPECT_NEAR(read_fem_checkpoint(file).header.time, std::stod(last_inside), 1e-9);
+}
+
+TEST(FemSolveCli, InstabilityStopsWithoutWritingABadCheckpoint) {
+  const fs::path dir = scratch("instability");
+  ColumnCase column;
+  column.time_step = 0.05;  // 13 times the Courant step
+  const fs::path case_file = write_case(dir, column.text());
+  const ProgramRun run =
+      fem_solve(case_file.string() + " -o " + (dir / "out").string() + " --no-vtk", dir);
+  expect_one_line_error(run, "instability: ");
+  EXPECT_NE(run.err.find("the last good checkpoint is "), std::string::npos) << run.err;
+  EXPECT_TRUE(fs::exists(dir / "out" / "fem_t0.000.h5"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "fem_t0.200.h5"));
+}
+
+/// Sets stress[0] of a checkpoint file to NaN behind the writer's back.
+void poison_stress(const fs::path& file) {
+  const hid_t h5 = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(h5, 0);
+  const hid_t dataset = H5Dopen2(h5, "/gauss_points/stress", H5P_DEFAULT);
+  ASSERT_GE(dataset, 0);
+  const hid_t space = H5Dget_space(dataset);
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  std::vector<double> values(static_cast<std::size_t>(dims[0] * dims[1]));
+  H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  values[0] = std::nan("");
+  H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Sclose(space);
+  H5Dclose(dataset);
+  H5Fclose(h5);
+}
+
+TEST(FemSolveCli, UpdatedLagrangianStopsCleanlyWhenAnElementInverts) {
+  // A state whose velocity field folds an element within one step, as if the body were
+  // struck: its energy reference and the speed limit are raised so that the guard lets
+  // it run, and the inversion must stop the run with that last good state kept.
+  const fs::path dir = scratch("inversion");
+  ColumnCase column;
+  column.kinematics = "updated-lagrangian";
+  column.extra_fem = "speed_limit_factor = 1e6\n";
+  const fs::path case_file = write_case(dir, column.text());
+  ASSERT_EQ(
+      fem_solve(case_file.string() + " -q --no-vtk --until 0.2 -o " + (dir / "first").string(), dir)
+          .status,
+      0);
+  FemCheckpoint struck = read_fem_checkpoint(dir / "first" / "fem_t0.200.h5");
+  const std::size_t node = 12;  // an interior node of the 11 × 9 node grid
+  struck.velocity[node] = Vec2(-2000.0, -2000.0);
+  struck.solver["initial_total_energy"] = 1e12;
+  write_checkpoint(dir / "struck" / "fem_t0.200.h5", struck);
+  const ProgramRun run = fem_solve(case_file.string() + " --no-vtk -o " + (dir / "out").string() +
+                                       " --restart " + (dir / "struck" / "fem_t0.200.h5").string(),
+                                   dir);
+  expect_one_line_error(run, "updated Lagrangian: element ");
+  EXPECT_NE(run.err.find("inverts (det J ≤ 0) in the step from t = 0.200000 s"), std::string::npos)
+      << run.err;
+  const fs::path last_good = dir / "out" / "fem_t0.200.h5";
+  ASSERT_TRUE(fs::exists(last_good));
+  const FemCheckpoint kept = read_fem_checkpoint(last_good);
+  EXPECT_EQ(kept.header.time, struck.header.time);
+  EXPECT_EQ(kept.velocity[node], struck.velocity[node]);
+  EXPECT_EQ(kept.displacement, struck.displacement);
+  EXPECT_EQ(kept.stress, struck.stress);
+}
+
+class FemSolveBadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = scratch(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    const fs::path good = write_case(dir_ / "good", ColumnCase{}.text());
+    ASSERT_EQ(fem_solve(good.string() + " -q -o " + out().string() + " --until 0.2", dir_).status,
+              0);
+    before_ = snapshot(out());
+  }
+  void TearDown() override { EXPECT_EQ(snapshot(out()), before_) << "OUT was modified"; }
+
+  fs::path out() const { return dir_ / "out"; }
+  ProgramRun run_case(const std::string& text, const std::string& options = "") {
+    const fs::path file = write_case(dir_ / "bad", text);
+    return fem_solve(file.string() + " -o " + out().string() + " " + options, dir_);
+  }
+
+  fs::path dir_;
+  std::map<std::string, std::string> before_;
+};
+
+TEST_F(FemSolveBadInput, ClockwiseBlockCorners) {
+  ColumnCase column;
+  column.mesh =
+      "[mesh]\ngenerator = \"blocks\"\n[[mesh.blocks]]\ncorners = [[0.0, 0.0], [0.0, 8.0], "
+      "[10.0, 8.0], [10.0, 0.0]]\ncells = [8, 10]\nmaterial = \"soil\"\n";
+  expect_one_line_error(run_case(column.text()), "clockwise");
+}
+
+/// Two unit quads side by side in Gmsh 2.2 format with the surface "soil" and the
+/// physical lines "left" and "right", but no "base".
+const char* two_quads_without_base =
+    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n1 1 \"left\"\n1 2 \"right\"\n"
+    "2 3 \"soil\"\n$EndPhysicalNames\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 2 0 0\n4 0 1 0\n5 1 1 0\n"
+    "6 2 1 0\n$EndNodes\n$Elements\n4\n1 1 2 1 1 1 4\n2 1 2 2 2 3 6\n3 3 2 3 1 1 2 5 4\n"
+    "4 3 2 3 1 2 3 6 5\n$EndElements\n";
+
+std::string gmsh_case(const std::string& msh_name) {
+  ColumnCase column;
+  column.mesh = "[mesh]\ngenerator = \"gmsh\"\nfile = \"" + msh_name + "\"\n";
+  column.geostatic_boundaries = "left = \"roller\"\nright = \"roller\"\nbase = \"roller\"\n";
+  column.failure_boundaries = "left = \"roller\"\nright = \"free\"\nbase = \"friction\"\n";
+  return column.text();
+}
+
+TEST_F(FemSolveBadInput, GmshFileWithoutTheBaseGroup) {
+  write_file(dir_ / "bad" / "mesh.msh", two_quads_without_base);
+  expect_one_line_error(run_case(gmsh_case("mesh.msh")), "has no physical group");
+}
+
+TEST_F(FemSolveBadInput, GmshFileWithAnInvertedElement) {
+  // One counter-clockwise but re-entrant quad (an arrowhead: corner 3 lies inside the
+  // triangle of the other three), so det J < 0 at that corner.
+  write_file(dir_ / "bad" / "mesh.msh",
+             "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n1 1 \"left\"\n"
+             "1 2 \"right\"\n1 3 \"base\"\n2 4 \"soil\"\n$EndPhysicalNames\n$Nodes\n4\n"
+             "1 0 0 0\n2 1 0 0\n3 0.2 0.2 0\n4 0 1 0\n$EndNodes\n$Elements\n4\n"
+             "1 1 2 1 1 1 4\n2 1 2 2 2 2 3\n3 1 2 3 3 1 2\n4 3 2 4 1 1 2 3 4\n$EndElements\n");
+  expect_one_line_error(run_case(gmsh_case("mesh.msh")), "element");
+}
+
+TEST_F(FemSolveBadInput, RestartFromAParticleFile) {
+  ParticleCheckpoint particles;
+  particles.header.kind = CheckpointKind::particles;
+  particles.header.case_name = "test-column";
+  particles.particles.resize(1);
+  particles.particles.volume[0] = 1.0;
+  particles.particles.mass[0] = 1700.0;
+  particles.particles.size[0] = Vec2(1.0, 1.0);
+  particles.materials = {testing::soil(MaterialModel::mohr_coulomb)};
+  const fs::path file = dir_ / "particles.h5";
+  write_checkpoint(file, particles);
+  expect_one_line_error(run_case(ColumnCase{}.text(), "--restart " + file.string()),
+                        "kind is \"particles\"");
+}
+
+TEST_F(FemSolveBadInput, RestartFromACheckpointHoldingNaN) {
+  const fs::path file = dir_ / "nan" / "fem_t0.200.h5";
+  fs::create_directories(file.parent_path());
+  fs::copy_file(out() / "fem_t0.200.h5", file);
+  poison_stress(file);
+  expect_one_line_error(run_case(ColumnCase{}.text(), "--restart " + file.string()), file.string());
+}
+
+TEST_F(FemSolveBadInput, RestartFromAMissingFile) {
+  expect_one_line_error(run_case(ColumnCase{}.text(), "--restart " + (dir_ / "none.h5").string()),
+                        "none.h5");
+}
+
+TEST_F(FemSolveBadInput, RestartAtTheEndTime) {
+  expect_one_line_error(
+      run_case(ColumnCase{}.text(), "--until 0.2 --restart " + (out() / "fem_t0.200.h5").string()),
+      "at or after the end time");
+}
+
+TEST_F(FemSolveBadInput, RestartWithAnotherElementType) {
+  ColumnCase column;
+  column.element = "tri3";
+  expect_one_line_error(run_case(column.text(), "--restart " + (out() / "fem_t0.200.h5").string()),
+                        "quad4-1gp elements but the case asks for tri3");
+}
+
+TEST_F(FemSolveBadInput, MissingCaseFile) {
+  const ProgramRun run =
+      fem_solve((dir_ / "missing.toml").string() + " -o " + out().string(), dir_);
+  expect_one_line_error(run, "missing.toml");
+}
+
+TEST_F(FemSolveBadInput, UnknownOption) {
+  const ProgramRun run = fem_solve(
+      (dir_ / "good" / "case.toml").string() + " -o " + out().string() + " --no-such-option", dir_);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+}
+
+}  // namespace
+}  // namespace slide::fem
