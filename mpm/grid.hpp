@@ -1,0 +1,116 @@
+// The background grid: square cells of size h covering the domain box, and the nodal
+// arrays one step needs. The grid carries nothing between steps (METHOD.md §5).
+//
+// Layout. Cells (cx, cy), 0 ≤ cx < cells_x, 0 ≤ cy < cells_y; nodes (i, j) at
+// x0 + (i h, j h). One ring of ghost nodes, i = −1 and i = cells_x + 1 (likewise j),
+// surrounds the domain so that the uGIMP support of any particle whose centre lies in
+// the domain (domain half-length ≤ h/2) indexes valid nodes: a particle whose domain
+// pokes slightly through the base or a wall simply puts a little mass on a ghost node,
+// which gets the same velocity constraint as the edge it lies beyond.
+//
+// Node storage is x-major, column after column (index = (i+1)·rows + (j+1)), and so is
+// the cell order particles are sorted in: a contiguous range of sorted particles touches
+// a contiguous band of node columns, which is what makes the per-block scatter windows
+// of kernels.hpp small and their reduction cheap.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "common/case_file.hpp"
+#include "common/nodal_update.hpp"
+#include "common/types.hpp"
+
+namespace slide::mpm {
+
+/// Sums a particle-to-grid pass accumulates at one node.
+struct NodeSums {
+  double mass;
+  double momentum_x, momentum_y;
+  double force_x, force_y;  ///< internal + external (gravity), without reactions
+};
+
+/// What a grid-to-particle pass reads at one node: the velocity change rate a_i used
+/// by FLIP and the end-of-step (Lagrangian) velocity v_i^L.
+struct NodeMotion {
+  double acceleration_x, acceleration_y;
+  double velocity_x, velocity_y;
+};
+
+/// Grid edges in the order of `GridGeometry::edge_conditions`.
+enum GridEdge { edge_left = 0, edge_right = 1, edge_base = 2, edge_top = 3 };
+
+struct GridGeometry {
+  Vec2 origin = Vec2::Zero();  ///< lower-left corner x0
+  double cell_size = 1.0;      ///< h
+  int cells_x = 0, cells_y = 0;
+
+  /// Builds the grid over [domain_min, domain_max]; the box is extended up and to the
+  /// right to a whole number of cells when it is not one already.
+  static GridGeometry covering(const Vec2& domain_min, const Vec2& domain_max, double cell_size);
+
+  Vec2 upper_corner() const { return origin + cell_size * Vec2(cells_x, cells_y); }
+  int node_columns() const { return cells_x + 3; }
+  int node_rows() const { return cells_y + 3; }
+  std::size_t node_count() const {
+    return static_cast<std::size_t>(node_columns()) * static_cast<std::size_t>(node_rows());
+  }
+  std::size_t cell_count() const {
+    return static_cast<std::size_t>(cells_x) * static_cast<std::size_t>(cells_y);
+  }
+  /// Storage index of node (i, j), −1 ≤ i ≤ cells_x + 1.
+  std::size_t node_index(int i, int j) const {
+    return static_cast<std::size_t>(i + 1) * static_cast<std::size_t>(node_rows()) +
+           static_cast<std::size_t>(j + 1);
+  }
+  /// Node column (storage order) of a node index.
+  int node_column(std::size_t index) const {
+    return static_cast<int>(index / static_cast<std::size_t>(node_rows()));
+  }
+  Vec2 node_position(std::size_t index) const;
+  /// True when a particle centred at x is on the grid: within half a cell of the domain
+  /// box, ξ ∈ [−½, cells + ½). Every node of its stencil (uGIMP or linear) then exists
+  /// (ghost ring included), and a particle pressed slightly through a wall or the base
+  /// stays in play: the ghost nodes beyond a wall carry the wall's constraint, so it
+  /// cannot go further than about its own half-size.
+  bool contains(const Vec2& x) const {
+    const double xi = (x.x() - origin.x()) / cell_size;
+    const double eta = (x.y() - origin.y()) / cell_size;
+    return xi >= -0.5 && xi < cells_x + 0.5 && eta >= -0.5 && eta < cells_y + 0.5;
+  }
+  /// x-major cell index of a point on the grid (the half-cell margins count as the
+  /// boundary cells).
+  std::size_t cell_of(const Vec2& x) const;
+};
+
+/// Velocity constraints of the four grid edges (METHOD.md §5): left/right walls, base,
+/// top, each free, roller, fixed or friction, with the body's outward normal there.
+struct GridBoundaries {
+  std::array<NodalConstraint, 4> edge;  ///< indexed by GridEdge
+  double friction_coefficient = 0.0;
+
+  /// From the case's "left", "right", "base", "top" entries (missing ones are free).
+  static GridBoundaries from(const BoundaryTable& table, double friction_coefficient);
+
+  /// The constraints of node (i, j): those of every edge the node lies on or beyond
+  /// (at most two, at a corner). Returns how many were written to `out`.
+  int constraints_of(const GridGeometry& grid, int i, int j,
+                     std::array<NodalConstraint, 2>& out) const;
+};
+
+/// The nodal arrays of one step. Only the node columns some particle touches
+/// ([active_begin, active_end)) are written and read in a step.
+struct GridState {
+  std::vector<NodeSums> sums;      ///< mass, momentum, force (pass 1)
+  std::vector<NodeMotion> motion;  ///< a_i and v_i^L after damping and constraints
+  /// MUSL: velocity re-projected from the updated particle momenta (constrained).
+  std::vector<Vec2> remapped_velocity;
+  int active_begin = 0, active_end = 0;  ///< node columns
+  bool parallel = false;                 ///< enough work for several threads
+
+  void resize(const GridGeometry& grid);
+  std::size_t bytes() const;
+};
+
+}  // namespace slide::mpm

@@ -1,0 +1,513 @@
+#include "mpm/kernels.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "mpm/shape_functions.hpp"
+
+namespace slide::mpm {
+
+namespace {
+
+// Block sizes. Blocks of a few thousand particles keep a window's overhead (zeroing and
+// reducing its band, ~3 node columns wider than the particles' own cells) at a few per
+// cent of the scatter work; counts are multiples of 24 so that 1, 2, 3, 4, 6, 8, 12 or
+// 24 threads share them evenly.
+constexpr std::size_t smallest_block = 256;
+constexpr std::size_t block_multiple = 24;
+constexpr std::size_t particles_per_block_target = 4096;
+
+/// The 2D weights of one particle: tensor products of the 1-D ones.
+template <class Shape>
+struct ParticleWeights {
+  Weights1d<Shape::support> x, y;
+  double inv_h;
+
+  ParticleWeights(const GridGeometry& grid, const Vec2& position, const Vec2& size) {
+    inv_h = 1.0 / grid.cell_size;
+    const double xi = (position.x() - grid.origin.x()) * inv_h;
+    const double eta = (position.y() - grid.origin.y()) * inv_h;
+    // uGIMP half-lengths in cell units, at most ½ (a domain never spans more than a cell).
+    const double ax = std::min(0.5 * size.x() * inv_h, 0.5);
+    const double ay = std::min(0.5 * size.y() * inv_h, 0.5);
+    x = Shape::weights(xi, ax);
+    y = Shape::weights(eta, ay);
+  }
+  /// Storage index of the first node of stencil column a.
+  std::size_t column_start(const GridGeometry& grid, int a) const {
+    return grid.node_index(x.base + a, y.base);
+  }
+};
+
+template <class Shape>
+int first_node(double xi) {
+  return Shape::weights(xi, 0.5).base;
+}
+
+template <class Shape>
+void locate_block(const Particles& particles, const GridGeometry& grid, std::size_t begin,
+                  std::size_t end, int& column_begin, int& column_end, std::int64_t& non_finite,
+                  std::vector<std::size_t>& outside) {
+  double xi_min = std::numeric_limits<double>::infinity();
+  double xi_max = -xi_min;
+  const double inv_h = 1.0 / grid.cell_size;
+  for (std::size_t p = begin; p < end; ++p) {
+    const Vec2& x = particles.coordinates[p];
+    if (!std::isfinite(x.x()) || !std::isfinite(x.y())) {
+      if (non_finite < 0) non_finite = static_cast<std::int64_t>(p);
+      continue;
+    }
+    if (!grid.contains(x)) {
+      outside.push_back(p);
+      continue;
+    }
+    const double xi = (x.x() - grid.origin.x()) * inv_h;
+    xi_min = std::min(xi_min, xi);
+    xi_max = std::max(xi_max, xi);
+  }
+  if (xi_min > xi_max) {  // no particle on the grid
+    column_begin = column_end = 0;
+    return;
+  }
+  // Storage column of node i is i + 1.
+  column_begin = first_node<Shape>(xi_min) + 1;
+  column_end = first_node<Shape>(xi_max) + Shape::support + 1;
+}
+
+template <class Shape>
+void scatter_block(const Particles& particles, const GridGeometry& grid, const Vec2& gravity,
+                   std::size_t begin, std::size_t end, int column_begin,
+                   std::vector<NodeSums>& window) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
+  constexpr int n = Shape::support;
+  for (std::size_t p = begin; p < end; ++p) {
+    const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
+    const double m = particles.mass[p];
+    const Vec2& v = particles.velocity[p];
+    const Vec4& s = particles.stress[p];
+    const double volume = particles.volume[p];
+    const double mvx = m * v.x(), mvy = m * v.y();
+    const double mgx = m * gravity.x(), mgy = m * gravity.y();
+    // −V σ·∇N with ∇N in physical units: fold V/h in once.
+    const double vh = volume * w.inv_h;
+    const double sxx = vh * s[0], syy = vh * s[1], sxy = vh * s[3];
+    for (int a = 0; a < n; ++a) {
+      NodeSums* column = window.data() + (w.column_start(grid, a) - offset);
+      for (int b = 0; b < n; ++b) {
+        const double weight = w.x.value[a] * w.y.value[b];
+        const double gx = w.x.derivative[a] * w.y.value[b];  // ×1/h folded into vh
+        const double gy = w.x.value[a] * w.y.derivative[b];
+        NodeSums& node = column[b];
+        node.mass += weight * m;
+        node.momentum_x += weight * mvx;
+        node.momentum_y += weight * mvy;
+        node.force_x += weight * mgx - (sxx * gx + sxy * gy);
+        node.force_y += weight * mgy - (sxy * gx + syy * gy);
+      }
+    }
+  }
+}
+
+/// Sums the blocks' windows into one node column of the grid, node by node in block
+/// order (the order that makes every sum independent of the thread count).
+template <class T, class Add>
+void sum_column(const ParticleBlocks& blocks, const std::vector<std::vector<T>>& windows,
+                int column, std::size_t rows, T* target, const T& zero, Add add) {
+  std::fill(target, target + rows, zero);
+  for (std::size_t b = 0; b < blocks.count(); ++b) {
+    const int c0 = blocks.column_begin[b];
+    const int c1 = blocks.column_end[b];
+    if (column < c0 || column >= c1) continue;
+    const T* source = windows[b].data() + static_cast<std::size_t>(column - c0) * rows;
+    for (std::size_t r = 0; r < rows; ++r) add(target[r], source[r]);
+  }
+}
+
+template <class Shape>
+void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
+                              const GridState& state, double dt_velocity, double pic_fraction,
+                              std::size_t begin, std::size_t end, int column_begin,
+                              std::vector<Vec2>& window) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
+  constexpr int n = Shape::support;
+  const double flip = 1.0 - pic_fraction;
+  for (std::size_t p = begin; p < end; ++p) {
+    const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
+    double ax = 0.0, ay = 0.0, vx = 0.0, vy = 0.0;
+    for (int a = 0; a < n; ++a) {
+      const NodeMotion* column = state.motion.data() + w.column_start(grid, a);
+      for (int b = 0; b < n; ++b) {
+        const double weight = w.x.value[a] * w.y.value[b];
+        ax += weight * column[b].acceleration_x;
+        ay += weight * column[b].acceleration_y;
+        vx += weight * column[b].velocity_x;
+        vy += weight * column[b].velocity_y;
+      }
+    }
+    Vec2& v = particles.velocity[p];
+    v.x() = flip * (v.x() + dt_velocity * ax) + pic_fraction * vx;
+    v.y() = flip * (v.y() + dt_velocity * ay) + pic_fraction * vy;
+    const double mvx = particles.mass[p] * v.x(), mvy = particles.mass[p] * v.y();
+    for (int a = 0; a < n; ++a) {
+      Vec2* column = window.data() + (w.column_start(grid, a) - offset);
+      for (int b = 0; b < n; ++b) {
+        const double weight = w.x.value[a] * w.y.value[b];
+        column[b].x() += weight * mvx;
+        column[b].y() += weight * mvy;
+      }
+    }
+  }
+}
+
+template <class Shape, UpdateScheme Scheme>
+double gather_block(Particles& particles, const GridGeometry& grid, const GridState& state,
+                    const StepLengths& step, double pic_fraction, std::span<Vec4> gradient,
+                    std::size_t begin, std::size_t end) {
+  constexpr int n = Shape::support;
+  const double flip = 1.0 - pic_fraction;
+  double kinetic = 0.0;
+  for (std::size_t p = begin; p < end; ++p) {
+    const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
+    double ax = 0.0, ay = 0.0, vx = 0.0, vy = 0.0;
+    double lxx = 0.0, lxy = 0.0, lyx = 0.0, lyy = 0.0;
+    for (int a = 0; a < n; ++a) {
+      const std::size_t start = w.column_start(grid, a);
+      const NodeMotion* column = state.motion.data() + start;
+      [[maybe_unused]] const Vec2* remapped = state.remapped_velocity.data() + start;
+      for (int b = 0; b < n; ++b) {
+        const double weight = w.x.value[a] * w.y.value[b];
+        const double gx = w.x.derivative[a] * w.y.value[b];
+        const double gy = w.x.value[a] * w.y.derivative[b];
+        vx += weight * column[b].velocity_x;
+        vy += weight * column[b].velocity_y;
+        double ux, uy;  // the velocity field the gradient is taken of
+        if constexpr (Scheme == UpdateScheme::musl) {
+          ux = remapped[b].x();
+          uy = remapped[b].y();
+        } else {
+          ax += weight * column[b].acceleration_x;
+          ay += weight * column[b].acceleration_y;
+          ux = column[b].velocity_x;
+          uy = column[b].velocity_y;
+        }
+        lxx += ux * gx;
+        lxy += ux * gy;
+        lyx += uy * gx;
+        lyy += uy * gy;
+      }
+    }
+    Vec2& v = particles.velocity[p];
+    if constexpr (Scheme == UpdateScheme::usl) {
+      v.x() = flip * (v.x() + step.dt_velocity * ax) + pic_fraction * vx;
+      v.y() = flip * (v.y() + step.dt_velocity * ay) + pic_fraction * vy;
+    }
+    const Vec2 dx(step.dt * vx, step.dt * vy);
+    particles.coordinates[p] += dx;
+    particles.displacement[p] += dx;
+    gradient[p] = Vec4(lxx, lxy, lyx, lyy) * w.inv_h;
+    kinetic += 0.5 * particles.mass[p] * v.squaredNorm();
+  }
+  return kinetic;
+}
+
+template <class T>
+void permute(std::vector<T>& field, const std::vector<std::uint32_t>& order) {
+  std::vector<T> sorted(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = field[order[k]];
+  field.swap(sorted);
+}
+
+void permute_with(std::vector<Vec4>& field, const std::vector<std::uint32_t>& order,
+                  std::vector<Vec4>& buffer) {
+  buffer.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) buffer[k] = field[order[k]];
+  field.swap(buffer);
+}
+
+void permute_all(Particles& particles, const std::vector<std::uint32_t>& order,
+                 std::vector<Vec4>& buffer) {
+  permute(particles.coordinates, order);
+  permute(particles.displacement, order);
+  permute(particles.velocity, order);
+  permute_with(particles.stress, order, buffer);
+  permute_with(particles.strain, order, buffer);
+  permute(particles.eps_q, order);
+  permute(particles.pore_pressure, order);
+  permute(particles.volume, order);
+  permute(particles.mass, order);
+  permute(particles.size, order);
+  permute(particles.material_id, order);
+  permute(particles.element, order);
+  permute(particles.id, order);
+  permute(particles.state, order);
+}
+
+}  // namespace
+
+void ParticleBlocks::partition(std::size_t active_count) {
+  std::size_t n_blocks = 1;
+  if (active_count >= block_multiple * smallest_block) {
+    const std::size_t per_round = block_multiple * particles_per_block_target;
+    n_blocks = block_multiple * ((active_count + per_round - 1) / per_round);
+  } else if (active_count > smallest_block) {
+    n_blocks = active_count / smallest_block;
+  }
+  // Below this many particles a fork/join per kernel costs more than it saves.
+  parallel = n_blocks > 1 && active_count >= 8192;
+  offsets.resize(n_blocks + 1);
+  for (std::size_t b = 0; b <= n_blocks; ++b) offsets[b] = b * active_count / n_blocks;
+  column_begin.assign(n_blocks, 0);
+  column_end.assign(n_blocks, 0);
+  sums_window.resize(n_blocks);
+  momentum_window.resize(n_blocks);
+  kinetic_energy.assign(n_blocks, 0.0);
+}
+
+std::size_t ParticleBlocks::bytes() const {
+  std::size_t total = offsets.capacity() * sizeof(std::size_t) +
+                      (column_begin.capacity() + column_end.capacity()) * sizeof(int) +
+                      kinetic_energy.capacity() * sizeof(double);
+  for (const auto& w : sums_window) total += w.capacity() * sizeof(NodeSums);
+  for (const auto& w : momentum_window) total += w.capacity() * sizeof(Vec2);
+  return total;
+}
+
+LocateResult locate_particles(const Particles& particles, std::size_t active_count,
+                              const GridGeometry& grid, ShapeFunction shape,
+                              ParticleBlocks& blocks) {
+  if (blocks.count() == 0 || blocks.offsets.back() != active_count) blocks.partition(active_count);
+  const auto nblocks = static_cast<int>(blocks.count());
+  std::vector<std::int64_t> non_finite(blocks.count(), -1);
+  std::vector<std::vector<std::size_t>> outside(blocks.count());
+#pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
+  for (int b = 0; b < nblocks; ++b) {
+    const auto k = static_cast<std::size_t>(b);
+    auto locate =
+        shape == ShapeFunction::gimp ? locate_block<GimpShape> : locate_block<LinearShape>;
+    locate(particles, grid, blocks.offsets[k], blocks.offsets[k + 1], blocks.column_begin[k],
+           blocks.column_end[k], non_finite[k], outside[k]);
+  }
+  LocateResult result;
+  for (std::size_t b = 0; b < blocks.count(); ++b) {
+    if (result.non_finite < 0) result.non_finite = non_finite[b];
+    result.outside.insert(result.outside.end(), outside[b].begin(), outside[b].end());
+  }
+  return result;
+}
+
+void particles_to_grid(const Particles& particles, const GridGeometry& grid, ShapeFunction shape,
+                       const Vec2& gravity, ParticleBlocks& blocks, GridState& state) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const auto nblocks = static_cast<int>(blocks.count());
+  int active_begin = std::numeric_limits<int>::max(), active_end = 0;
+  for (std::size_t b = 0; b < blocks.count(); ++b) {
+    if (blocks.column_end[b] <= blocks.column_begin[b]) continue;
+    active_begin = std::min(active_begin, blocks.column_begin[b]);
+    active_end = std::max(active_end, blocks.column_end[b]);
+  }
+  if (active_end == 0) active_begin = 0;
+  state.active_begin = active_begin;
+  state.active_end = active_end;
+  state.parallel = blocks.parallel;
+#pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
+  for (int b = 0; b < nblocks; ++b) {
+    const auto k = static_cast<std::size_t>(b);
+    auto& window = blocks.sums_window[k];
+    const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
+    window.assign(width * rows, NodeSums{});
+    auto scatter =
+        shape == ShapeFunction::gimp ? scatter_block<GimpShape> : scatter_block<LinearShape>;
+    scatter(particles, grid, gravity, blocks.offsets[k], blocks.offsets[k + 1],
+            blocks.column_begin[k], window);
+  }
+}
+
+void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
+                 const NodalDamping& damping, double dt_velocity, double mass_floor,
+                 const ParticleBlocks& blocks, GridState& state) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const bool parallel = state.parallel;
+  auto add = [](NodeSums& to, const NodeSums& from) {
+    to.mass += from.mass;
+    to.momentum_x += from.momentum_x;
+    to.momentum_y += from.momentum_y;
+    to.force_x += from.force_x;
+    to.force_y += from.force_y;
+  };
+#pragma omp parallel for schedule(static) if (parallel)
+  for (int column = state.active_begin; column < state.active_end; ++column) {
+    const std::size_t first = static_cast<std::size_t>(column) * rows;
+    sum_column(blocks, blocks.sums_window, column, rows, state.sums.data() + first, NodeSums{},
+               add);
+    for (std::size_t row = 0; row < rows; ++row) {
+      const NodeSums& s = state.sums[first + row];
+      NodeMotion& motion = state.motion[first + row];
+      if (!(s.mass > mass_floor)) {
+        motion = NodeMotion{};
+        continue;
+      }
+      const Vec2 velocity(s.momentum_x / s.mass, s.momentum_y / s.mass);
+      const Vec2 trial =
+          damped_trial_velocity(s.mass, velocity, Vec2(s.force_x, s.force_y), dt_velocity, damping);
+      std::array<NodalConstraint, 2> constraints;
+      const int count =
+          boundaries.constraints_of(grid, column - 1, static_cast<int>(row) - 1, constraints);
+      const Vec2 end_velocity =
+          count == 0
+              ? trial
+              : apply_constraints(std::span(constraints.data(), static_cast<std::size_t>(count)),
+                                  boundaries.friction_coefficient, trial);
+      const Vec2 acceleration = (end_velocity - velocity) / dt_velocity;
+      motion = {acceleration.x(), acceleration.y(), end_velocity.x(), end_velocity.y()};
+    }
+  }
+}
+
+void update_particle_velocities_and_remap(Particles& particles, const GridGeometry& grid,
+                                          const GridBoundaries& boundaries, ShapeFunction shape,
+                                          double dt_velocity, double pic_fraction,
+                                          double mass_floor, ParticleBlocks& blocks,
+                                          GridState& state) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const auto nblocks = static_cast<int>(blocks.count());
+#pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
+  for (int b = 0; b < nblocks; ++b) {
+    const auto k = static_cast<std::size_t>(b);
+    auto& window = blocks.momentum_window[k];
+    const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
+    window.assign(width * rows, Vec2::Zero());
+    auto remap = shape == ShapeFunction::gimp ? velocity_and_remap_block<GimpShape>
+                                              : velocity_and_remap_block<LinearShape>;
+    remap(particles, grid, state, dt_velocity, pic_fraction, blocks.offsets[k],
+          blocks.offsets[k + 1], blocks.column_begin[k], window);
+  }
+  // Momenta summed in block order → velocity, with the kinematic part of the edge
+  // constraints (μ = 0 turns a friction edge into a roller).
+  const bool parallel = blocks.parallel;
+#pragma omp parallel for schedule(static) if (parallel)
+  for (int column = state.active_begin; column < state.active_end; ++column) {
+    const std::size_t first = static_cast<std::size_t>(column) * rows;
+    sum_column(blocks, blocks.momentum_window, column, rows, state.remapped_velocity.data() + first,
+               Vec2::Zero().eval(), [](Vec2& to, const Vec2& from) { to += from; });
+    for (std::size_t row = 0; row < rows; ++row) {
+      const double m = state.sums[first + row].mass;
+      Vec2& v = state.remapped_velocity[first + row];
+      if (!(m > mass_floor)) {
+        v.setZero();
+        continue;
+      }
+      v /= m;
+      std::array<NodalConstraint, 2> constraints;
+      const int count =
+          boundaries.constraints_of(grid, column - 1, static_cast<int>(row) - 1, constraints);
+      if (count > 0) {
+        v = apply_constraints(std::span(constraints.data(), static_cast<std::size_t>(count)), 0.0,
+                              v);
+      }
+    }
+  }
+}
+
+LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
+                               UpdateScheme scheme, const StepLengths& step, double pic_fraction,
+                               std::span<const ConstitutiveModel> models,
+                               std::span<Vec4> velocity_gradient, ParticleBlocks& blocks,
+                               const GridState& state) {
+  const auto nblocks = static_cast<int>(blocks.count());
+  using Gather = double (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&,
+                            double, std::span<Vec4>, std::size_t, std::size_t);
+  Gather gather = nullptr;
+  if (shape == ShapeFunction::gimp) {
+    gather = scheme == UpdateScheme::musl ? gather_block<GimpShape, UpdateScheme::musl>
+                                          : gather_block<GimpShape, UpdateScheme::usl>;
+  } else {
+    gather = scheme == UpdateScheme::musl ? gather_block<LinearShape, UpdateScheme::musl>
+                                          : gather_block<LinearShape, UpdateScheme::usl>;
+  }
+  auto locate = shape == ShapeFunction::gimp ? locate_block<GimpShape> : locate_block<LinearShape>;
+  std::vector<std::int64_t> non_finite(blocks.count(), -1);
+  std::vector<std::vector<std::size_t>> outside(blocks.count());
+  // Block by block: the gather, then the stress update and the location for the next
+  // step while the block's particles are still in cache.
+#pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
+  for (int b = 0; b < nblocks; ++b) {
+    const auto k = static_cast<std::size_t>(b);
+    const std::size_t begin = blocks.offsets[k], end = blocks.offsets[k + 1];
+    blocks.kinetic_energy[k] =
+        gather(particles, grid, state, step, pic_fraction, velocity_gradient, begin, end);
+    update_stresses(particles, models, step.dt, velocity_gradient, begin, end);
+    locate(particles, grid, begin, end, blocks.column_begin[k], blocks.column_end[k], non_finite[k],
+           outside[k]);
+  }
+  LocateResult result;
+  for (std::size_t b = 0; b < blocks.count(); ++b) {
+    if (result.non_finite < 0) result.non_finite = non_finite[b];
+    result.outside.insert(result.outside.end(), outside[b].begin(), outside[b].end());
+  }
+  return result;
+}
+
+std::size_t update_stresses(Particles& particles, std::span<const ConstitutiveModel> models,
+                            double dt, std::span<const Vec4> velocity_gradient, std::size_t begin,
+                            std::size_t end) {
+  std::size_t yielded = 0;
+  for (std::size_t p = begin; p < end; ++p) {
+    const Vec4& l = velocity_gradient[p];  // [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y]
+    const Vec4 strain_increment(dt * l[0], dt * l[3], 0.0, dt * (l[1] + l[2]));
+    const double spin = 0.5 * dt * (l[1] - l[2]);
+    Vec4& stress = particles.stress[p];
+    rotate_jaumann(stress, spin);
+    const auto material = static_cast<std::size_t>(particles.material_id[p]);
+    if (models[material].update(stress, particles.state[p], strain_increment)) ++yielded;
+    particles.strain[p] += strain_increment;
+    particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
+    // det(I + Δt L): the particle's own volume ratio over the step.
+    const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];
+    particles.volume[p] *= jacobian;
+  }
+  return yielded;
+}
+
+void sort_particles_by_cell(Particles& particles, std::size_t active_count,
+                            const GridGeometry& grid, std::vector<Vec4>& buffer) {
+  const std::size_t n = particles.count();
+  const std::size_t frozen_bucket = grid.cell_count();
+  auto key = [&](std::size_t p) {
+    return p < active_count ? grid.cell_of(particles.coordinates[p]) : frozen_bucket;
+  };
+  // Counting sort: bucket sizes, exclusive prefix sums, then a stable placement.
+  std::vector<std::uint32_t> start(frozen_bucket + 2, 0);
+  for (std::size_t p = 0; p < n; ++p) ++start[key(p) + 1];
+  for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t p = 0; p < n; ++p) order[start[key(p)]++] = static_cast<std::uint32_t>(p);
+  permute_all(particles, order, buffer);
+}
+
+std::size_t retire_particles(Particles& particles, std::size_t active_count,
+                             std::span<const std::size_t> indices, ParticleExit mode) {
+  const std::size_t n = particles.count();
+  std::vector<std::uint32_t> order;
+  order.reserve(n);
+  std::vector<std::uint8_t> leaving(n, 0);
+  for (std::size_t p : indices) leaving[p] = 1;
+  for (std::size_t p = 0; p < active_count; ++p) {
+    if (!leaving[p]) order.push_back(static_cast<std::uint32_t>(p));
+  }
+  const std::size_t new_active = order.size();
+  if (mode == ParticleExit::freeze) {
+    for (std::size_t p : indices) {
+      particles.velocity[p].setZero();
+      order.push_back(static_cast<std::uint32_t>(p));
+    }
+  }
+  for (std::size_t p = active_count; p < n; ++p) order.push_back(static_cast<std::uint32_t>(p));
+  std::vector<Vec4> buffer;
+  permute_all(particles, order, buffer);
+  return new_active;
+}
+
+}  // namespace slide::mpm

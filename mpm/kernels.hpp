@@ -1,0 +1,122 @@
+// The MPM kernels: free functions over ranges of the particle arrays (common/particles.hpp)
+// and the grid's nodal arrays. The step loop (mpm_solver.cpp) calls them in order.
+//
+// Parallel scatter without atomics or locks. The active particles (sorted by cell,
+// x-major) are split into a fixed number of contiguous blocks; the number depends only
+// on the particle count, never on the thread count. Each block scatters into its own
+// private window of node columns (the band its particles touch) and the windows are then
+// summed into the grid node by node, in block order. Every floating-point sum therefore
+// happens in the same order whatever the number of threads: results are bit-identical
+// from run to run, on 1 thread or many, and a restart (which keeps the particle order)
+// reproduces a continuous run exactly.
+//
+// Time integration is the explicit central difference on the grid: velocities live at
+// half steps. With Δt_n the step and Δt_v = ½(Δt_{n−1} + Δt_n) the velocity step
+// (Δt_{−1} = 0 at a fresh start, which is the initial half kick),
+//   v_i^{n+½} = v_i^{n−½} + Δt_v F_i/m_i,   x_p^{n+1} = x_p^n + Δt_n Σ_i N_ip v_i^{n+½}.
+// A body under constant acceleration then follows x = ½ g t² exactly.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/case_file.hpp"
+#include "common/constitutive.hpp"
+#include "common/particles.hpp"
+#include "mpm/grid.hpp"
+
+namespace slide::mpm {
+
+/// The fixed partition of the active particles [0, n) into blocks and each block's
+/// scatter windows.
+struct ParticleBlocks {
+  std::vector<std::size_t> offsets;           ///< block b is [offsets[b], offsets[b+1])
+  std::vector<int> column_begin, column_end;  ///< node-column band block b touches
+  std::vector<std::vector<NodeSums>> sums_window;
+  std::vector<std::vector<Vec2>> momentum_window;  ///< MUSL re-projection
+  std::vector<double> kinetic_energy;              ///< partial sums of ½ m v²
+  bool parallel = false;                           ///< worth running the kernels on several threads
+
+  /// Splits n active particles into blocks; their number depends on n only.
+  void partition(std::size_t active_count);
+  std::size_t count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t bytes() const;
+};
+
+/// Lengths of one step (see the header comment).
+struct StepLengths {
+  double dt = 0.0;           ///< Δt_n: positions and strains
+  double dt_velocity = 0.0;  ///< Δt_v = ½(Δt_{n−1} + Δt_n): velocities
+};
+
+/// What locating the particles found.
+struct LocateResult {
+  std::int64_t non_finite = -1;      ///< first particle with a NaN/Inf position, or −1
+  std::vector<std::size_t> outside;  ///< active particles whose centre left the grid
+};
+
+/// Checks the active particles [0, n_active) against the grid and computes each
+/// block's node-column band for the shape function.
+LocateResult locate_particles(const Particles& particles, std::size_t active_count,
+                              const GridGeometry& grid, ShapeFunction shape,
+                              ParticleBlocks& blocks);
+
+/// Pass 1, particles → grid, into each block's window: m_i = Σ N_ip m_p,
+/// p_i = Σ N_ip m_p v_p, f_i = Σ (N_ip m_p g − V_p σ_p·∇N_ip) (plane strain: σxx, σyy,
+/// σxy take part).
+void particles_to_grid(const Particles& particles, const GridGeometry& grid, ShapeFunction shape,
+                       const Vec2& gravity, ParticleBlocks& blocks, GridState& state);
+
+/// The grid update, column by column: the blocks' windows summed in block order, then
+/// the nodal update (common/nodal_update.hpp: damping, then the constraints of the grid
+/// edges): v_i = p_i/m_i, v_i^L and a_i = (v_i^L − v_i)/Δt_v.
+void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
+                 const NodalDamping& damping, double dt_velocity, double mass_floor,
+                 const ParticleBlocks& blocks, GridState& state);
+
+/// MUSL, pass 2: the particle velocities from the grid (FLIP with a PIC share α),
+///   v_p ← (1 − α)(v_p + Δt_v Σ N_ip a_i) + α Σ N_ip v_i^L,
+/// and the updated momenta mapped back to the grid; then the re-projected nodal
+/// velocities Σ N m v / m_i with the edges' kinematic constraints (no friction: it acted
+/// on the forces already).
+void update_particle_velocities_and_remap(Particles& particles, const GridGeometry& grid,
+                                          const GridBoundaries& boundaries, ShapeFunction shape,
+                                          double dt_velocity, double pic_fraction,
+                                          double mass_floor, ParticleBlocks& blocks,
+                                          GridState& state);
+
+/// Final pass, grid → particles, block by block: position and displacement
+/// x_p += Δt Σ N_ip v_i^L, the velocity gradient L_p = Σ v_i ⊗ ∇N_ip (v_i: re-projected
+/// in MUSL, v_i^L in USL; USL also updates the velocities here, as above), then, while
+/// the block is in cache, its stresses (update_stresses) and its location on the grid
+/// for the next step (returned). Accumulates the kinetic energy per block.
+/// `velocity_gradient[p]` = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y].
+LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
+                               UpdateScheme scheme, const StepLengths& step, double pic_fraction,
+                               std::span<const ConstitutiveModel> models,
+                               std::span<Vec4> velocity_gradient, ParticleBlocks& blocks,
+                               const GridState& state);
+
+/// Particles [begin, end): strain increment Δε = Δt sym(L), spin
+/// ω = ½ Δt (∂vx/∂y − ∂vy/∂x), Jaumann rotation, the constitutive update (one model per
+/// material id), accumulated strain and its εq, and the volume from the particle's own
+/// deformation-gradient increment: V_{n+1} = det(I + Δt L_p) V_n.
+/// Returns the number of particles that yielded.
+std::size_t update_stresses(Particles& particles, std::span<const ConstitutiveModel> models,
+                            double dt, std::span<const Vec4> velocity_gradient, std::size_t begin,
+                            std::size_t end);
+
+/// Stable counting sort of the particles by cell (x-major); particles from
+/// `active_count` on (frozen ones) keep their order at the end. `buffer` (n entries) is
+/// the per-step scratch the sort borrows for the 32-byte fields.
+void sort_particles_by_cell(Particles& particles, std::size_t active_count,
+                            const GridGeometry& grid, std::vector<Vec4>& buffer);
+
+/// Moves the particles listed in `indices` (sorted, all < active_count) behind the active
+/// ones (freeze) or deletes them (remove), keeping the order of the others. Returns the
+/// new active count.
+std::size_t retire_particles(Particles& particles, std::size_t active_count,
+                             std::span<const std::size_t> indices, ParticleExit mode);
+
+}  // namespace slide::mpm

@@ -1,0 +1,207 @@
+#include "mpm/mpm_output.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "common/program.hpp"
+#include "common/runout_metrics.hpp"
+
+namespace slide::mpm {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string_view exit_name(ParticleExit e) {
+  return e == ParticleExit::freeze ? "freeze" : "remove";
+}
+
+/// The settings a run used, as stored in /solver.
+SolverSettings settings_record(const MpmSettings& s, double time_step) {
+  SolverSettings r;
+  r["stage"] = std::string("mpm");
+  r["domain_min_x"] = s.grid.origin.x();
+  r["domain_min_y"] = s.grid.origin.y();
+  r["cells_x"] = std::int64_t{s.grid.cells_x};
+  r["cells_y"] = std::int64_t{s.grid.cells_y};
+  r["cell_size"] = s.grid.cell_size;
+  r["shape_function"] = std::string(to_string(s.shape_function));
+  r["update_scheme"] = std::string(to_string(s.update_scheme));
+  r["pic_fraction"] = s.pic_fraction;
+  r["local_damping"] = s.damping.local;
+  r["friction_coefficient"] = s.boundaries.friction_coefficient;
+  const char* edges[] = {"left", "right", "base", "top"};
+  for (int e = 0; e < 4; ++e) {
+    r[fmt::format("boundary_{}", edges[e])] =
+        std::string(to_string(s.boundaries.edge[static_cast<std::size_t>(e)].condition));
+  }
+  r["particle_exit"] = std::string(exit_name(s.particle_exit));
+  r["sort_interval"] = std::int64_t{s.sort_interval};
+  r["time_step"] = time_step;
+  return r;
+}
+
+std::string show(const SettingValue& v) {
+  return std::visit([](const auto& x) { return fmt::format("{}", x); }, v);
+}
+
+template <class T>
+T setting(const SolverSettings& s, const std::string& key, const std::string& source) {
+  const auto found = s.find(key);
+  if (found == s.end())
+    throw Error("{}: /solver attribute {} missing (not an mpm-solve checkpoint?)", source, key);
+  if (const T* value = std::get_if<T>(&found->second)) return *value;
+  throw Error("{}: /solver attribute {} has the wrong type", source, key);
+}
+
+}  // namespace
+
+fs::path checkpoint_path(const fs::path& output_dir, double time) {
+  return output_dir / fmt::format("mpm_t{:.3f}.h5", time);
+}
+
+ParticleCheckpoint make_checkpoint(const MpmSolver& solver, const RunReferences& references,
+                                   const std::string& case_name, const TransferSettings& transfer) {
+  ParticleCheckpoint c;
+  c.header.kind = CheckpointKind::mpm;
+  c.header.producer = "mpm-solve " + version_string();
+  c.header.time = solver.clock().time;
+  c.header.step = solver.clock().step;
+  c.header.case_name = case_name;
+  c.header.pe0 = references.pe0;
+  c.particles = solver.particles();
+  c.materials = solver.materials();
+  c.transfer = transfer;
+  c.solver = settings_record(solver.settings(), references.time_step);
+  const SolverClock& clock = solver.clock();
+  c.solver["previous_time_step"] = clock.previous_dt;
+  c.solver["steps_since_sort"] = clock.steps_since_sort;
+  c.solver["frozen_particles"] = static_cast<std::int64_t>(clock.frozen);
+  c.solver["reference_height"] = references.reference_height;
+  c.solver["initial_energy"] = references.initial_energy;
+  c.solver["energy_scale"] = references.energy_scale;
+  c.solver["rest_timer"] = references.rest_timer;
+  return c;
+}
+
+void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string& source,
+                        SolverClock& clock, RunReferences& references) {
+  if (checkpoint.header.kind != CheckpointKind::mpm) {
+    throw Error("{}: is a {} file; --restart takes an mpm-solve checkpoint (kind mpm)", source,
+                to_string(checkpoint.header.kind));
+  }
+  const SolverSettings& s = checkpoint.solver;
+  clock.time = checkpoint.header.time;
+  clock.step = checkpoint.header.step;
+  clock.previous_dt = setting<double>(s, "previous_time_step", source);
+  clock.steps_since_sort = setting<std::int64_t>(s, "steps_since_sort", source);
+  clock.sorted_once = true;
+  const auto frozen = setting<std::int64_t>(s, "frozen_particles", source);
+  if (frozen < 0 || static_cast<std::size_t>(frozen) > checkpoint.particles.count()) {
+    throw Error("{}: /solver attribute frozen_particles = {} is out of range", source, frozen);
+  }
+  clock.frozen = static_cast<std::size_t>(frozen);
+  references.pe0 = checkpoint.header.pe0;
+  references.reference_height = setting<double>(s, "reference_height", source);
+  references.initial_energy = setting<double>(s, "initial_energy", source);
+  references.energy_scale = setting<double>(s, "energy_scale", source);
+  references.rest_timer = setting<double>(s, "rest_timer", source);
+  references.time_step = setting<double>(s, "time_step", source);
+}
+
+std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
+                                          double time_step) {
+  std::vector<std::string> changes;
+  for (const auto& [key, value] : settings_record(settings, time_step)) {
+    const auto found = stored.find(key);
+    if (found == stored.end()) continue;
+    if (found->second != value)
+      changes.push_back(fmt::format("{} {} → {}", key, show(found->second), show(value)));
+  }
+  return changes;
+}
+
+// ----------------------------------------------------------------------------- history
+
+HistoryWriter::HistoryWriter(fs::path path, const MetricsSpec& metrics,
+                             std::optional<double> resume_time)
+    : path_(std::move(path)), metrics_(metrics) {
+  fs::create_directories(path_.parent_path());
+  std::string kept;
+  if (resume_time && fs::exists(path_)) {
+    // Keep the header and the rows up to the restart time (a restart continues them).
+    std::ifstream in(path_);
+    std::string line;
+    bool header = true;
+    while (std::getline(in, line)) {
+      if (header) {
+        header = false;
+        continue;
+      }
+      const double t = std::strtod(line.c_str(), nullptr);
+      if (t > *resume_time + 1e-9) break;
+      kept += line + '\n';
+      last_time_ = t;
+    }
+  }
+  out_.open(path_, std::ios::trunc);
+  if (!out_) throw Error("{}: cannot write the history", path_.string());
+  out_ << "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised\n" << kept;
+  out_.flush();
+}
+
+void HistoryWriter::write(const MpmSolver& solver, double pe0) {
+  const double time = solver.clock().time;
+  if (time <= last_time_) return;  // already written (restart, or the final row)
+  const Energies e = solver.energies();
+  const SurfaceProfile profile = surface_profile(solver.particles().coordinates, metrics_.bin_width,
+                                                 metrics_.profile_percentile);
+  const RunoutMeasures m = runout_measures(profile, metrics_.initial_length);
+  out_ << fmt::format("{},{},{},{},{},{},{}\n", time, e.kinetic, pe0, e.kinetic / pe0, m.x_toe,
+                      m.runout, m.runout_normalised);
+  out_.flush();
+  if (!out_) throw Error("{}: write failed", path_.string());
+  last_time_ = time;
+}
+
+// ----------------------------------------------------------------------------- VTK
+
+VtkWriter::VtkWriter(const fs::path& output_dir, std::optional<double> resume_time)
+    : folder_(output_dir / "vtk"), collection_(output_dir / "mpm.pvd") {
+  fs::create_directories(folder_);
+  if (resume_time) collection_.resume(*resume_time);
+}
+
+void VtkWriter::write(const MpmSolver& solver) {
+  const Particles& p = solver.particles();
+  const std::size_t n = p.count();
+  std::vector<double> material(n), id(n), element(n), active(n), mean(n), deviatoric(n),
+      plastic_shear(n), plastic_volumetric(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    material[k] = p.material_id[k];
+    id[k] = static_cast<double>(p.id[k]);
+    element[k] = static_cast<double>(p.element[k]);
+    active[k] = k < solver.active_count() ? 1.0 : 0.0;
+    mean[k] = mean_stress(p.stress[k]);
+    deviatoric[k] = deviatoric_stress(p.stress[k]);
+    plastic_shear[k] = p.state[k].plastic_shear_strain;
+    plastic_volumetric[k] = p.state[k].plastic_volumetric_strain;
+  }
+  const fs::path file = folder_ / fmt::format("mpm_{:06d}.vtu", solver.clock().step);
+  write_vtk_points(
+      file, p.coordinates,
+      {vtk_field("displacement", p.displacement), vtk_field("velocity", p.velocity),
+       vtk_field("stress", p.stress), vtk_field("strain", p.strain), vtk_field("eps_q", p.eps_q),
+       vtk_field("mean_stress", mean), vtk_field("deviatoric_stress", deviatoric),
+       vtk_field("pore_pressure", p.pore_pressure), vtk_field("volume", p.volume),
+       vtk_field("mass", p.mass), vtk_field("size", p.size), vtk_field("material_id", material),
+       vtk_field("id", id), vtk_field("element", element), vtk_field("active", active),
+       vtk_field("plastic_shear_strain", plastic_shear),
+       vtk_field("plastic_volumetric_strain", plastic_volumetric)});
+  collection_.add(solver.clock().time, fs::path("vtk") / file.filename());
+}
+
+}  // namespace slide::mpm

@@ -1,0 +1,72 @@
+// What mpm-solve writes (CONTRACT.md): checkpoints OUT/mpm_t<T>.h5 and OUT/mpm_final.h5
+// (kind "mpm", with the grid/solver settings and counters a restart needs), the history
+// OUT/mpm_history.csv, and ParaView files OUT/vtk/mpm_<step>.vtu + OUT/mpm.pvd.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "common/case_file.hpp"
+#include "common/checkpoint.hpp"
+#include "common/vtk_output.hpp"
+#include "mpm/mpm_solver.hpp"
+
+namespace slide::mpm {
+
+/// OUT/mpm_t<T>.h5 with T to three decimals (mpm_t10.000.h5).
+std::filesystem::path checkpoint_path(const std::filesystem::path& output_dir, double time);
+
+/// References of the instability guard and the rest detection, fixed at the start of the
+/// run (t = 0 for pure MPM, the particle file's time otherwise) and carried by restarts.
+struct RunReferences {
+  double pe0 = 0.0;               ///< PE_0, J/m (CONTRACT)
+  double reference_height = 0.0;  ///< H of the speed bound sqrt(2 g H), m
+  double initial_energy = 0.0;    ///< KE + PE + elastic at the start, J/m
+  double energy_scale = 0.0;      ///< the energy the body can release, J/m
+  double rest_timer = 0.0;        ///< s spent with KE/PE0 below the rest threshold
+  double time_step = 0.0;         ///< the base step Δt, s
+};
+
+/// The solver's state as a kind "mpm" checkpoint.
+ParticleCheckpoint make_checkpoint(const MpmSolver& solver, const RunReferences& references,
+                                   const std::string& case_name, const TransferSettings& transfer);
+
+/// Restores the counters and references of a kind "mpm" checkpoint; throws Error naming
+/// `source` when a setting is missing.
+void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string& source,
+                        SolverClock& clock, RunReferences& references);
+
+/// The settings stored in an "mpm" checkpoint that differ from `settings` ("key: old →
+/// new" entries), to report when a restart runs with an edited case.
+std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
+                                          double time_step);
+
+/// mpm_history.csv: one row per output step with the CONTRACT columns. On restart the
+/// rows after the restart time are dropped.
+class HistoryWriter {
+ public:
+  HistoryWriter(std::filesystem::path path, const MetricsSpec& metrics,
+                std::optional<double> resume_time);
+  void write(const MpmSolver& solver, double pe0);
+  double last_time() const { return last_time_; }
+
+ private:
+  std::filesystem::path path_;
+  MetricsSpec metrics_;
+  std::ofstream out_;
+  double last_time_ = -1.0;
+};
+
+/// OUT/vtk/mpm_<step>.vtu with every particle field, registered in OUT/mpm.pvd.
+class VtkWriter {
+ public:
+  VtkWriter(const std::filesystem::path& output_dir, std::optional<double> resume_time);
+  void write(const MpmSolver& solver);
+
+ private:
+  std::filesystem::path folder_;
+  PvdCollection collection_;
+};
+
+}  // namespace slide::mpm

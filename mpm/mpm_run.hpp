@@ -1,0 +1,39 @@
+// A whole mpm-solve run: where the particles come from (particle file, restart, or the
+// case geometry for pure MPM), the initial stresses of pure MPM, the time loop with its
+// output cadence, the instability guard and the rest detection.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+
+#include "common/case_file.hpp"
+#include "common/log.hpp"
+
+namespace slide::mpm {
+
+struct RunOptions {
+  std::filesystem::path output_dir;
+  std::optional<std::filesystem::path> particles_file;  ///< --particles
+  std::optional<std::filesystem::path> restart_file;    ///< --restart
+  std::optional<double> until;                          ///< --until: stop earlier than the case
+  bool write_vtk = true;
+  /// VTK frames every this many seconds (0: at every output step, as the history).
+  double vtk_every = 0.0;
+  std::optional<ShapeFunction> shape_function;  ///< overrides the case
+  std::optional<UpdateScheme> update_scheme;    ///< overrides the case
+  std::optional<int> sort_interval;             ///< overrides the default (benchmarks)
+};
+
+struct RunSummary {
+  std::int64_t steps = 0;  ///< steps taken by this run (not counting a restart's earlier ones)
+  std::size_t particles = 0;
+  double wall_seconds = 0.0;
+  double particle_steps_per_second = 0.0;
+  double end_time = 0.0;
+};
+
+/// Runs the MPM phase of `c`; throws Error (one line) on bad input or an instability.
+RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log);
+
+}  // namespace slide::mpm

@@ -1,0 +1,265 @@
+#include "mpm/mpm_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace slide::mpm {
+
+namespace {
+
+/// Elastic energy density ½ σ:C⁻¹:σ of an isotropic material, from the full stress set
+/// (σzz included): (1/2E) [(1 + ν) σ:σ − ν (tr σ)²].
+double elastic_energy_density(const Vec4& s, const Material& material) {
+  const double trace = s[0] + s[1] + s[2];
+  const double contracted = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3];
+  return ((1.0 + material.poisson_ratio) * contracted - material.poisson_ratio * trace * trace) /
+         (2.0 * material.youngs_modulus);
+}
+
+template <class T>
+std::size_t bytes_of(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace
+
+MpmSettings MpmSettings::from(const MpmSpec& spec) {
+  MpmSettings s;
+  s.grid = GridGeometry::covering(spec.domain_min, spec.domain_max, spec.cell_size);
+  s.boundaries = GridBoundaries::from(spec.boundaries, spec.friction_coefficient);
+  s.shape_function = spec.shape_function;
+  s.update_scheme = spec.update_scheme;
+  s.pic_fraction = spec.pic_fraction;
+  s.damping.local = spec.local_damping;
+  s.particle_exit = spec.particle_exit;
+  return s;
+}
+
+MpmSolver::MpmSolver(MpmSettings settings, MaterialTable materials, Particles particles,
+                     SolverClock clock)
+    : settings_(std::move(settings)),
+      materials_(std::move(materials)),
+      particles_(std::move(particles)),
+      clock_(clock) {
+  particles_.check_consistent_sizes();
+  use_elastic_models(false);
+  grid_state_.resize(settings_.grid);
+  double smallest_mass = std::numeric_limits<double>::infinity();
+  for (double m : particles_.mass) smallest_mass = std::min(smallest_mass, m);
+  // Nodes lighter than this are empty: 1e-14 of a particle is far below any weight a
+  // particle gives a node it actually moves, and keeps p/m and F/m finite.
+  mass_floor_ = particles_.count() > 0 ? 1e-14 * smallest_mass : 0.0;
+  velocity_gradient_.resize(particles_.count());
+}
+
+void MpmSolver::use_elastic_models(bool elastic) {
+  models_.clear();
+  for (const Material& m : materials_) {
+    models_.push_back(elastic ? ConstitutiveModel::elastic(m) : ConstitutiveModel::from(m));
+  }
+}
+
+std::size_t MpmSolver::return_to_yield_surface() {
+  std::size_t returned = 0;
+  const Vec4 zero = Vec4::Zero();
+  located_ = false;
+  for (std::size_t p = 0; p < active_count(); ++p) {
+    const auto& model = models_[static_cast<std::size_t>(particles_.material_id[p])];
+    if (model.update(particles_.stress[p], particles_.state[p], zero)) ++returned;
+  }
+  return returned;
+}
+
+void MpmSolver::locate() {
+  // The last step's final pass located the particles already, unless something moved
+  // them since (setup, a sort).
+  LocateResult located = located_ ? std::move(pending_)
+                                  : locate_particles(particles_, active_count(), settings_.grid,
+                                                     settings_.shape_function, blocks_);
+  located_ = false;
+  if (located.non_finite >= 0) {
+    const auto p = static_cast<std::size_t>(located.non_finite);
+    throw InstabilityError(
+        "instability: particle {} (id {}) has a non-finite position at t = {:.6g} s (step {})", p,
+        particles_.id[p], clock_.time, clock_.step);
+  }
+  if (located.outside.empty()) return;
+  // Particles that left the grid: frozen behind the active ones, or removed. The order of
+  // the others is kept, so the run stays deterministic.
+  exited_this_step_ += located.outside.size();
+  const std::size_t before = particles_.count();
+  const std::size_t active =
+      retire_particles(particles_, active_count(), located.outside, settings_.particle_exit);
+  clock_.frozen = particles_.count() - active;
+  if (particles_.count() != before) velocity_gradient_.resize(particles_.count());
+  blocks_.partition(active);
+  located = locate_particles(particles_, active, settings_.grid, settings_.shape_function, blocks_);
+}
+
+void MpmSolver::sort() {
+  sort_particles_by_cell(particles_, active_count(), settings_.grid, velocity_gradient_);
+  velocity_gradient_.resize(particles_.count());
+  clock_.steps_since_sort = 0;
+  clock_.sorted_once = true;
+  locate_particles(particles_, active_count(), settings_.grid, settings_.shape_function, blocks_);
+}
+
+StepReport MpmSolver::step(double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw Error("mpm: time step {} is not admissible", dt);
+  const StepLengths lengths{dt, 0.5 * (clock_.previous_dt + dt)};
+  const MpmSettings& s = settings_;
+  exited_this_step_ = 0;
+
+  locate();
+  if (!clock_.sorted_once || clock_.steps_since_sort >= s.sort_interval) sort();
+
+  particles_to_grid(particles_, s.grid, s.shape_function, s.gravity, blocks_, grid_state_);
+  update_grid(s.grid, s.boundaries, s.damping, lengths.dt_velocity, mass_floor_, blocks_,
+              grid_state_);
+  if (s.update_scheme == UpdateScheme::musl) {
+    update_particle_velocities_and_remap(particles_, s.grid, s.boundaries, s.shape_function,
+                                         lengths.dt_velocity, s.pic_fraction, mass_floor_, blocks_,
+                                         grid_state_);
+  }
+  pending_ = grid_to_particles(particles_, s.grid, s.shape_function, s.update_scheme, lengths,
+                               s.pic_fraction, models_, velocity_gradient_, blocks_, grid_state_);
+  located_ = true;
+
+  clock_.time += dt;
+  clock_.step += 1;
+  clock_.previous_dt = dt;
+  clock_.steps_since_sort += 1;
+  last_kinetic_energy_ = 0.0;
+  for (double e : blocks_.kinetic_energy) last_kinetic_energy_ += e;
+  return {exited_this_step_};
+}
+
+Energies MpmSolver::energies() const {
+  Energies e;
+  for (std::size_t p = 0; p < particles_.count(); ++p) {
+    const double m = particles_.mass[p];
+    e.kinetic += 0.5 * m * particles_.velocity[p].squaredNorm();
+    e.potential -= m * settings_.gravity.dot(particles_.coordinates[p]);
+    const auto& material = materials_[static_cast<std::size_t>(particles_.material_id[p])];
+    e.elastic += particles_.volume[p] * elastic_energy_density(particles_.stress[p], material);
+  }
+  return e;
+}
+
+MpmSolver::Speeds MpmSolver::max_speeds(double node_mass_share) const {
+  Speeds s;
+  double smallest_mass = std::numeric_limits<double>::infinity();
+  for (std::size_t p = 0; p < particles_.count(); ++p) {
+    smallest_mass = std::min(smallest_mass, particles_.mass[p]);
+    const double speed = particles_.velocity[p].norm();
+    if (!(speed <= s.particle)) {  // also catches NaN
+      s.particle = speed;
+      s.particle_index = p;
+    }
+  }
+  const double threshold = node_mass_share * smallest_mass;
+  const auto rows = static_cast<std::size_t>(settings_.grid.node_rows());
+  for (auto column = static_cast<std::size_t>(grid_state_.active_begin);
+       column < static_cast<std::size_t>(grid_state_.active_end); ++column) {
+    for (std::size_t row = 0; row < rows; ++row) {
+      const std::size_t k = column * rows + row;
+      if (!(grid_state_.sums[k].mass >= threshold)) continue;
+      const NodeMotion& m = grid_state_.motion[k];
+      const double speed = std::hypot(m.velocity_x, m.velocity_y);
+      if (!(speed <= s.node)) {
+        s.node = speed;
+        s.node_position = settings_.grid.node_position(k);
+      }
+    }
+  }
+  return s;
+}
+
+double MpmSolver::grid_mass() const {
+  double total = 0.0;
+  const auto rows = static_cast<std::size_t>(settings_.grid.node_rows());
+  for (auto k = static_cast<std::size_t>(grid_state_.active_begin) * rows;
+       k < static_cast<std::size_t>(grid_state_.active_end) * rows; ++k) {
+    total += grid_state_.sums[k].mass;
+  }
+  return total;
+}
+
+double MpmSolver::courant_time_step(double courant) const {
+  std::vector<char> used(materials_.size(), 0);
+  for (auto id : particles_.material_id) used[static_cast<std::size_t>(id)] = 1;
+  double fastest = 0.0;
+  for (std::size_t m = 0; m < materials_.size(); ++m) {
+    if (used[m]) fastest = std::max(fastest, materials_[m].p_wave_speed());
+  }
+  if (!(fastest > 0.0)) throw Error("mpm: no particle, no wave speed for the Courant step");
+  return courant * settings_.grid.cell_size / fastest;
+}
+
+MpmSolver::Memory MpmSolver::memory() const {
+  Memory m;
+  const Particles& p = particles_;
+  m.particle_arrays = bytes_of(p.coordinates) + bytes_of(p.displacement) + bytes_of(p.velocity) +
+                      bytes_of(p.stress) + bytes_of(p.strain) + bytes_of(p.eps_q) +
+                      bytes_of(p.pore_pressure) + bytes_of(p.volume) + bytes_of(p.mass) +
+                      bytes_of(p.size) + bytes_of(p.material_id) + bytes_of(p.element) +
+                      bytes_of(p.id) + bytes_of(p.state);
+  m.particle_scratch = bytes_of(velocity_gradient_);
+  // The sort: the permutation (4 B) and one temporary field of at most 16 B per particle
+  // (the 32-byte fields go through the velocity-gradient scratch), plus the bucket table.
+  m.sort_peak = p.count() * (sizeof(std::uint32_t) + sizeof(Vec2)) +
+                (settings_.grid.cell_count() + 2) * sizeof(std::uint32_t);
+  m.grid = grid_state_.bytes() + blocks_.bytes();
+  return m;
+}
+
+void validate_particles(const Particles& particles, const MpmSettings& settings,
+                        std::size_t material_count, const std::string& source, std::size_t frozen) {
+  particles.check_consistent_sizes();
+  if (particles.count() == 0) throw Error("{}: no particles", source);
+  const std::size_t active = particles.count() - std::min(frozen, particles.count());
+  const GridGeometry& g = settings.grid;
+  const Vec2 top = g.upper_corner();
+  for (std::size_t p = 0; p < particles.count(); ++p) {
+    const auto name = [&] {
+      return fmt::format("{}: particle {} (id {})", source, p, particles.id[p]);
+    };
+    const Vec2& x = particles.coordinates[p];
+    if (!x.allFinite()) throw Error("{}: coordinates are not finite", name());
+    if (!particles.velocity[p].allFinite()) {
+      throw Error("{}: velocity ({}, {}) is not finite", name(), particles.velocity[p].x(),
+                  particles.velocity[p].y());
+    }
+    if (!particles.displacement[p].allFinite())
+      throw Error("{}: displacement is not finite", name());
+    if (!particles.stress[p].allFinite()) throw Error("{}: stress is not finite", name());
+    if (!particles.strain[p].allFinite()) throw Error("{}: strain is not finite", name());
+    if (!(particles.mass[p] > 0.0) || !std::isfinite(particles.mass[p])) {
+      throw Error("{}: mass {} kg/m is not admissible (expected > 0)", name(), particles.mass[p]);
+    }
+    if (!(particles.volume[p] > 0.0) || !std::isfinite(particles.volume[p])) {
+      throw Error("{}: volume {} m³/m is not admissible (expected > 0)", name(),
+                  particles.volume[p]);
+    }
+    const Vec2& size = particles.size[p];
+    if (settings.shape_function == ShapeFunction::gimp &&
+        (!(size.x() > 0.0) || !(size.y() > 0.0) || !size.allFinite())) {
+      throw Error("{}: GIMP size ({}, {}) m is not admissible (expected > 0)", name(), size.x(),
+                  size.y());
+    }
+    const auto material = particles.material_id[p];
+    if (material < 0 || static_cast<std::size_t>(material) >= material_count) {
+      throw Error("{}: unknown material id {} (the case defines {} material{})", name(), material,
+                  material_count, material_count == 1 ? "" : "s");
+    }
+    if (p < active && !g.contains(x)) {
+      throw Error(
+          "{}: position ({}, {}) m is outside the grid [{}, {}] × [{}, {}] m (half a cell of "
+          "margin allowed)",
+          name(), x.x(), x.y(), g.origin.x(), top.x(), g.origin.y(), top.y());
+    }
+  }
+}
+
+}  // namespace slide::mpm

@@ -1,0 +1,162 @@
+// The explicit material point method (METHOD.md §5): one body of material points on a
+// background grid, stepped in time. The solver owns the particles and the per-step
+// scratch; it knows nothing about files (mpm_run.hpp drives it and writes the output).
+//
+// One step, Δt (positions, strains) and Δt_v = ½(Δt_prev + Δt) (velocities):
+//   1. locate       particles on the grid; those that left are frozen or removed
+//   2. sort         by cell every `sort_interval` steps (locality of the grid access)
+//   3. P2G          m_i, p_i and f_i = Σ N m g − Σ V σ·∇N
+//   4. grid         v_i^L = v_i + Δt_v F_i/m_i with damping and the edge constraints
+//   5. G2P          (MUSL: velocities, then momenta re-projected to the grid)
+//   6. G2P          positions x += Δt Σ N v^L, velocity gradients L_p, and block by
+//   7. stresses     block (in cache): Jaumann rotation, constitutive update, strain, εq,
+//                   volume; the particles' location for the next step
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/case_file.hpp"
+#include "common/constitutive.hpp"
+#include "common/error.hpp"
+#include "common/material.hpp"
+#include "common/particles.hpp"
+#include "mpm/grid.hpp"
+#include "mpm/kernels.hpp"
+
+namespace slide::mpm {
+
+/// A run that went unstable: NaN/Inf, speeds beyond the physical bound, energy growth.
+class InstabilityError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Everything the solver needs besides materials and particles.
+struct MpmSettings {
+  GridGeometry grid;
+  GridBoundaries boundaries;
+  ShapeFunction shape_function = ShapeFunction::gimp;
+  UpdateScheme update_scheme = UpdateScheme::musl;
+  double pic_fraction = 0.0;
+  NodalDamping damping;
+  Vec2 gravity = gravity_vector();
+  ParticleExit particle_exit = ParticleExit::freeze;
+  /// Steps between two sorts by cell. Chosen by measurement (bench_mpm on the collapsing
+  /// column-short, 1 m cells at the Courant step): every 10 steps was fastest; every 2–5
+  /// steps spends more on sorting than it gains, every 20–40 steps lets the particles
+  /// drift across cells, which widens the scatter windows and scatters the grid access.
+  int sort_interval = 10;
+
+  static MpmSettings from(const MpmSpec& spec);
+};
+
+/// The solver's counters: everything a restart needs besides particles and settings.
+struct SolverClock {
+  double time = 0.0;
+  std::int64_t step = 0;
+  double previous_dt = 0.0;  ///< Δt_{n−1}; 0 before the first step (half kick)
+  std::int64_t steps_since_sort = 0;
+  bool sorted_once = false;  ///< false: sort before the first step
+  std::size_t frozen = 0;    ///< the last `frozen` particles are frozen
+};
+
+/// What one step did that the driver reports.
+struct StepReport {
+  std::size_t exited = 0;  ///< particles that left the grid in this step
+};
+
+/// Energies of the particle body, J/m.
+struct Energies {
+  double kinetic = 0.0;    ///< Σ ½ m v²
+  double potential = 0.0;  ///< −Σ m g·x (g·x = −9.81 y for the default gravity)
+  double elastic = 0.0;    ///< Σ V ½ σ:C⁻¹:σ (stored elastic energy)
+  double total() const { return kinetic + potential + elastic; }
+};
+
+class MpmSolver {
+ public:
+  /// Takes the particles (validated: see validate_particles) and sorts them by cell on
+  /// the first step unless `clock.sorted_once`.
+  MpmSolver(MpmSettings settings, MaterialTable materials, Particles particles,
+            SolverClock clock = {});
+
+  /// One explicit step of length dt > 0 (see the header comment).
+  StepReport step(double dt);
+
+  /// The models the stress update uses: the materials' own (default) or linear elastic
+  /// with the same constants (gravity stage of pure MPM).
+  void use_elastic_models(bool elastic);
+  /// Returns every inadmissible stress to the yield surface once (an update with a zero
+  /// strain increment): the switch from an elastic initial state to the plastic model.
+  /// Returns how many particles were outside the yield surface.
+  std::size_t return_to_yield_surface();
+
+  const MpmSettings& settings() const { return settings_; }
+  MpmSettings& settings() { return settings_; }
+  const MaterialTable& materials() const { return materials_; }
+  const Particles& particles() const { return particles_; }
+  /// Direct access for setup (initial stresses, resets); not during a step.
+  Particles& particles() {
+    located_ = false;
+    return particles_;
+  }
+  const SolverClock& clock() const { return clock_; }
+  SolverClock& clock() { return clock_; }
+  std::size_t active_count() const { return particles_.count() - clock_.frozen; }
+
+  /// Kinetic energy after the last step (block partial sums, no extra pass).
+  double last_kinetic_energy() const { return last_kinetic_energy_; }
+  Energies energies() const;
+  /// The largest particle speed and the largest speed of a grid node carrying at least
+  /// `node_mass_share` of the smallest particle mass (lighter nodes move no particle
+  /// noticeably: their weight in any interpolation is that small).
+  struct Speeds {
+    double particle = 0.0;
+    std::size_t particle_index = 0;
+    double node = 0.0;
+    Vec2 node_position = Vec2::Zero();
+  };
+  Speeds max_speeds(double node_mass_share = 0.1) const;
+  /// Grid node mass Σ_i m_i of the last step (tests: partition of unity).
+  double grid_mass() const;
+
+  /// Stable Courant step C h / max c_p over the materials that particles use.
+  double courant_time_step(double courant) const;
+
+  /// Memory held per particle (particle arrays and per-step scratch) and in the grid.
+  struct Memory {
+    std::size_t particle_arrays = 0, particle_scratch = 0, sort_peak = 0, grid = 0;
+  };
+  Memory memory() const;
+
+ private:
+  void locate();
+  void sort();
+
+  MpmSettings settings_;
+  MaterialTable materials_;
+  std::vector<ConstitutiveModel> models_;
+  Particles particles_;
+  SolverClock clock_;
+  GridState grid_state_;
+  ParticleBlocks blocks_;
+  std::vector<Vec4> velocity_gradient_;  ///< per-step scratch, also the sort's buffer
+  LocateResult pending_;                 ///< where the last step's final pass found the particles
+  bool located_ = false;                 ///< pending_ matches the particles
+  double mass_floor_ = 0.0;
+  double last_kinetic_energy_ = 0.0;
+  std::size_t exited_this_step_ = 0;
+};
+
+/// Checks particles before a run; throws Error naming `source` and the first bad
+/// particle (index and id): non-finite fields, mass or volume ≤ 0, size ≤ 0 for uGIMP,
+/// an unknown material id, a particle outside the grid. Frozen particles (the last
+/// `frozen`) may lie outside.
+void validate_particles(const Particles& particles, const MpmSettings& settings,
+                        std::size_t material_count, const std::string& source,
+                        std::size_t frozen = 0);
+
+}  // namespace slide::mpm

@@ -1,0 +1,360 @@
+// mpm-solve as users and scripts see it: restart bit for bit, bad particle files, particles
+// leaving the grid, the summary line, the instability guard.
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include "common/checkpoint.hpp"
+#include "mpm_test_support.hpp"
+
+namespace slide::mpm {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path solver_program = fs::path(SLIDE_BINARY_DIR) / "bin" / "mpm-solve";
+
+/// A 10 m × 8 m frictional column on a 30 m × 10 m grid, 2 × 2 particles per cell.
+std::string small_case(const std::string& mpm_extra = "", double end_time = 0.5) {
+  return fmt::format(R"(
+[case]
+name = "small-column"
+description = "mpm-solve command-line tests"
+
+[[materials]]
+name = "soil"
+model = "mohr-coulomb"
+density = 1700.0
+youngs_modulus = 23.8e6
+poisson_ratio = 0.23
+friction_angle = 22.2
+cohesion = 1000.0
+
+[mesh]
+generator = "profile"
+element_size = 1.0
+surface = [[0.0, 8.0], [10.0, 8.0]]
+material = "soil"
+
+[fem]
+end_time = 1.0
+friction_coefficient = 0.466
+
+[fem.geostatic.boundaries]
+left = "roller"
+right = "roller"
+base = "roller"
+
+[fem.failure.boundaries]
+left = "roller"
+right = "free"
+base = "friction"
+
+[transfer]
+main_time = 0.0
+sweep_times = [0.0]
+
+[mpm]
+domain = [[0.0, 0.0], [30.0, 10.0]]
+cell_size = 1.0
+end_time = {}
+checkpoint_every = 0.25
+output_every = 0.05
+friction_coefficient = 0.466
+particles_per_cell = [2, 2]
+{}
+
+[mpm.boundaries]
+left = "roller"
+right = "roller"
+base = "friction"
+top = "free"
+
+[metrics]
+initial_length = 10.0
+initial_height = 8.0
+)",
+                     end_time, mpm_extra);
+}
+
+struct Outcome {
+  int status = 0;
+  std::string out, err;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs mpm-solve with `arguments` in `folder`, capturing stdout and stderr.
+Outcome run_solver(const fs::path& folder, const std::string& arguments) {
+  const fs::path out = folder / "stdout.txt", err = folder / "stderr.txt";
+  const std::string command = fmt::format("{} {} > {} 2> {}", solver_program.string(), arguments,
+                                          out.string(), err.string());
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+}
+
+fs::path fresh_folder(const std::string& name) {
+  const fs::path folder = fs::path(SLIDE_BINARY_DIR) / "tests" / "mpm" / "cli" / name;
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+fs::path write_case(const fs::path& folder, const std::string& text) {
+  const fs::path path = folder / "case.toml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(MpmSolveCli, RestartContinuesBitForBit) {
+  const fs::path folder = fresh_folder("restart");
+  const fs::path c = write_case(folder, small_case());
+  const Outcome straight = run_solver(
+      folder, fmt::format("{} -o {} --quiet", c.string(), (folder / "straight").string()));
+  ASSERT_EQ(straight.status, 0) << straight.err;
+  EXPECT_NE(straight.out.find("summary: steps="), std::string::npos) << straight.out;
+  EXPECT_NE(straight.out.find("particle_steps_per_s="), std::string::npos) << straight.out;
+
+  const fs::path split = folder / "split";
+  const Outcome first =
+      run_solver(folder, fmt::format("{} -o {} --until 0.25 --quiet", c.string(), split.string()));
+  ASSERT_EQ(first.status, 0) << first.err;
+  const Outcome second =
+      run_solver(folder, fmt::format("{} -o {} --restart {} --quiet", c.string(), split.string(),
+                                     (split / "mpm_t0.250.h5").string()));
+  ASSERT_EQ(second.status, 0) << second.err;
+
+  const ParticleCheckpoint a = read_particle_checkpoint(folder / "straight" / "mpm_final.h5");
+  const ParticleCheckpoint b = read_particle_checkpoint(split / "mpm_final.h5");
+  EXPECT_EQ(a.header.time, b.header.time);
+  EXPECT_EQ(a.header.step, b.header.step);
+  EXPECT_TRUE(same_bits(a.particles.coordinates, b.particles.coordinates));
+  EXPECT_TRUE(same_bits(a.particles.velocity, b.particles.velocity));
+  EXPECT_TRUE(same_bits(a.particles.stress, b.particles.stress));
+  EXPECT_TRUE(same_bits(a.particles.strain, b.particles.strain));
+  EXPECT_TRUE(same_bits(a.particles.volume, b.particles.volume));
+  EXPECT_TRUE(same_bits(a.particles.id, b.particles.id));
+  EXPECT_EQ(read_text(folder / "straight" / "mpm_history.csv"),
+            read_text(split / "mpm_history.csv"));
+  // The history has the CONTRACT columns.
+  const std::string history = read_text(split / "mpm_history.csv");
+  EXPECT_EQ(history.substr(0, history.find('\n')),
+            "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");
+}
+
+/// Overwrites one value of a dataset, as a foreign tool could (our writer refuses).
+void patch_value(const fs::path& file, const char* dataset, hsize_t row, hsize_t column,
+                 double value) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  const hid_t space = H5Dget_space(d);
+  const int rank = H5Sget_simple_extent_ndims(space);
+  hsize_t start[2] = {row, column}, count[2] = {1, 1};
+  H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  const hsize_t one = 1;
+  const hid_t memory = H5Screate_simple(1, &one, nullptr);
+  (void)rank;
+  EXPECT_GE(H5Dwrite(d, H5T_NATIVE_DOUBLE, memory, space, H5P_DEFAULT, &value), 0);
+  H5Sclose(memory);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+
+TEST(MpmSolveCli, BadParticleFilesAreOneLineErrorsNamingTheParticle) {
+  const fs::path folder = fresh_folder("bad_input");
+  const fs::path c = write_case(folder, small_case());
+  ASSERT_EQ(run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk", c.string(),
+                                           (folder / "t0").string()))
+                .status,
+            0);
+  const ParticleCheckpoint good = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
+
+  auto particle_file = [&](const std::string& name, auto&& damage) {
+    ParticleCheckpoint bad = good;
+    bad.header.kind = CheckpointKind::particles;
+    bad.solver.clear();
+    damage(bad);
+    const fs::path path = folder / (name + ".h5");
+    write_checkpoint(path, bad);
+    return path;
+  };
+  auto expect_rejected = [&](const fs::path& file, const std::string& what,
+                             const std::string& particle) {
+    const Outcome r = run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk", c.string(),
+                                                     (folder / "out").string(), file.string()));
+    EXPECT_NE(r.status, 0) << what;
+    // One error line (a warning may precede it), naming the particle and the problem.
+    std::istringstream lines(r.err);
+    int errors = 0;
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("mpm-solve: error: ", 0) != 0) continue;
+      ++errors;
+      EXPECT_NE(line.find(particle), std::string::npos) << what << ": " << line;
+      EXPECT_NE(line.find(what), std::string::npos) << line;
+    }
+    EXPECT_EQ(errors, 1) << what << ": " << r.err;
+  };
+
+  expect_rejected(
+      particle_file("outside",
+                    [](ParticleCheckpoint& p) { p.particles.coordinates[5] = Vec2(45.0, 3.0); }),
+      "outside the grid", "particle 5");
+  expect_rejected(particle_file("material",
+                                [](ParticleCheckpoint& p) {
+                                  p.materials.push_back(p.materials[0]);
+                                  p.materials[1].name = "other";
+                                  p.particles.material_id[7] = 1;
+                                }),
+                  "unknown material id", "particle 7");
+  const fs::path nan_velocity = particle_file("nan_velocity", [](ParticleCheckpoint&) {});
+  patch_value(nan_velocity, "/particles/velocity", 3, 0, std::numeric_limits<double>::quiet_NaN());
+  expect_rejected(nan_velocity, "velocity", "particle 3");
+  const fs::path zero_mass = particle_file("zero_mass", [](ParticleCheckpoint&) {});
+  patch_value(zero_mass, "/particles/mass", 4, 0, 0.0);
+  expect_rejected(zero_mass, "mass", "particle 4");
+}
+
+/// Particles thrown upwards out of the grid's free top: a warning with the count, then
+/// frozen (kept, velocity 0, at the end of the arrays) or removed.
+TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
+  for (const std::string mode : {"freeze", "remove"}) {
+    const fs::path folder = fresh_folder("exit_" + mode);
+    const fs::path c =
+        write_case(folder, small_case(fmt::format("particle_exit = \"{}\"", mode), 0.3));
+    ASSERT_EQ(run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk", c.string(),
+                                             (folder / "t0").string()))
+                  .status,
+              0);
+    ParticleCheckpoint file = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
+    file.header.kind = CheckpointKind::particles;
+    file.solver.clear();
+    std::size_t thrown = 0;
+    for (std::size_t k = 0; k < file.particles.count(); ++k) {
+      if (file.particles.coordinates[k].y() > 7.0 && file.particles.coordinates[k].x() < 2.0) {
+        file.particles.velocity[k] = Vec2(0.0, 40.0);
+        ++thrown;
+      }
+    }
+    ASSERT_GT(thrown, 0u);
+    write_checkpoint(folder / "thrown.h5", file);
+    const Outcome r =
+        run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk --quiet", c.string(),
+                                       (folder / "out").string(), (folder / "thrown.h5").string()));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("left the grid"), std::string::npos) << r.err;
+    const ParticleCheckpoint final_state =
+        read_particle_checkpoint(folder / "out" / "mpm_final.h5");
+    const auto frozen = std::get<std::int64_t>(final_state.solver.at("frozen_particles"));
+    if (mode == "freeze") {
+      EXPECT_EQ(final_state.particles.count(), file.particles.count());
+      EXPECT_GT(frozen, 0);
+      for (std::size_t k = final_state.particles.count() - static_cast<std::size_t>(frozen);
+           k < final_state.particles.count(); ++k) {
+        EXPECT_EQ(final_state.particles.velocity[k], Vec2::Zero());
+        EXPECT_GE(final_state.particles.coordinates[k].y(), 10.5);
+      }
+    } else {
+      EXPECT_LT(final_state.particles.count(), file.particles.count());
+      EXPECT_EQ(frozen, 0);
+    }
+  }
+}
+
+TEST(MpmSolveCli, InstabilityStopsWithADiagnosisAndKeepsTheLastCheckpoint) {
+  const fs::path folder = fresh_folder("unstable");
+  // Ten times the stable step.
+  const fs::path c = write_case(folder, small_case("time_step = 0.04"));
+  const Outcome r = run_solver(
+      folder, fmt::format("{} -o {} --no-vtk --quiet", c.string(), (folder / "out").string()));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("instability"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("last good checkpoint"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_TRUE(fs::exists(folder / "out" / "mpm_t0.000.h5"));
+  EXPECT_FALSE(fs::exists(folder / "out" / "mpm_final.h5"));
+}
+
+}  // namespace
+}  // namespace slide::mpm
+
+namespace slide::mpm {
+namespace {
+
+// Pure MPM with the elastic gravity stage: at t = 0 the body is at rest, undisplaced, and
+// carries roughly the lithostatic stress; the switch to the plastic model is logged.
+TEST(MpmSolveCli, GravityStageGivesARestingLithostaticStart) {
+  const fs::path folder = fresh_folder("gravity_stage");
+  // Elastic soil, so that the switch leaves the stresses of the gravity stage as they are.
+  std::string text = small_case(
+      "initial_stress = \"gravity\"\n"
+      "gravity_stage_duration = 1.5\n"
+      "gravity_stage_damping = 0.7");
+  text.replace(text.find("mohr-coulomb"), 12, "linear-elastic");
+  for (const char* key : {"friction_angle = 22.2\n", "cohesion = 1000.0\n"}) {
+    text.erase(text.find(key), std::string(key).size());
+  }
+  const fs::path c = write_case(folder, text);
+  const Outcome r = run_solver(
+      folder, fmt::format("{} -o {} --until 0 --no-vtk", c.string(), (folder / "out").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("elastic gravity stage"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("returned to the yield surface"), std::string::npos) << r.out;
+  const ParticleCheckpoint t0 = read_particle_checkpoint(folder / "out" / "mpm_t0.000.h5");
+  EXPECT_EQ(t0.header.time, 0.0);
+  double weight = 0.0, base_force = 0.0;
+  for (std::size_t k = 0; k < t0.particles.count(); ++k) {
+    EXPECT_EQ(t0.particles.velocity[k], Vec2::Zero());
+    EXPECT_EQ(t0.particles.displacement[k], Vec2::Zero());
+    weight += t0.particles.mass[k] * 9.81;
+    // σyy integrated over the bottom row of cells ≈ the weight the base carries.
+    if (t0.particles.coordinates[k].y() < 1.0)
+      base_force -= t0.particles.stress[k][1] * t0.particles.volume[k];
+  }
+  // Σ σyy V over the bottom row of cells is the row's mean σyy times its area: the
+  // weight above its mid-height, (H − h/2)/H of the body's weight.
+  EXPECT_NEAR(base_force / weight, (8.0 - 0.5) / 8.0, 0.05);
+}
+
+}  // namespace
+}  // namespace slide::mpm
+
+namespace slide::mpm {
+namespace {
+
+// The rest criterion: KE/PE0 below the threshold for the rest duration stops the run
+// (a threshold of 1 is met from the first step, so the run stops after 0.1 s).
+TEST(MpmSolveCli, StopsWhenAtRest) {
+  const fs::path folder = fresh_folder("rest");
+  const fs::path c = write_case(folder, small_case("rest_threshold = 1.0\nrest_duration = 0.1"));
+  const Outcome r =
+      run_solver(folder, fmt::format("{} -o {} --no-vtk", c.string(), (folder / "out").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("at rest"), std::string::npos) << r.out;
+  const ParticleCheckpoint last = read_particle_checkpoint(folder / "out" / "mpm_final.h5");
+  EXPECT_GE(last.header.time, 0.1 - 1e-12);
+  EXPECT_LT(last.header.time, 0.1 + 0.005);
+}
+
+}  // namespace
+}  // namespace slide::mpm

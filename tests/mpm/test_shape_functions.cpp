@@ -1,0 +1,68 @@
+// The 1-D shape functions: partition of unity, reproduction of linear fields, and uGIMP
+// equal to the hat function averaged over the particle domain (its definition).
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "mpm/shape_functions.hpp"
+
+namespace slide::mpm {
+namespace {
+
+double hat(double r) {
+  return std::max(0.0, 1.0 - std::abs(r));
+}
+
+template <class Shape>
+void check_partition_and_linear_reproduction(double xi, double a) {
+  const auto w = Shape::weights(xi, a);
+  double sum = 0.0, first = 0.0, slope_sum = 0.0, slope_first = 0.0;
+  for (int k = 0; k < Shape::support; ++k) {
+    const double node = w.base + k;
+    sum += w.value[k];
+    first += w.value[k] * node;
+    slope_sum += w.derivative[k];
+    slope_first += w.derivative[k] * node;
+    EXPECT_GE(w.value[k], -1e-15);
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-14) << xi;
+  EXPECT_NEAR(first, xi, 1e-13) << xi;  // Σ S_k x_k = x_p
+  EXPECT_NEAR(slope_sum, 0.0, 1e-14) << xi;
+  EXPECT_NEAR(slope_first, 1.0, 1e-13) << xi;  // Σ S'_k x_k = 1
+}
+
+TEST(ShapeFunctions, PartitionOfUnityAndLinearReproduction) {
+  for (double xi = 0.0; xi < 6.0; xi += 0.01237) {
+    check_partition_and_linear_reproduction<LinearShape>(xi, 0.0);
+    for (double a : {0.05, 0.125, 0.25, 0.5})
+      check_partition_and_linear_reproduction<GimpShape>(xi, a);
+  }
+}
+
+TEST(ShapeFunctions, GimpIsTheHatAveragedOverTheParticleDomain) {
+  for (double a : {0.125, 0.3, 0.5}) {
+    for (double xi = 2.0; xi < 4.0; xi += 0.0371) {
+      const auto w = GimpShape::weights(xi, a);
+      for (int k = 0; k < 3; ++k) {
+        const double node = w.base + k;
+        // Midpoint rule over [ξ − a, ξ + a] with many points.
+        const int n = 20000;
+        double average = 0.0, slope = 0.0;
+        for (int i = 0; i < n; ++i) {
+          const double s = xi - a + (i + 0.5) * 2 * a / n;
+          average += hat(s - node) / n;
+        }
+        slope = (hat(xi + a - node) - hat(xi - a - node)) / (2 * a);  // d/dξ of the average
+        EXPECT_NEAR(w.value[k], average, 1e-8) << "xi " << xi << " a " << a;
+        EXPECT_NEAR(w.derivative[k], slope, 1e-12) << "xi " << xi << " a " << a;
+      }
+      // The nodes just outside the stencil get nothing: the domain does not reach them.
+      for (const double outside : {w.base - 1.0, w.base + 3.0}) {
+        EXPECT_GE(std::abs(xi - outside), 1.0 + a - 1e-12) << "xi " << xi << " a " << a;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace slide::mpm
