@@ -101,6 +101,11 @@ std::vector<std::string> format_report_lines(const TransferReport& r) {
         "{} inverted element(s) transferred with their reference volume (--allow-inverted): {}",
         r.inverted_elements.size(), ids));
   }
+  if (r.limited_particles > 0) {
+    lines.push_back(fmt::format(
+        "{} particle(s) with an RBF overshoot limited to the range of their element patch",
+        r.limited_particles));
+  }
   if (r.clamped_plastic_strain > 0) {
     lines.push_back(
         fmt::format("{} particle(s) with a negative interpolated plastic shear strain set to 0",
@@ -153,6 +158,7 @@ std::string report_json(const TransferReport& r) {
   field("kinetic_energy_particles", json_number(r.kinetic_energy_particles));
   field("inverted_elements", inverted);
   field("clamped_plastic_strain", fmt::format("{}", r.clamped_plastic_strain));
+  field("limited_particles", fmt::format("{}", r.limited_particles));
   field("seconds_interpolation", json_number(r.seconds_interpolation));
   field("seconds_total", json_number(r.seconds_total), true);
   json += "}\n";

@@ -60,6 +60,8 @@ struct TransferReport {
   /// Particles whose interpolated accumulated plastic shear strain came out negative
   /// (RBF undershoot) and was set to zero.
   std::size_t clamped_plastic_strain = 0;
+  /// Particles with an RBF value limited to its element patch's range (overshoot).
+  std::size_t limited_particles = 0;
 
   double seconds_interpolation = 0.0;
   double seconds_total = 0.0;
