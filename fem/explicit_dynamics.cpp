@@ -16,6 +16,37 @@ double base_gap(std::span<const NodalConstraint> constraints, const Vec2& displa
   return gap;
 }
 
+bool on_frictional_base(std::span<const NodalConstraint> constraints) {
+  return std::ranges::any_of(constraints, [](const NodalConstraint& c) {
+    return c.condition == BoundaryCondition::friction;
+  });
+}
+
+// The line through the frictional nodes when they are collinear with one common normal
+// (every case's base y = 0); none otherwise (a curved or absent frictional boundary is
+// then only a constraint on its own nodes).
+std::optional<ExplicitSolver::BasePlane> find_base_plane(const Mesh& mesh,
+                                                         const NodalConstraints& constraints) {
+  std::optional<ExplicitSolver::BasePlane> plane;
+  double extent = 0.0;
+  for (Index node = 0; node + 1 < static_cast<Index>(constraints.offsets.size()); ++node) {
+    for (const auto& c : constraints.of(node)) {
+      if (c.condition != BoundaryCondition::friction) continue;
+      const Vec2& x = mesh.nodes[static_cast<std::size_t>(node)];
+      if (!plane) {
+        plane = ExplicitSolver::BasePlane{c, x};
+        continue;
+      }
+      if ((c.normal - plane->contact.normal).norm() > 1e-12) return std::nullopt;
+      extent = std::max(extent, (x - plane->point).norm());
+      if (std::abs((x - plane->point).dot(c.normal)) > 1e-9 * std::max(extent, 1.0)) {
+        return std::nullopt;
+      }
+    }
+  }
+  return plane;
+}
+
 }  // namespace
 
 ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constraints,
@@ -23,6 +54,7 @@ ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constrain
                                std::vector<ConstitutiveModel> models)
     : model_(model),
       constraints_(std::move(constraints)),
+      base_plane_(find_base_plane(model.mesh, constraints_)),
       friction_coefficient_(friction_coefficient),
       damping_(damping),
       models_(std::move(models)),
@@ -61,6 +93,22 @@ Vec2 ExplicitSolver::nodal_force(Index node) const {
   return force;
 }
 
+Vec2 ExplicitSolver::constrained_velocity(Index node, const FemState& state, const Vec2& trial,
+                                          double dt) const {
+  const auto n = static_cast<std::size_t>(node);
+  const auto constraints = constraints_.of(node);
+  if (on_frictional_base(constraints)) {
+    return apply_constraints(constraints, friction_coefficient_, trial,
+                             {base_gap(constraints, state.displacement[n]), dt});
+  }
+  const Vec2 v =
+      constraints.empty() ? trial : apply_constraints(constraints, friction_coefficient_, trial);
+  if (!base_plane_) return v;
+  const Vec2 x = model_.mesh.nodes[n] + state.displacement[n];
+  return apply_constraint(base_plane_->contact, friction_coefficient_, v,
+                          {base_plane_->gap(x), dt});
+}
+
 void ExplicitSolver::update_nodes(FemState& state, double dt) const {
   const Index n_nodes = model_.node_count();
   for (Index node = 0; node < n_nodes; ++node) {
@@ -68,11 +116,7 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) const {
     const Vec2 previous = state.velocity[n];
     const Vec2 trial =
         damped_trial_velocity(model_.nodal_mass[n], previous, nodal_force(node), dt, damping_);
-    const auto constraints = constraints_.of(node);
-    const Vec2 velocity =
-        constraints.empty() ? trial
-                            : apply_constraints(constraints, friction_coefficient_, trial,
-                                                {base_gap(constraints, state.displacement[n]), dt});
+    const Vec2 velocity = constrained_velocity(node, state, trial, dt);
     state.acceleration[n] = (velocity - previous) / dt;
     state.velocity[n] = velocity;
     state.displacement[n] += dt * velocity;
@@ -118,11 +162,7 @@ void ExplicitSolver::synchronised_velocity(const FemState& state, double dt,
     const auto n = static_cast<std::size_t>(node);
     const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], state.velocity[n],
                                              nodal_force(node), 0.5 * dt, damping_);
-    const auto constraints = constraints_.of(node);
-    velocity[n] = constraints.empty()
-                      ? trial
-                      : apply_constraints(constraints, friction_coefficient_, trial,
-                                          {base_gap(constraints, state.displacement[n]), 0.5 * dt});
+    velocity[n] = constrained_velocity(node, state, trial, 0.5 * dt);
   }
 }
 

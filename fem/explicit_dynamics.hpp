@@ -7,7 +7,10 @@
 //   1. forces from the current state:      F_n = m g − f_int(σ_n, Q_n)
 //   2. nodal velocity update:              v_{n+1/2} = constrain(v_{n−1/2} + dt F_n/m)
 //      through the shared update of common/nodal_update.hpp (damping, fixed, roller and
-//      Coulomb friction nodes exactly as the MPM grid does it)
+//      Coulomb friction nodes exactly as the MPM grid does it); the frictional base is
+//      also a contact plane for every other node, so that a toe folding down onto the
+//      ground lands on it instead of passing through (small strain runs on past
+//      inversion, and without it nodes sank below y = 0 and KE/PE0 exceeded 1)
 //   3. positions:                          u_{n+1} = u_n + dt v_{n+1/2}
 //   4. strain increment and stress update: Δε = dt sym∇v_{n+1/2}, σ_{n+1} = model(σ_n, Δε)
 // A step depends only on the stored state (u, v, σ, state, Q) and dt, so a run restarted
@@ -16,6 +19,8 @@
 // refuses a step that would invert an element (the state is then left at t_n).
 #pragma once
 
+#include <algorithm>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -55,13 +60,26 @@ class ExplicitSolver {
 
   const NodalConstraints& constraints() const { return constraints_; }
 
+  /// The straight line of the frictional base nodes, if they lie on one.
+  struct BasePlane {
+    NodalConstraint contact;  ///< friction, with the base's outward normal of the body
+    Vec2 point;               ///< a point of the base
+    /// How far a node at x is above the base (0 on or below it).
+    double gap(const Vec2& x) const { return std::max(0.0, -(x - point).dot(contact.normal)); }
+  };
+  const std::optional<BasePlane>& base_plane() const { return base_plane_; }
+
  private:
   const ElementGeometry& geometry_for(const FemState& state);
   void update_nodes(FemState& state, double dt) const;
   Vec2 nodal_force(Index node) const;
 
+  /// The constrained velocity of one node from its trial velocity.
+  Vec2 constrained_velocity(Index node, const FemState& state, const Vec2& trial, double dt) const;
+
   const FemModel& model_;
   NodalConstraints constraints_;
+  std::optional<BasePlane> base_plane_;
   double friction_coefficient_;
   NodalDamping damping_;
   std::vector<ConstitutiveModel> models_;
