@@ -175,6 +175,26 @@ TEST(ExplicitDynamics, BlockSlidingWithLargeFrictionStopsAfterTheCoulombDistance
   }
 }
 
+TEST(ExplicitDynamics, ANodeOffTheBaseLandsOnItInsteadOfPassingThrough) {
+  // A top node of a 1 m square brought down to 1 mm above the base and falling fast: in
+  // one step it would pass 9 mm below y = 0, but the base is a contact plane for every
+  // node, so it lands exactly on it (and with μ = 0.5 its tangential motion is braked).
+  const FemModel model = make_model(rectangle_mesh(ElementType::quad4_1gp, 1, 1, 1.0, 1.0),
+                                    {soil()}, Kinematics::small_strain, 1.0);
+  const BoundaryTable table{{"base", BoundaryCondition::friction}};
+  ExplicitSolver solver(model, make_constraints(model.mesh, table, "test"), 0.5, {},
+                        models_of(model));
+  ASSERT_TRUE(solver.base_plane().has_value());
+  FemState state = make_rest_state(model);
+  const std::size_t top = 2;  // counter-clockwise from (0, 0): (1, 1)
+  ASSERT_DOUBLE_EQ(model.mesh.nodes[top].y(), 1.0);
+  state.displacement[top] = Vec2(0.0, -0.999);
+  state.velocity[top] = Vec2(1.0, -10.0);
+  solver.step(state, 1e-3);
+  EXPECT_NEAR(model.mesh.nodes[top].y() + state.displacement[top].y(), 0.0, 1e-12);
+  EXPECT_LT(state.velocity[top].x(), 1.0);
+}
+
 TEST(ExplicitDynamics, TheSwitchReturnsInadmissibleStressesToTheYieldSurface) {
   // K0 = 0.30 is below the active limit 0.45 of φ = 22.2°: the geostatic column is
   // beyond the Mohr–Coulomb surface except near the top where cohesion holds it.
