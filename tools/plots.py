@@ -143,6 +143,7 @@ def plot_fem_quality(case, out, figures):
     ax2.plot(t, 100 * column(rows, "eps_q_max"), "k-", label="εq,max")
     ax2.axhline(100 * ZONE_EPS_Q_AVG, color="b", lw=0.5, ls=":")
     ax2.set_yscale("symlog", linthresh=10)
+    ax2.set_ylim(bottom=0)
     ax2.set_xlabel("t (s)")
     ax2.set_ylabel("deviatoric strain εq (%)")
     ax2.legend(fontsize=7)
