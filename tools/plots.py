@@ -231,7 +231,8 @@ def plot_geostatic_transfer_error(case, out, figures):
     sc = ax.scatter(x[:, 0], x[:, 1], c=error, s=8, cmap="coolwarm", vmin=-limit, vmax=limit)
     fig.colorbar(sc, label="(σyy − (−ρg(H−y))) / ρgH (%)")
     ax.set_aspect("equal")
-    ax.set_title(f"transfer error of σyy at t = 0 (max |e| = {np.abs(error).max():.3g} %)")
+    ax.set_title(f"σyy transfer error at t = 0\nmax |e| = {np.abs(error).max():.3g} % of ρgH",
+                 fontsize=10)
     save(fig, figures / "geostatic_transfer_error.png")
 
 
