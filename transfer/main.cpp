@@ -67,11 +67,12 @@ void run(const CommandLine& line, const CLI::App& app) {
     logger.warning("{} inverted element(s) transferred with their reference volume, first {}",
                    result.report.inverted_elements.size(), result.report.inverted_elements.front());
   }
-  if (result.report.limited_particles > 0) {
+  if (result.report.limited_stress_particles > 0) {
     logger.warning(
-        "{} particle(s) had RBF values beyond their element patch's range and were "
-        "limited (distorted mesh; compare --stress-interpolation element)",
-        result.report.limited_particles);
+        "{} particle(s) had RBF stresses beyond their element patch's range, limited "
+        "to it (crowded or folded Gauss points; compare --stress-interpolation "
+        "element)",
+        result.report.limited_stress_particles);
   }
   write_checkpoint(line.output, result.particles);
   const auto json = transfer::report_path(line.output);

@@ -198,10 +198,16 @@ GaussIndex index_gauss_points(const FemCheckpoint& fem) {
 // with it, widened by (hi − lo)/2 on each side. The widening lets a linear field through
 // untouched, boundary particles included: a particle is at most half an element beyond
 // its own Gauss point, while the patch spans at least one element of the field's change.
-// Returns the number of particles with at least one limited component.
-std::size_t limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_index,
-                            const FieldValues& gauss_values,
-                            std::span<const Index> particle_element, FieldValues& at_particles) {
+// Counts the particles with at least one limited component, and those with a limited
+// stress component.
+struct LimitedCounts {
+  std::size_t any = 0;
+  std::size_t stress = 0;
+};
+
+LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_index,
+                              const FieldValues& gauss_values,
+                              std::span<const Index> particle_element, FieldValues& at_particles) {
   const Mesh& mesh = fem.mesh;
   const auto elements = static_cast<std::size_t>(mesh.element_count());
   const Eigen::Index columns = gauss_values.cols();
@@ -245,10 +251,10 @@ std::size_t limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_in
   // Rounding-level excursions (a constant column, a linear field at a boundary) are left
   // alone: only an excess beyond 1e-9 of the column's magnitude is an overshoot.
   const Eigen::RowVectorXd tolerance = 1e-9 * gauss_values.cwiseAbs().colwise().maxCoeff();
-  std::size_t limited = 0;
+  LimitedCounts limited;
   for (Eigen::Index p = 0; p < at_particles.rows(); ++p) {
     const auto row = static_cast<Eigen::Index>(particle_element[static_cast<std::size_t>(p)]);
-    bool changed = false;
+    bool changed = false, stress_changed = false;
     for (Eigen::Index c = 0; c < columns; ++c) {
       const double margin = 0.5 * (hi(row, c) - lo(row, c)) + tolerance(c);
       const double bounded =
@@ -256,9 +262,11 @@ std::size_t limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_in
       if (bounded != at_particles(p, c)) {
         at_particles(p, c) = bounded;
         changed = true;
+        stress_changed = stress_changed || (c >= stress_column && c < stress_column + 4);
       }
     }
-    if (changed) ++limited;
+    limited.any += changed ? 1 : 0;
+    limited.stress += stress_changed ? 1 : 0;
   }
   return limited;
 }
@@ -589,7 +597,9 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
 
   FieldValues at = interpolated.at_particles;
   if (uses_rbf) {
-    report.limited_particles = limit_overshoot(fem, gauss_index, values, particles.element, at);
+    const LimitedCounts limited = limit_overshoot(fem, gauss_index, values, particles.element, at);
+    report.limited_particles = limited.any;
+    report.limited_stress_particles = limited.stress;
   }
   for (std::size_t p = 0; p < count; ++p) {
     const auto row = static_cast<Eigen::Index>(p);

@@ -103,8 +103,9 @@ std::vector<std::string> format_report_lines(const TransferReport& r) {
   }
   if (r.limited_particles > 0) {
     lines.push_back(fmt::format(
-        "{} particle(s) with an RBF overshoot limited to the range of their element patch",
-        r.limited_particles));
+        "{} particle(s) with an RBF overshoot limited to the range of their element patch "
+        "({} in a stress component)",
+        r.limited_particles, r.limited_stress_particles));
   }
   if (r.clamped_plastic_strain > 0) {
     lines.push_back(
@@ -159,6 +160,7 @@ std::string report_json(const TransferReport& r) {
   field("inverted_elements", inverted);
   field("clamped_plastic_strain", fmt::format("{}", r.clamped_plastic_strain));
   field("limited_particles", fmt::format("{}", r.limited_particles));
+  field("limited_stress_particles", fmt::format("{}", r.limited_stress_particles));
   field("seconds_interpolation", json_number(r.seconds_interpolation));
   field("seconds_total", json_number(r.seconds_total), true);
   json += "}\n";

@@ -62,6 +62,8 @@ struct TransferReport {
   std::size_t clamped_plastic_strain = 0;
   /// Particles with an RBF value limited to its element patch's range (overshoot).
   std::size_t limited_particles = 0;
+  /// Of those, the particles with a limited stress component.
+  std::size_t limited_stress_particles = 0;
 
   double seconds_interpolation = 0.0;
   double seconds_total = 0.0;
