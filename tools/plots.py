@@ -63,8 +63,14 @@ def plot_profiles(case, out, figures):
     rows = read_csv(path)
     runs = list(dict.fromkeys(r["run"] for r in rows))
     fig, ax = plt.subplots(figsize=(10, 4))
-    length, height = case["metrics"]["initial_length"], case["metrics"]["initial_height"]
-    ax.plot([0, length, length], [height, height, 0], "k:", lw=1, label="initial body")
+    surface = case.get("mesh", {}).get("surface")
+    if surface:  # the body's initial outline: its surface polyline, down to the base
+        xs = [p[0] for p in surface] + [surface[-1][0]]
+        ys = [p[1] for p in surface] + [0.0]
+    else:
+        length, height = case["metrics"]["initial_length"], case["metrics"]["initial_height"]
+        xs, ys = [0, length, length], [height, height, 0]
+    ax.plot(xs, ys, "k:", lw=1, label="initial body")
     cmap = plt.get_cmap("viridis", max(len(runs), 2))
     for i, run in enumerate(runs):
         sel = [r for r in rows if r["run"] == run]
