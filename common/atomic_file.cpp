@@ -1,9 +1,9 @@
 #include "common/atomic_file.hpp"
 
-#include <unistd.h>
-
 #include <fstream>
 #include <system_error>
+
+#include <unistd.h>
 
 #include "common/error.hpp"
 
@@ -15,7 +15,8 @@ void write_atomically(const std::filesystem::path& target,
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(folder, ec);
-  if (ec) throw Error("{}: cannot create folder {}: {}", target.string(), folder.string(), ec.message());
+  if (ec)
+    throw Error("{}: cannot create folder {}: {}", target.string(), folder.string(), ec.message());
   // Hidden, unique per process: two programs writing into one folder do not collide.
   const fs::path temporary =
       folder / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid());
@@ -29,7 +30,8 @@ void write_atomically(const std::filesystem::path& target,
   if (ec) {
     std::error_code ignored;
     fs::remove(temporary, ignored);
-    throw Error("{}: cannot rename the temporary file into place: {}", target.string(), ec.message());
+    throw Error("{}: cannot rename the temporary file into place: {}", target.string(),
+                ec.message());
   }
 }
 

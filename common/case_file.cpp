@@ -999,9 +999,9 @@ MpmSpec read_mpm(const Section& root, const MeshSpec& mesh, const TransferSpec& 
 // ----------------------------------------------------------------------------- [metrics]
 
 MetricsSpec read_metrics(const Section& root) {
-  const Section s = root.table("metrics", Section::Keys{"initial_length", "initial_height",
-                                                        "bin_width", "profile_percentile",
-                                                        "foundation_level"});
+  const Section s =
+      root.table("metrics", Section::Keys{"initial_length", "initial_height", "bin_width",
+                                          "profile_percentile", "foundation_level"});
   MetricsSpec metrics;
   metrics.initial_length = s.number("initial_length", positive("m"));
   metrics.initial_height = s.number("initial_height", positive("m"));

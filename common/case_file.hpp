@@ -44,9 +44,9 @@ struct MeshSpec {
   MeshGenerator generator = MeshGenerator::profile;
   ElementType element_type = ElementType::quad4_1gp;
   // profile
-  double element_size = 1.0;    ///< target element size h, m
-  std::vector<Vec2> surface;    ///< surface points, x increasing from the wall x = 0
-  std::string material;         ///< material of the whole profile mesh
+  double element_size = 1.0;  ///< target element size h, m
+  std::vector<Vec2> surface;  ///< surface points, x increasing from the wall x = 0
+  std::string material;       ///< material of the whole profile mesh
   // blocks
   std::vector<MeshBlock> blocks;
   // gmsh (relative paths are relative to the case file's folder)
@@ -66,16 +66,16 @@ struct FemSpec {
   /// False for geostatic-only cases: fem-solve stops after the t = 0 checkpoint.
   bool failure_stage = true;
   Kinematics kinematics = Kinematics::small_strain;
-  double end_time = 0.0;                ///< s
-  std::vector<double> checkpoint_times; ///< s, besides t = 0 and the end time
-  double checkpoint_every = 0.0;        ///< s, 0: only the listed times
-  double output_every = 0.0;            ///< history/VTK cadence, s (0: every checkpoint)
-  double courant = 0.5;                 ///< C in dt = C·min(l_e/c_p)
-  double time_step = 0.0;               ///< fixed dt, s (0: Courant)
-  double hourglass_coefficient = 1.0;   ///< scale of the physical hourglass stiffness
-  BoundaryTable geostatic_boundaries;   ///< stage 1
-  BoundaryTable failure_boundaries;     ///< stage 2
-  double friction_coefficient = 0.0;    ///< μ of "friction" boundaries
+  double end_time = 0.0;                 ///< s
+  std::vector<double> checkpoint_times;  ///< s, besides t = 0 and the end time
+  double checkpoint_every = 0.0;         ///< s, 0: only the listed times
+  double output_every = 0.0;             ///< history/VTK cadence, s (0: every checkpoint)
+  double courant = 0.5;                  ///< C in dt = C·min(l_e/c_p)
+  double time_step = 0.0;                ///< fixed dt, s (0: Courant)
+  double hourglass_coefficient = 1.0;    ///< scale of the physical hourglass stiffness
+  BoundaryTable geostatic_boundaries;    ///< stage 1
+  BoundaryTable failure_boundaries;      ///< stage 2
+  double friction_coefficient = 0.0;     ///< μ of "friction" boundaries
   DampingSpec damping;
   /// Instability guard: speeds above this factor × sqrt(2 g H) stop the run.
   double speed_limit_factor = 5.0;
@@ -87,13 +87,13 @@ enum class StressInterpolation { rbf, rbf_local, element };
 enum class RbfPolynomial { none, linear };
 
 struct TransferSpec {
-  int particles_x = 4;  ///< N_px (quads)
-  int particles_y = 4;  ///< N_py (quads)
+  int particles_x = 4;          ///< N_px (quads)
+  int particles_y = 4;          ///< N_py (quads)
   int particles_triangle = 16;  ///< points of the triangle rule
   StressInterpolation stress_interpolation = StressInterpolation::rbf;
   std::optional<RbfPolynomial> rbf_polynomial;  ///< unset: none for rbf, linear for rbf-local
-  double rbf_shape = 0.0;  ///< c, m (0: the default sqrt(A_box/N_g))
-  int rbf_neighbours = 0;  ///< k of rbf-local (0: the default)
+  double rbf_shape = 0.0;                       ///< c, m (0: the default sqrt(A_box/N_g))
+  int rbf_neighbours = 0;                       ///< k of rbf-local (0: the default)
   /// Transfer times the case's sweep uses, s (METHOD.md §7), and the one the main
   /// pipeline uses.
   std::vector<double> sweep_times;
@@ -113,16 +113,16 @@ struct MpmSpec {
   double cell_size = 1.0;          ///< h, m
   ShapeFunction shape_function = ShapeFunction::gimp;
   UpdateScheme update_scheme = UpdateScheme::musl;
-  double pic_fraction = 0.0;       ///< 0: pure FLIP, 1: pure PIC
-  double end_time = 0.0;           ///< s
+  double pic_fraction = 0.0;  ///< 0: pure FLIP, 1: pure PIC
+  double end_time = 0.0;      ///< s
   std::vector<double> checkpoint_times;
-  double checkpoint_every = 0.0;   ///< s
-  double output_every = 0.0;       ///< history/VTK cadence, s
+  double checkpoint_every = 0.0;  ///< s
+  double output_every = 0.0;      ///< history/VTK cadence, s
   double courant = 0.5;
-  double time_step = 0.0;          ///< fixed dt, s (0: Courant on the cell size)
-  BoundaryTable boundaries;        ///< "left", "right", "base", "top" of the grid
+  double time_step = 0.0;    ///< fixed dt, s (0: Courant on the cell size)
+  BoundaryTable boundaries;  ///< "left", "right", "base", "top" of the grid
   double friction_coefficient = 0.0;
-  double local_damping = 0.0;      ///< Cundall α
+  double local_damping = 0.0;  ///< Cundall α
   ParticleExit particle_exit = ParticleExit::freeze;
   /// Stop early once KE/PE0 stays below `rest_threshold` for `rest_duration` s
   /// (0: run to the end time).

@@ -38,7 +38,7 @@ struct CheckpointHeader {
   double time = 0.0;      ///< s, on the clock of METHOD.md §2
   std::int64_t step = 0;  ///< time steps taken so far
   std::string case_name;
-  double pe0 = 0.0;       ///< PE_0, J/m: potential energy of the model at t = 0
+  double pe0 = 0.0;  ///< PE_0, J/m: potential energy of the model at t = 0
 };
 
 /// Free-form solver settings a restart needs (attributes of the /solver group), e.g.

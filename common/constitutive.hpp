@@ -73,8 +73,7 @@ void rotate_jaumann(Vec4& stress, double spin_increment);
 /// Updates a range of points that share one model; `yielded[i]` (optional, may be
 /// empty) receives 1 where point i yielded. Returns the number of points that yielded.
 std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stress,
-                            std::span<MaterialState> state,
-                            std::span<const Vec4> strain_increment,
+                            std::span<MaterialState> state, std::span<const Vec4> strain_increment,
                             std::span<std::uint8_t> yielded = {});
 
 /// Mean stress p = −(σxx+σyy+σzz)/3 (compression positive) and q = sqrt(3/2 s:s).

@@ -10,9 +10,12 @@ namespace slide {
 
 std::string_view to_string(ElementType type) {
   switch (type) {
-    case ElementType::quad4_1gp: return "quad4-1gp";
-    case ElementType::quad4_2x2: return "quad4-2x2";
-    case ElementType::tri3: return "tri3";
+    case ElementType::quad4_1gp:
+      return "quad4-1gp";
+    case ElementType::quad4_2x2:
+      return "quad4-2x2";
+    case ElementType::tri3:
+      return "tri3";
   }
   return "unknown";
 }
@@ -39,20 +42,23 @@ ElementShape shape_of(ElementType type) {
   return type == ElementType::tri3 ? ElementShape::tri3 : ElementShape::quad4;
 }
 
-int nodes_per_element(ElementShape shape) { return shape == ElementShape::quad4 ? 4 : 3; }
+int nodes_per_element(ElementShape shape) {
+  return shape == ElementShape::quad4 ? 4 : 3;
+}
 
 std::span<const QuadraturePoint> quadrature_rule(ElementType type) {
   static const double g = 1.0 / std::sqrt(3.0);
   static const std::array<QuadraturePoint, 1> one_point{{{Vec2(0.0, 0.0), 4.0}}};
-  static const std::array<QuadraturePoint, 4> two_by_two{{{Vec2(-g, -g), 1.0},
-                                                          {Vec2(g, -g), 1.0},
-                                                          {Vec2(g, g), 1.0},
-                                                          {Vec2(-g, g), 1.0}}};
+  static const std::array<QuadraturePoint, 4> two_by_two{
+      {{Vec2(-g, -g), 1.0}, {Vec2(g, -g), 1.0}, {Vec2(g, g), 1.0}, {Vec2(-g, g), 1.0}}};
   static const std::array<QuadraturePoint, 1> centroid{{{Vec2(1.0 / 3.0, 1.0 / 3.0), 0.5}}};
   switch (type) {
-    case ElementType::quad4_1gp: return one_point;
-    case ElementType::quad4_2x2: return two_by_two;
-    case ElementType::tri3: return centroid;
+    case ElementType::quad4_1gp:
+      return one_point;
+    case ElementType::quad4_2x2:
+      return two_by_two;
+    case ElementType::tri3:
+      return centroid;
   }
   return {};
 }
@@ -118,7 +124,9 @@ Vec2 reference_centre(ElementShape shape) {
   return shape == ElementShape::quad4 ? Vec2(0.0, 0.0) : Vec2(1.0 / 3.0, 1.0 / 3.0);
 }
 
-double reference_measure(ElementShape shape) { return shape == ElementShape::quad4 ? 4.0 : 0.5; }
+double reference_measure(ElementShape shape) {
+  return shape == ElementShape::quad4 ? 4.0 : 0.5;
+}
 
 ShapeValues shape_functions(ElementShape shape, const Vec2& xi) {
   if (shape == ElementShape::quad4) {

@@ -30,7 +30,9 @@ ElementShape parse_element_shape(std::string_view text, std::string_view where);
 
 ElementShape shape_of(ElementType type);
 int nodes_per_element(ElementShape shape);
-inline int nodes_per_element(ElementType type) { return nodes_per_element(shape_of(type)); }
+inline int nodes_per_element(ElementType type) {
+  return nodes_per_element(shape_of(type));
+}
 
 inline constexpr int max_nodes_per_element = 4;
 

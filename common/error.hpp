@@ -4,10 +4,10 @@
 // `throw Error("{}: dataset {} missing", path, name)`.
 #pragma once
 
-#include <fmt/format.h>
-
 #include <stdexcept>
 #include <string>
+
+#include <fmt/format.h>
 
 namespace slide {
 

@@ -16,7 +16,6 @@ namespace slide {
 
 /// Reads `path` into a mesh of `type`; throws Error (file, line, problem) on a malformed
 /// file, an unsupported element, an unknown material name or a missing physical group.
-Mesh read_gmsh(const std::filesystem::path& path, ElementType type,
-               const MaterialTable& materials);
+Mesh read_gmsh(const std::filesystem::path& path, ElementType type, const MaterialTable& materials);
 
 }  // namespace slide

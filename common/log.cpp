@@ -1,10 +1,10 @@
 #include "common/log.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include <unistd.h>
 
 namespace slide {
 
@@ -42,7 +42,8 @@ void Progress::update(double time, std::int64_t step, std::string_view status) {
   const double span = end_ - start_;
   const double fraction = span > 0 ? std::clamp((time - start_) / span, 0.0, 1.0) : 1.0;
   const double elapsed = elapsed_seconds();
-  const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : std::numeric_limits<double>::quiet_NaN();
+  const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction
+                                  : std::numeric_limits<double>::quiet_NaN();
   if (terminal_) {
     if (since_print < 0.2) return;
     fmt::print(stdout, "\r{}: {} t={:.3f}/{:.3f} s {:5.1f}% step {} wall {} eta {} {}\033[K",

@@ -3,12 +3,12 @@
 // The logger is an object owned by main and passed down: no global state.
 #pragma once
 
-#include <fmt/format.h>
-
 #include <chrono>
 #include <cstdio>
 #include <string>
 #include <string_view>
+
+#include <fmt/format.h>
 
 namespace slide {
 

@@ -10,8 +10,10 @@ namespace slide {
 
 std::string_view to_string(MaterialModel model) {
   switch (model) {
-    case MaterialModel::linear_elastic: return "linear-elastic";
-    case MaterialModel::mohr_coulomb: return "mohr-coulomb";
+    case MaterialModel::linear_elastic:
+      return "linear-elastic";
+    case MaterialModel::mohr_coulomb:
+      return "mohr-coulomb";
   }
   return "unknown";
 }
@@ -27,9 +29,13 @@ double Material::lame_lambda() const {
   return youngs_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
 }
 
-double Material::p_wave_modulus() const { return lame_lambda() + 2.0 * shear_modulus(); }
+double Material::p_wave_modulus() const {
+  return lame_lambda() + 2.0 * shear_modulus();
+}
 
-double Material::p_wave_speed() const { return std::sqrt(p_wave_modulus() / density); }
+double Material::p_wave_speed() const {
+  return std::sqrt(p_wave_modulus() / density);
+}
 
 double Material::apex_stress() const {
   const double phi = friction_angle * std::numbers::pi / 180.0;

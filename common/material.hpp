@@ -22,12 +22,12 @@ struct Material {
   /// Model of the failure stage and of the MPM phase. The FE geostatic stage always
   /// uses the linear elastic model with the same elastic constants (METHOD.md §3).
   MaterialModel model = MaterialModel::mohr_coulomb;
-  double density = 0.0;          ///< ρ, kg/m³
-  double youngs_modulus = 0.0;   ///< E, Pa
-  double poisson_ratio = 0.0;    ///< ν, –
-  double friction_angle = 0.0;   ///< φ, degrees
-  double cohesion = 0.0;         ///< c, Pa
-  double dilation_angle = 0.0;   ///< ψ, degrees
+  double density = 0.0;         ///< ρ, kg/m³
+  double youngs_modulus = 0.0;  ///< E, Pa
+  double poisson_ratio = 0.0;   ///< ν, –
+  double friction_angle = 0.0;  ///< φ, degrees
+  double cohesion = 0.0;        ///< c, Pa
+  double dilation_angle = 0.0;  ///< ψ, degrees
   /// Largest admissible principal stress T (Pa, tension positive), taken literally:
   /// T = 0 is a no-tension material; a value at or above the Mohr–Coulomb apex c·cot φ
   /// (the default, +∞) leaves only the apex.

@@ -6,10 +6,14 @@ namespace slide {
 
 std::string_view to_string(BoundaryCondition condition) {
   switch (condition) {
-    case BoundaryCondition::free: return "free";
-    case BoundaryCondition::roller: return "roller";
-    case BoundaryCondition::fixed: return "fixed";
-    case BoundaryCondition::friction: return "friction";
+    case BoundaryCondition::free:
+      return "free";
+    case BoundaryCondition::roller:
+      return "roller";
+    case BoundaryCondition::fixed:
+      return "fixed";
+    case BoundaryCondition::friction:
+      return "friction";
   }
   return "unknown";
 }

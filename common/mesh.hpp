@@ -32,8 +32,8 @@ struct NodeSet {
 
 struct Mesh {
   ElementType element_type = ElementType::quad4_1gp;
-  std::vector<Vec2> nodes;            ///< reference coordinates X
-  std::vector<Index> connectivity;    ///< element-major, nodes_per_element() entries each
+  std::vector<Vec2> nodes;                ///< reference coordinates X
+  std::vector<Index> connectivity;        ///< element-major, nodes_per_element() entries each
   std::vector<std::int32_t> material_id;  ///< one per element
   std::vector<NodeSet> node_sets;
 

@@ -24,7 +24,8 @@ void Particles::resize(std::size_t n) {
 void Particles::check_consistent_sizes() const {
   const std::size_t n = coordinates.size();
   auto check = [n](std::size_t entries, const char* name) {
-    if (entries != n) throw Error("particles: field {} has {} entries, expected {}", name, entries, n);
+    if (entries != n)
+      throw Error("particles: field {} has {} entries, expected {}", name, entries, n);
   };
   check(displacement.size(), "displacement");
   check(velocity.size(), "velocity");

@@ -12,16 +12,16 @@
 namespace slide {
 
 struct Particles {
-  std::vector<Vec2> coordinates;   ///< current position x_p, m
-  std::vector<Vec2> displacement;  ///< since t = 0 (start of the failure stage), m
-  std::vector<Vec2> velocity;      ///< m/s
-  std::vector<Vec4> stress;        ///< [σxx, σyy, σzz, σxy], Pa, tension positive
-  std::vector<Vec4> strain;        ///< [εxx, εyy, εzz, γxy], total since t = 0
-  std::vector<double> eps_q;       ///< deviatoric strain invariant εq of `strain`
+  std::vector<Vec2> coordinates;      ///< current position x_p, m
+  std::vector<Vec2> displacement;     ///< since t = 0 (start of the failure stage), m
+  std::vector<Vec2> velocity;         ///< m/s
+  std::vector<Vec4> stress;           ///< [σxx, σyy, σzz, σxy], Pa, tension positive
+  std::vector<Vec4> strain;           ///< [εxx, εyy, εzz, γxy], total since t = 0
+  std::vector<double> eps_q;          ///< deviatoric strain invariant εq of `strain`
   std::vector<double> pore_pressure;  ///< Pa (0 for dry analyses)
-  std::vector<double> volume;      ///< V_p, m³ per m
-  std::vector<double> mass;        ///< M_p, kg per m
-  std::vector<Vec2> size;          ///< GIMP domain lengths (l_x, l_y), m
+  std::vector<double> volume;         ///< V_p, m³ per m
+  std::vector<double> mass;           ///< M_p, kg per m
+  std::vector<Vec2> size;             ///< GIMP domain lengths (l_x, l_y), m
   std::vector<std::int32_t> material_id;
   std::vector<std::int64_t> element;  ///< source FE element, −1 for pure MPM
   std::vector<std::int64_t> id;       ///< stable identity (creation index), survives sorting

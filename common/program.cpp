@@ -1,12 +1,14 @@
 #include "common/program.hpp"
 
-#include <fmt/format.h>
-
 #include <exception>
+
+#include <fmt/format.h>
 
 namespace slide {
 
-std::string version_string() { return "slide " SLIDE_VERSION; }
+std::string version_string() {
+  return "slide " SLIDE_VERSION;
+}
 
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
   app.set_version_flag("--version", version_string());
@@ -22,8 +24,7 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
     fmt::print("{}\n", version_string());
     return 0;
   } catch (const CLI::ParseError& e) {
-    fmt::print(stderr, "{}: error: {} (see {} --help)\n", app.get_name(), e.what(),
-               app.get_name());
+    fmt::print(stderr, "{}: error: {} (see {} --help)\n", app.get_name(), e.what(), app.get_name());
     return 2;
   }
   return std::nullopt;

@@ -3,11 +3,11 @@
 // non-zero exit status.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <functional>
 #include <optional>
 #include <string>
+
+#include <CLI/CLI.hpp>
 
 namespace slide {
 

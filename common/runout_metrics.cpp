@@ -16,8 +16,8 @@ double percentile(std::vector<double> values, double p) {
   return values[below] + fraction * (values[above] - values[below]);
 }
 
-SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width,
-                               double percentile_p, double foundation_level) {
+SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width, double percentile_p,
+                               double foundation_level) {
   SurfaceProfile profile;
   profile.bin_width = bin_width;
   std::vector<std::vector<double>> bins;

@@ -2,9 +2,10 @@
 // x horizontal (runout towards +x), y up, SI units.
 #pragma once
 
+#include <cstdint>
+
 #include <Eigen/Core>
 #include <Eigen/LU>  // determinant() and inverse() of the small fixed-size matrices
-#include <cstdint>
 
 namespace slide {
 
@@ -20,6 +21,8 @@ using Index = std::int64_t;
 
 /// Standard gravity used by every case (METHOD.md §2).
 inline constexpr double gravity_acceleration = 9.81;
-inline Vec2 gravity_vector() { return {0.0, -gravity_acceleration}; }
+inline Vec2 gravity_vector() {
+  return {0.0, -gravity_acceleration};
+}
 
 }  // namespace slide

@@ -1,18 +1,18 @@
 #include "common/vtk_output.hpp"
 
-#include <vtkCellArray.h>
-#include <vtkDoubleArray.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkCellData.h>
-#include <vtkPoints.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridWriter.h>
-
 #include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <sstream>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
 
 #include "common/atomic_file.hpp"
 #include "common/error.hpp"
@@ -24,11 +24,13 @@ VtkField vtk_field(std::string name, std::span<const double> values) {
 }
 
 VtkField vtk_field(std::string name, std::span<const Vec2> values) {
-  return {std::move(name), 2, {values.empty() ? nullptr : values.front().data(), 2 * values.size()}};
+  return {
+      std::move(name), 2, {values.empty() ? nullptr : values.front().data(), 2 * values.size()}};
 }
 
 VtkField vtk_field(std::string name, std::span<const Vec4> values) {
-  return {std::move(name), 4, {values.empty() ? nullptr : values.front().data(), 4 * values.size()}};
+  return {
+      std::move(name), 4, {values.empty() ? nullptr : values.front().data(), 4 * values.size()}};
 }
 
 namespace {

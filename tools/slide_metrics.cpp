@@ -11,10 +11,10 @@
 // from OUT/fem/fem_history.csv. Errors and RMSE are against the tt0 run. It also
 // writes OUT/sweep.md (the table for the report) and OUT/profiles.csv (every run's
 // surface profile, for the plots).
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <filesystem>
+
+#include <fmt/format.h>
 
 #include "common/atomic_file.hpp"
 #include "common/case_file.hpp"
@@ -52,10 +52,11 @@ void transfer_times(const fs::path& case_file, const fs::path& history_file) {
 void measure(const fs::path& case_file, const fs::path& particles) {
   const Case c = load_case(case_file);
   const RunMetrics m = measure_run(c, particles.stem().string(), std::nullopt, particles);
-  fmt::print("x_toe={:.4f} runout={:.4f} runout_normalised={:.5f} crest_height={:.4f} "
-             "bins={} strays={}\n",
-             m.measures.x_toe, m.measures.runout, m.measures.runout_normalised,
-             m.measures.crest_height, m.profile.height.size(), m.profile.stray_count);
+  fmt::print(
+      "x_toe={:.4f} runout={:.4f} runout_normalised={:.5f} crest_height={:.4f} "
+      "bins={} strays={}\n",
+      m.measures.x_toe, m.measures.runout, m.measures.runout_normalised, m.measures.crest_height,
+      m.profile.height.size(), m.profile.stray_count);
 }
 
 void sweep(const fs::path& case_file, const fs::path& out) {
@@ -85,8 +86,9 @@ void sweep(const fs::path& case_file, const fs::path& out) {
     run.fem_at_transfer = history_at(history, tt);
     runs.push_back(std::move(run));
   }
-  for (const auto& [name, file] : {std::pair{"pure-mpm", out / "pure-mpm" / "mpm_final.h5"},
-                                   std::pair{"pure-fem", out / "pure-fem" / "particles_final.h5"}}) {
+  for (const auto& [name, file] :
+       {std::pair{"pure-mpm", out / "pure-mpm" / "mpm_final.h5"},
+        std::pair{"pure-fem", out / "pure-fem" / "particles_final.h5"}}) {
     if (fs::exists(file)) runs.push_back(measure_run(c, name, std::nullopt, file));
   }
   if (runs.empty()) throw Error("{}: no finished run to measure", out.string());

@@ -1,11 +1,11 @@
 #include "tools/sweep_metrics.hpp"
 
-#include <fmt/format.h>
-
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include <fmt/format.h>
 
 #include "common/checkpoint.hpp"
 #include "common/error.hpp"
@@ -127,8 +127,7 @@ std::optional<FemHistoryRow> history_at(const std::vector<FemHistoryRow>& histor
   return std::nullopt;
 }
 
-std::vector<double> valid_transfer_times(const Case& c,
-                                         const std::vector<FemHistoryRow>& history) {
+std::vector<double> valid_transfer_times(const Case& c, const std::vector<FemHistoryRow>& history) {
   std::vector<double> times;
   for (double t : c.transfer.sweep_times) {
     if (t > c.fem.end_time + 1e-9) break;
@@ -139,7 +138,9 @@ std::vector<double> valid_transfer_times(const Case& c,
   return times;
 }
 
-double particle_spacing(const Case& c) { return c.mpm.cell_size / c.mpm.particles_x; }
+double particle_spacing(const Case& c) {
+  return c.mpm.cell_size / c.mpm.particles_x;
+}
 
 double critical_time(const Case& c) {
   return std::sqrt(c.metrics.initial_height / gravity_acceleration);

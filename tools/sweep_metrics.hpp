@@ -33,8 +33,8 @@ std::optional<FemHistoryRow> history_at(const std::vector<FemHistoryRow>& histor
 std::vector<double> valid_transfer_times(const Case& c, const std::vector<FemHistoryRow>& history);
 
 struct RunMetrics {
-  std::string run;            ///< "tt2", "pure-mpm", "pure-fem"
-  std::optional<double> tt;   ///< transfer time, s (none for pure runs)
+  std::string run;           ///< "tt2", "pure-mpm", "pure-fem"
+  std::optional<double> tt;  ///< transfer time, s (none for pure runs)
   SurfaceProfile profile;
   RunoutMeasures measures;
   std::optional<FemHistoryRow> fem_at_transfer;

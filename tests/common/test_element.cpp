@@ -1,7 +1,7 @@
 // The element interface: properties every isoparametric element must have exactly.
-#include <gtest/gtest.h>
-
 #include <cmath>
+
+#include <gtest/gtest.h>
 
 #include "common/element.hpp"
 

@@ -14,7 +14,8 @@
 namespace slide {
 namespace {
 
-const std::filesystem::path data_dir = std::filesystem::path(SLIDE_SOURCE_DIR) / "tests/common/data";
+const std::filesystem::path data_dir =
+    std::filesystem::path(SLIDE_SOURCE_DIR) / "tests/common/data";
 
 // Two materials, so that the name, not the position, picks "soil" (id 1).
 MaterialTable materials() {

@@ -1,7 +1,7 @@
 // Runout measures of METHOD.md §6 on hand-computed particle sets.
-#include <gtest/gtest.h>
-
 #include <cmath>
+
+#include <gtest/gtest.h>
 
 #include "common/runout_metrics.hpp"
 
