@@ -1,12 +1,19 @@
 // The sweep layer of slide-metrics (tools/sweep_metrics.*): FE histories, the valid
 // transfer times of METHOD.md §7 and the sweep table of CONTRACT.md, on hand-made data.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "common/checkpoint.hpp"
 #include "common/error.hpp"
 #include "tools/sweep_metrics.hpp"
 
@@ -85,6 +92,38 @@ TEST(FemHistory, BrokenFilesAreErrorsNamingFileLineAndProblem) {
   expect_error(fs::path(SLIDE_BINARY_DIR) / "no-such-history.csv", "cannot open");
 }
 
+TEST(FemHistory, WriterOrderCrlfAndBlankLinesAndTheTimeTolerance) {
+  // The CONTRACT header in the writer's order, Windows line ends (the trailing \r of
+  // every cell is trimmed) and a blank line between rows and at the end (skipped).
+  const fs::path path = write_file("contract-order.csv", std::string(contract_header) +
+                                                             "\r\n"
+                                                             "0,0,3.4e9,0,1,nan,nan,0,0\r\n"
+                                                             "\n"
+                                                             "0.1,1.7e7,3.4e9,0.005,0.98,0.99,"
+                                                             "0.04,0.06,12\r\n"
+                                                             "\n");
+  const auto rows = read_fem_history(path);
+  ASSERT_EQ(rows.size(), 2U);
+  EXPECT_DOUBLE_EQ(rows[0].pe0, 3.4e9);
+  EXPECT_TRUE(std::isnan(rows[0].eps_q_avg));
+  EXPECT_DOUBLE_EQ(rows[1].time, 0.1);
+  EXPECT_DOUBLE_EQ(rows[1].kinetic_energy, 1.7e7);
+  EXPECT_DOUBLE_EQ(rows[1].ke_over_pe0, 0.005);  // 1.7e7 / 3.4e9
+  EXPECT_DOUBLE_EQ(rows[1].jacobian_ratio_avg, 0.99);
+  EXPECT_DOUBLE_EQ(rows[1].eps_q_avg, 0.04);
+  EXPECT_DOUBLE_EQ(rows[1].n_elements_yielding, 12.0);  // the last cell, "12\r" trimmed
+
+  // history_at: |t_row − t| < 1e-6 s. 0.1 + 0.9 µs matches the second row, 0.1 + 2 µs
+  // and 0.1 − 2 µs match none; t = 0 picks the first row, not the second.
+  ASSERT_TRUE(history_at(rows, 0.1 + 0.9e-6).has_value());
+  EXPECT_DOUBLE_EQ(history_at(rows, 0.1 + 0.9e-6)->jacobian_ratio_min, 0.98);
+  EXPECT_FALSE(history_at(rows, 0.1 + 2e-6).has_value());
+  EXPECT_FALSE(history_at(rows, 0.1 - 2e-6).has_value());
+  ASSERT_TRUE(history_at(rows, 0.0).has_value());
+  EXPECT_DOUBLE_EQ(history_at(rows, 0.0)->jacobian_ratio_min, 1.0);
+  EXPECT_FALSE(history_at({}, 0.0).has_value());
+}
+
 TEST(TransferTimes, SweepStopsAtTheFirstEntangledMesh) {
   // column-short sweeps t_T = 0, 1, ..., 8 s; the mesh inverts between 2 and 3 s and
   // untangles again later, which must not bring later times back.
@@ -161,6 +200,161 @@ TEST(SweepTable, ErrorsAndRmseAgainstTheReferenceRun) {
   EXPECT_NE(md.find("| tt1 |"), std::string::npos) << md;
   EXPECT_NE(md.find("+10.0 %"), std::string::npos) << md;  // R_N error of tt1
   EXPECT_NE(md.find("-80.0 %"), std::string::npos) << md;  // R_N error of pure-mpm
+}
+
+/// A final particle state written as a checkpoint, as mpm-solve ("mpm") or the pure-FE
+/// run ("particles") would leave it.
+fs::path write_particles(const Case& c, const std::string& name, CheckpointKind kind,
+                         const std::vector<Vec2>& points) {
+  ParticleCheckpoint checkpoint;
+  checkpoint.header.kind = kind;
+  checkpoint.header.producer = "tests_tools";
+  checkpoint.header.time = 20.0;
+  checkpoint.header.case_name = c.name;
+  checkpoint.header.pe0 = 3.4e9;
+  checkpoint.materials = c.materials;
+  if (kind == CheckpointKind::particles) checkpoint.transfer = {8.0, "4x4", "rbf", "none", 0, 0};
+  Particles& p = checkpoint.particles;
+  p.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    p.coordinates[i] = points[i];
+    p.volume[i] = 0.0625;
+    p.mass[i] = 1700.0 * 0.0625;
+    p.size[i] = Vec2(0.25, 0.25);
+    p.material_id[i] = 0;
+    p.element[i] = -1;
+    p.id[i] = static_cast<std::int64_t>(i);
+  }
+  const fs::path dir = fs::path(SLIDE_BINARY_DIR) / "tests" / "tools" / "data" / "runs";
+  fs::create_directories(dir);
+  write_checkpoint(dir / name, checkpoint);
+  return dir / name;
+}
+
+TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
+  // column-short with L0 = 5 m (bins 2 m, 99th percentile, p = 0.25 m, τc = sqrt(40/9.81)
+  // = 2.01928 s) and a foundation level of 0.5 m (particles at y ≤ 0.5 m not measured).
+  Case c = column_short();
+  c.metrics.initial_length = 5.0;
+  c.metrics.foundation_level = 0.5;
+
+  // tt0 (reference): bin 0 holds y = 9 and 10 → 99th percentile 9 + 0.99·(10 − 9) = 9.99;
+  //   bins 1–3: 8, 6, 4 (toe 7.5 m). (9, 0.25) lies under the foundation level, so bin 4
+  //   stays empty and (11, 1) is a stray. R = 7.5 − 5 = 2.5, R_N = 0.5, H_c = 9.99.
+  const fs::path tt0 = write_particles(
+      c, "tt0.h5", CheckpointKind::mpm,
+      {{0.5, 9.0}, {1.5, 10.0}, {3.0, 8.0}, {5.0, 6.0}, {7.5, 4.0}, {9.0, 0.25}, {11.0, 1.0}});
+  // tt1: heights 9, 8, 6, 5, 2 (toe 8.5): R = 3.5, R_N = 0.7 (error (0.7 − 0.5)/0.5 = 0.4),
+  //   H_c = 9 (error (9 − 9.99)/9.99 = −0.0990991). RMSE over the reference's bins 0–3
+  //   (toe 7.5 in bin 3), y_ref + p = 10.24, 8.25, 6.25, 4.25:
+  //   sqrt((((9 − 9.99)/10.24)² + ((5 − 4)/4.25)²)/4) = sqrt((0.0093470 + 0.0553633)/4)
+  //   = 0.127191.
+  const fs::path tt1 =
+      write_particles(c, "tt1.h5", CheckpointKind::mpm,
+                      {{1.0, 9.0}, {3.0, 8.0}, {5.0, 6.0}, {6.5, 5.0}, {8.5, 2.0}});
+  // pure-fem: bin 0 holds 11 and 12 → 11.99, bin 1: 7 (toe 2.5), bin 2 empty so (6, 3) is
+  //   a stray. R = −2.5, R_N = −0.5 (error −2), H_c = 11.99 (error 2/9.99 = 0.2002).
+  //   RMSE: bins 2 and 3 count as height 0: errors 2/10.24 = 0.1953125, −1/8.25 =
+  //   −0.121212, −6/6.25 = −0.96, −4/4.25 = −0.941176; squares sum to 1.8602525;
+  //   sqrt(1.8602525/4) = 0.681955.
+  const fs::path pure_fem = write_particles(c, "pure-fem.h5", CheckpointKind::particles,
+                                            {{1.0, 12.0}, {1.2, 11.0}, {2.5, 7.0}, {6.0, 3.0}});
+
+  // The FE history: the mesh inverts between 2 and 3 s, so the sweep is 0, 1, 2 s.
+  const fs::path history_file =
+      write_file("sweep-history.csv", std::string(contract_header) +
+                                          "\n"
+                                          "0,0,3.4e9,0,1,nan,nan,0,0\n"
+                                          "1,1.7e7,3.4e9,0.005,0.9,0.97,0.051,0.4,120\n"
+                                          "2,3.4e7,3.4e9,0.01,0.3,0.9,0.12,0.9,400\n"
+                                          "3,3.4e7,3.4e9,0.01,-0.2,0.85,0.2,1.5,600\n");
+  const auto history = read_fem_history(history_file);
+  ASSERT_EQ(valid_transfer_times(c, history), (std::vector<double>{0.0, 1.0, 2.0}));
+
+  std::vector<RunMetrics> runs{measure_run(c, "tt0", 0.0, tt0), measure_run(c, "tt1", 1.0, tt1),
+                               measure_run(c, "pure-fem", std::nullopt, pure_fem)};
+  runs[0].fem_at_transfer = history_at(history, 0.0);
+  runs[1].fem_at_transfer = history_at(history, 1.0);
+
+  // measure_run itself, on the numbers above.
+  EXPECT_EQ(runs[0].run, "tt0");
+  EXPECT_EQ(runs[1].tt, std::optional<double>(1.0));
+  EXPECT_FALSE(runs[2].tt.has_value());
+  EXPECT_FALSE(runs[2].fem_at_transfer.has_value());
+  EXPECT_DOUBLE_EQ(runs[0].profile.bin_width, 2.0);
+  ASSERT_EQ(runs[0].profile.height.size(), 4U);
+  EXPECT_NEAR(runs[0].profile.height[0], 9.99, 1e-12);
+  EXPECT_DOUBLE_EQ(runs[0].profile.height[3], 4.0);
+  EXPECT_EQ(runs[0].profile.stray_count, 1U);  // (11, 1); (9, 0.25) is not measured
+  EXPECT_DOUBLE_EQ(runs[0].measures.x_toe, 7.5);
+  EXPECT_DOUBLE_EQ(runs[0].measures.runout, 2.5);
+  EXPECT_DOUBLE_EQ(runs[0].measures.runout_normalised, 0.5);
+  EXPECT_NEAR(runs[0].measures.crest_height, 9.99, 1e-12);
+  EXPECT_EQ(runs[1].profile.height.size(), 5U);
+  EXPECT_DOUBLE_EQ(runs[1].measures.runout, 3.5);
+  EXPECT_NEAR(runs[1].measures.runout_normalised, 0.7, 1e-12);
+  EXPECT_EQ(runs[2].profile.height.size(), 2U);
+  EXPECT_EQ(runs[2].profile.stray_count, 1U);
+  EXPECT_DOUBLE_EQ(runs[2].measures.runout_normalised, -0.5);
+  EXPECT_NEAR(runs[2].measures.crest_height, 11.99, 1e-12);
+  {
+    // The bins and percentile come from the case: with 4 m bins and the median, tt0 has
+    // bin 0 = {8, 9, 10} → 9, bin 1 = {4, 6} → 5, bin 2 = {1} (the former stray) → 1;
+    // toe 11 m, R = 6 m, R_N = 1.2, no strays.
+    Case wide = c;
+    wide.metrics.bin_width = 4.0;
+    wide.metrics.profile_percentile = 50.0;
+    const RunMetrics m = measure_run(wide, "tt0", 0.0, tt0);
+    EXPECT_DOUBLE_EQ(m.profile.bin_width, 4.0);
+    EXPECT_EQ(m.profile.height, (std::vector<double>{9.0, 5.0, 1.0}));
+    EXPECT_EQ(m.profile.stray_count, 0U);
+    EXPECT_DOUBLE_EQ(m.measures.runout, 6.0);
+    EXPECT_DOUBLE_EQ(m.measures.runout_normalised, 1.2);
+  }
+
+  // sweep.csv: the CONTRACT columns; tt0 has zero errors and RMSE, the NaN averages of
+  // the t = 0 history row and everything FE- or tt-related of pure-fem are empty.
+  // tt_over_tauc of tt1 = 1/2.01928 = 0.495227.
+  const std::string csv = sweep_csv(c, runs, "tt0");
+  EXPECT_EQ(csv,
+            "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
+            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\n"
+            "tt0,0,0,2.5,0.5,0,9.99,0,0,1,,\n"
+            "tt1,1,0.495227,3.5,0.7,0.4,9,-0.0990991,0.127191,0.9,0.97,0.051\n"
+            "pure-fem,,,-2.5,-0.5,-2,11.99,0.2002,0.681955,,,\n");
+  // Every row has as many cells as the header (12 columns, 11 commas).
+  std::istringstream lines(csv);
+  for (std::string line; std::getline(lines, line);) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 11) << line;
+  }
+
+  // No reference run (slide-metrics passes "" when there is no tt0): the three error
+  // columns and the RMSE are empty in every row, the measures stay.
+  EXPECT_EQ(sweep_csv(c, runs, ""),
+            "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
+            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\n"
+            "tt0,0,0,2.5,0.5,,9.99,,,1,,\n"
+            "tt1,1,0.495227,3.5,0.7,,9,,,0.9,0.97,0.051\n"
+            "pure-fem,,,-2.5,-0.5,,11.99,,,,,\n");
+
+  // The Markdown table: same numbers, rounded for the report; errors in %, εq,avg in %.
+  const std::string md = sweep_markdown(c, runs, "tt0");
+  EXPECT_EQ(md.substr(md.find('\n') + 1),
+            "|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+            "| tt0 | 0 | 0.00 | 2.5 | 0.500 | +0.0 % | 9.99 | +0.0 % | 0.000 | 1.000 |  |  |\n"
+            "| tt1 | 1 | 0.50 | 3.5 | 0.700 | +40.0 % | 9.00 | -9.9 % | 0.127 | 0.900 | 0.970 | "
+            "5.1 % |\n"
+            "| pure-fem |  |  | -2.5 | -0.500 | -200.0 % | 11.99 | +20.0 % | 0.682 |  |  |  |\n");
+}
+
+TEST(SweepTable, MeasuringAMissingParticleFileIsAnErrorNamingIt) {
+  const fs::path missing = fs::path(SLIDE_BINARY_DIR) / "tests" / "tools" / "no-such-run.h5";
+  try {
+    measure_run(column_short(), "tt5", 5.0, missing);
+    ADD_FAILURE() << "a missing particle file was measured";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+  }
 }
 
 TEST(SweepTable, ProfilesAreListedPerBinWithTheirCentres) {
