@@ -28,6 +28,7 @@ struct CommandLine {
   double rbf_shape = 0.0;
   int rbf_neighbours = 0;
   bool allow_inverted = false;
+  double collapsed_volume_ratio = 0.0;
   std::string case_file;
   bool quiet = false;
 };
@@ -52,6 +53,9 @@ transfer::TransferOptions options_for(const CommandLine& line, const CLI::App& a
   if (app.count("--rbf-shape") > 0) options.rbf_shape = line.rbf_shape;
   if (app.count("--rbf-neighbours") > 0) options.rbf_neighbours = line.rbf_neighbours;
   options.allow_inverted = line.allow_inverted;
+  if (app.count("--collapsed-volume-ratio") > 0) {
+    options.collapsed_volume_ratio = line.collapsed_volume_ratio;
+  }
   return options;
 }
 
@@ -66,6 +70,12 @@ void run(const CommandLine& line, const CLI::App& app) {
   if (!result.report.inverted_elements.empty()) {
     logger.warning("{} inverted element(s) transferred with their reference volume, first {}",
                    result.report.inverted_elements.size(), result.report.inverted_elements.front());
+  }
+  if (result.report.excluded_gauss_points > 0) {
+    logger.warning(
+        "{} collapsed element(s) (inverted or V_t/V_0 < {:g}) left out of the RBF centres; "
+        "their particles take the fields interpolated from the other elements",
+        result.report.collapsed_elements, result.report.collapsed_volume_ratio);
   }
   if (result.report.limited_stress_particles > 0) {
     logger.warning(
@@ -112,6 +122,11 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_flag("--allow-inverted", line.allow_inverted,
                "transfer inverted elements (with their reference volume) instead of stopping");
+  app.add_option("--collapsed-volume-ratio", line.collapsed_volume_ratio,
+                 "elements with V_t/V_0 below this (and inverted ones) give no RBF centre; "
+                 "0: only inverted ones (default " +
+                     fmt::format("{:g}", transfer::default_collapsed_volume_ratio) + ")")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--case", line.case_file, "case file whose [transfer] table gives the defaults")
       ->check(CLI::ExistingFile);
   app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");

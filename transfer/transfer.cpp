@@ -198,6 +198,8 @@ GaussIndex index_gauss_points(const FemCheckpoint& fem) {
 // with it, widened by (hi − lo)/2 on each side. The widening lets a linear field through
 // untouched, boundary particles included: a particle is at most half an element beyond
 // its own Gauss point, while the patch spans at least one element of the field's change.
+// Collapsed elements (no RBF centres) still count: without them a patch at the edge of a
+// collapsed zone would lose its span across the zone and clip a linear field.
 // Counts the particles with at least one limited component, and those with a limited
 // stress component.
 struct LimitedCounts {
@@ -374,19 +376,22 @@ struct Interpolated {
   RbfDiagnostics diagnostics;
 };
 
+/// `values` holds every Gauss point's fields (for the element baseline); the RBFs
+/// interpolate `centre_values` at `centres`, the Gauss points of uncollapsed elements.
 Interpolated interpolate_gauss_fields(const FemCheckpoint& fem, const FieldValues& values,
+                                      std::span<const Vec2> centres,
+                                      const FieldValues& centre_values,
                                       std::span<const Vec2> particle_coordinates,
                                       std::span<const std::int64_t> particle_element,
                                       std::span<const Vec2> particle_xi, const GaussIndex& index,
                                       const TransferOptions& options, double shape, int neighbours,
                                       RbfPolynomial polynomial) {
   Interpolated out;
-  const std::span<const Vec2> centres(fem.gauss_coordinates);
   switch (options.stress_interpolation) {
     case StressInterpolation::rbf: {
       const std::size_t limit = options.dense_memory_limit > 0 ? options.dense_memory_limit
                                                                : default_dense_memory_limit();
-      const DenseRbf rbf(centres, values, shape, polynomial, limit);
+      const DenseRbf rbf(centres, centre_values, shape, polynomial, limit);
       out.at_particles = rbf.evaluate(particle_coordinates);
       out.at_gauss_points = rbf.evaluate(centres);
       out.diagnostics = rbf.diagnostics();
@@ -394,10 +399,11 @@ Interpolated interpolate_gauss_fields(const FemCheckpoint& fem, const FieldValue
     }
     case StressInterpolation::rbf_local: {
       const LocalRbfOptions local{shape, polynomial, neighbours};
-      out.at_particles =
-          interpolate_local_rbf(centres, values, particle_coordinates, local, &out.diagnostics);
+      out.at_particles = interpolate_local_rbf(centres, centre_values, particle_coordinates, local,
+                                               &out.diagnostics);
       RbfDiagnostics at_gauss;
-      out.at_gauss_points = interpolate_local_rbf(centres, values, centres, local, &at_gauss);
+      out.at_gauss_points =
+          interpolate_local_rbf(centres, centre_values, centres, local, &at_gauss);
       break;
     }
     case StressInterpolation::element: {
@@ -491,6 +497,10 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
   if (options.rbf_neighbours < 0) {
     throw Error("--rbf-neighbours {} is not admissible (expected ≥ 1)", options.rbf_neighbours);
   }
+  if (!(options.collapsed_volume_ratio >= 0.0 && options.collapsed_volume_ratio <= 1.0)) {
+    throw Error("--collapsed-volume-ratio {} is not admissible (expected 0 to 1)",
+                options.collapsed_volume_ratio);
+  }
 
   TransferResult result;
   TransferReport& report = result.report;
@@ -569,16 +579,43 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
 
   // ---- Gauss-point fields
   const FieldValues values = pack_gauss_fields(fem);
+  const bool uses_rbf = options.stress_interpolation != StressInterpolation::element;
+  // Collapsed elements give no RBF centre (transfer.hpp).
+  std::vector<std::uint8_t> is_centre_element(report.elements, 1);
+  for (std::size_t e = 0; e < report.elements; ++e) {
+    if (is_inverted[e] != 0 ||
+        fem.volume[e] < options.collapsed_volume_ratio * fem.volume_reference[e]) {
+      is_centre_element[e] = 0;
+      ++report.collapsed_elements;
+    }
+  }
+  report.collapsed_volume_ratio = options.collapsed_volume_ratio;
+  std::vector<Vec2> centres;
+  std::vector<Eigen::Index> centre_rows;
+  for (std::size_t g = 0; g < report.gauss_points; ++g) {
+    if (is_centre_element[static_cast<std::size_t>(fem.gauss_element[g])] == 0) continue;
+    centres.push_back(fem.gauss_coordinates[g]);
+    centre_rows.push_back(static_cast<Eigen::Index>(g));
+  }
+  if (uses_rbf && centres.empty()) {
+    throw Error(
+        "all {} elements have collapsed (inverted or V_t/V_0 < {:g}): no Gauss point is left to "
+        "interpolate from; lower --collapsed-volume-ratio or use --stress-interpolation element",
+        report.elements, options.collapsed_volume_ratio);
+  }
+  report.excluded_gauss_points = uses_rbf ? report.gauss_points - centres.size() : 0;
+  const FieldValues centre_values = values(centre_rows, Eigen::all);
   const double shape_parameter =
-      options.rbf_shape > 0.0 ? options.rbf_shape : default_shape_parameter(fem.gauss_coordinates);
+      options.rbf_shape > 0.0
+          ? options.rbf_shape
+          : default_shape_parameter(centres.empty() ? fem.gauss_coordinates : centres);
   const int neighbours =
       options.rbf_neighbours > 0 ? options.rbf_neighbours : default_rbf_neighbours;
-  const bool uses_rbf = options.stress_interpolation != StressInterpolation::element;
   report.rbf_polynomial = uses_rbf ? std::string(to_string(polynomial)) : std::string();
   report.rbf_shape = uses_rbf ? shape_parameter : 0.0;
   report.rbf_neighbours = options.stress_interpolation == StressInterpolation::rbf_local
                               ? static_cast<int>(std::min<std::size_t>(
-                                    static_cast<std::size_t>(neighbours), report.gauss_points))
+                                    static_cast<std::size_t>(neighbours), centres.size()))
                               : 0;
   if (logger != nullptr) {
     logger->info("{} elements ({}), {} Gauss points -> {} particles; interpolating by {}",
@@ -586,14 +623,14 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
                  report.stress_interpolation);
   }
   const Clock::time_point interpolation_started = Clock::now();
-  const Interpolated interpolated =
-      interpolate_gauss_fields(fem, values, particles.coordinates, particles.element, particle_xi,
-                               gauss_index, options, shape_parameter, neighbours, polynomial);
+  const Interpolated interpolated = interpolate_gauss_fields(
+      fem, values, centres, centre_values, particles.coordinates, particles.element, particle_xi,
+      gauss_index, options, shape_parameter, neighbours, polynomial);
   report.seconds_interpolation = seconds_since(interpolation_started);
   report.condition_estimate = interpolated.diagnostics.condition_estimate;
   report.factorisations = interpolated.diagnostics.factorisations;
   report.reduced_polynomial = interpolated.diagnostics.reduced_polynomial;
-  report_residuals(values, interpolated.at_gauss_points, report);
+  report_residuals(centre_values, interpolated.at_gauss_points, report);
 
   FieldValues at = interpolated.at_particles;
   if (uses_rbf) {

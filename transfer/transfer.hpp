@@ -17,6 +17,11 @@
 // V_t^e ≤ 0) stops the transfer with an error naming it; with `allow_inverted` its
 // particles get the reference volume V_0^e w_p instead (the inverted geometry defines no
 // volume) and the report lists it.
+// A collapsed element (inverted, or V_t^e < r V_0^e) keeps its particles, mass and
+// nodal fields, but its Gauss points are left out of the RBF centres: a Gauss point of an
+// element squashed flat sits on top of its neighbours' with an unrelated stress, and the
+// multiquadric through such pairs swings (and its dense system loses all conditioning).
+// Its particles take the fields interpolated from the other elements.
 #pragma once
 
 #include <cstddef>
@@ -34,6 +39,10 @@ namespace slide::transfer {
 /// measurement of benchmarks/transfer (bench_transfer neighbours).
 inline constexpr int default_rbf_neighbours = 16;
 
+/// r of TransferOptions::collapsed_volume_ratio when the user gives none; chosen in
+/// docs/transfer.md ("Collapsed elements") from the column-short measurement.
+inline constexpr double default_collapsed_volume_ratio = 0.2;
+
 struct TransferOptions {
   ParticlesPerElement particles;
   StressInterpolation stress_interpolation = StressInterpolation::rbf;
@@ -42,6 +51,10 @@ struct TransferOptions {
   double rbf_shape = 0.0;  ///< c, m; 0: sqrt(A_box / N_g) of the current Gauss points
   int rbf_neighbours = 0;  ///< k; 0: default_rbf_neighbours
   bool allow_inverted = false;
+  /// Elements that kept less than this share of their volume (V_t^e < r V_0^e), and
+  /// inverted ones, are collapsed: their Gauss points are not RBF centres. 0: only
+  /// inverted elements.
+  double collapsed_volume_ratio = default_collapsed_volume_ratio;
   /// Largest dense RBF matrix allowed, bytes; 0: 3/4 of MemAvailable, at most 16 GiB.
   std::size_t dense_memory_limit = 0;
 };

@@ -101,6 +101,12 @@ std::vector<std::string> format_report_lines(const TransferReport& r) {
         "{} inverted element(s) transferred with their reference volume (--allow-inverted): {}",
         r.inverted_elements.size(), ids));
   }
+  if (r.excluded_gauss_points > 0) {
+    lines.push_back(fmt::format(
+        "{} collapsed element(s) (inverted or V_t/V_0 < {:g}): their {} Gauss point(s) are not "
+        "RBF centres",
+        r.collapsed_elements, r.collapsed_volume_ratio, r.excluded_gauss_points));
+  }
   if (r.limited_particles > 0) {
     lines.push_back(fmt::format(
         "{} particle(s) with an RBF overshoot limited to the range of their element patch "
@@ -158,6 +164,9 @@ std::string report_json(const TransferReport& r) {
   field("kinetic_energy_fe_element", json_number(r.kinetic_energy_fe_element));
   field("kinetic_energy_particles", json_number(r.kinetic_energy_particles));
   field("inverted_elements", inverted);
+  field("collapsed_volume_ratio", json_number(r.collapsed_volume_ratio));
+  field("collapsed_elements", fmt::format("{}", r.collapsed_elements));
+  field("excluded_gauss_points", fmt::format("{}", r.excluded_gauss_points));
   field("clamped_plastic_strain", fmt::format("{}", r.clamped_plastic_strain));
   field("limited_particles", fmt::format("{}", r.limited_particles));
   field("limited_stress_particles", fmt::format("{}", r.limited_stress_particles));

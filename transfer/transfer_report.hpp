@@ -57,6 +57,11 @@ struct TransferReport {
 
   /// Elements inverted at t_T, transferred because of --allow-inverted.
   std::vector<Index> inverted_elements;
+  /// Collapsed elements (inverted, or V_t^e < collapsed_volume_ratio · V_0^e) and the
+  /// Gauss points they kept out of the RBF centres (0 for the element baseline).
+  double collapsed_volume_ratio = 0.0;
+  std::size_t collapsed_elements = 0;
+  std::size_t excluded_gauss_points = 0;
   /// Particles whose interpolated accumulated plastic shear strain came out negative
   /// (RBF undershoot) and was set to zero.
   std::size_t clamped_plastic_strain = 0;

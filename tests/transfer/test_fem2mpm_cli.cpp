@@ -230,7 +230,7 @@ TEST_F(Fem2mpm, RefusesBadOptionsInOneLine) {
 // skips where fem-solve is not built. By t = 2 s the small-strain FE mesh has entangled
 // at the toe (fem-solve reports (|J_t|/|J_0|)_min < 0 from about 1.9 s): that checkpoint
 // needs --allow-inverted, and there the two interpolations differ at the toe (see
-// docs/transfer.md, "column-short").
+// docs/transfer.md, "Collapsed elements").
 TEST_F(Fem2mpm, RbfAndRbfLocalOnColumnShort) {
   const fs::path fem_solve = fs::path(SLIDE_BINARY_DIR) / "bin" / "fem-solve";
   if (!fs::exists(fem_solve)) GTEST_SKIP() << "fem-solve is not built";
@@ -274,13 +274,20 @@ TEST_F(Fem2mpm, RbfAndRbfLocalOnColumnShort) {
   };
   // Before the mesh entangles the two agree within 1 % of ρgH0 at every particle.
   EXPECT_LT(compare("1.000", "").max, 0.01);
-  // At t = 2 s twenty toe elements have folded onto the base and the dense system is
-  // ill-conditioned (condition ~1e13): the two variants no longer agree (measured:
-  // 20 % of the particles differ by more than 1 %, at most by 1.2 ρgH0). What must
-  // hold is that no particle stress leaves the range of the Gauss stresses by more than
-  // the limiter's half-range margin (without the limiter: |σ| up to 2e8 Pa against
-  // 7e5 Pa, and MPM blew up within 26 steps).
-  compare("2.000", "--allow-inverted");
+  // At t = 2 s the toe has folded onto the base: 20 inverted elements and 17 more squashed
+  // below a fifth of their volume, whose Gauss points (a few cm apart, stresses differing
+  // by up to 0.6 ρgH0) are no RBF centres by default. The rest of the toe still varies by
+  // ~20 % of ρgH0 from element to element, so the two interpolants differ there between
+  // the Gauss points (measured: 1225 of 32 000 particles above 1 %, all at x > 39 m and
+  // y < 6 m; 99th percentile 3.0 %, max 20 %; with every Gauss point a centre: 6255
+  // particles, max 117 %). Bounds with room for round-off of the dense LU:
+  const Difference toe = compare("2.000", "--allow-inverted");
+  EXPECT_LT(toe.p99, 0.05);
+  EXPECT_LT(toe.max, 0.3);
+  EXPECT_LT(toe.above, 32000U / 20);
+  // No particle stress leaves the range of the Gauss stresses by more than the limiter's
+  // half-range margin (without the limiter: |σ| up to 2e8 Pa against 7e5 Pa, and MPM blew
+  // up within 26 steps).
   const FemCheckpoint fem = read_fem_checkpoint(file("fem") / "fem_t2.000.h5");
   for (const char* name : {"rbf.h5", "local.h5"}) {
     const Particles particles = read_particle_checkpoint(file(name)).particles;

@@ -216,6 +216,85 @@ TEST(Transfer, LinearStressOnADistortedMeshIsReproducedWithTheLinearPolynomial) 
   }
 }
 
+TEST(Transfer, CollapsedElementsGiveNoRbfCentre) {
+  // A linear stress field over a 6 × 5 block whose second row of cells has been squashed
+  // to 5 % of its height (everything above it dropped by 0.95 h). The squashed elements'
+  // Gauss points carry a meaningless stress (a collapsed element's strain is), ±20 % of
+  // the field's scale. With the default ratio they are no RBF centres, so with the linear
+  // polynomial every particle, those of the squashed row included, gets the linear field
+  // back exactly; with the ratio at 0 (only inverted elements excluded) they do not.
+  const Vec4 s0(-4.0e4, -9.0e4, -3.0e4, 5.0e3);
+  const Vec4 a(1.5e4, -2.0e3, 4.0e3, -7.0e3);
+  const Vec4 b(3.0e3, 1.7e4, 5.0e3, 2.0e3);
+  auto linear = [=](const Vec2& x) -> Vec4 { return s0 + x.x() * a + x.y() * b; };
+  const double h = 0.6;  // cell height of the 3 m high block
+  BlockFields fields;
+  fields.displacement = [h](const Vec2& X) { return Vec2(0.0, X.y() > 1.5 * h ? -0.95 * h : 0.0); };
+  fields.stress = linear;
+  for (auto type : {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3}) {
+    FemCheckpoint fem = make_block(6, 5, 4.0, 3.0, type, fields);
+    double scale = 0.0;
+    for (const Vec4& s : fem.stress) scale = std::max(scale, s.cwiseAbs().maxCoeff());
+    std::size_t squashed_points = 0;
+    for (std::size_t g = 0; g < fem.stress.size(); ++g) {
+      const auto e = static_cast<std::size_t>(fem.gauss_element[g]);
+      if (fem.volume[e] > 0.1 * fem.volume_reference[e]) continue;
+      fem.stress[g] += Vec4::Constant((g % 2 == 0 ? 0.2 : -0.2) * scale);
+      ++squashed_points;
+    }
+    const std::size_t squashed_elements = type == ElementType::tri3 ? 12U : 6U;
+    ASSERT_EQ(squashed_points, squashed_elements * (type == ElementType::quad4_2x2 ? 4U : 1U));
+
+    for (auto interpolation : {StressInterpolation::rbf, StressInterpolation::rbf_local}) {
+      const std::string label =
+          std::string(to_string(type)) + " " + std::string(to_string(interpolation));
+      auto max_error = [&](const TransferResult& result) {
+        const Particles& particles = result.particles.particles;
+        double error = 0.0;
+        for (std::size_t p = 0; p < particles.count(); ++p) {
+          error = std::max(
+              error,
+              (particles.stress[p] - linear(particles.coordinates[p])).cwiseAbs().maxCoeff());
+        }
+        return error / scale;
+      };
+      TransferOptions options = with(interpolation, RbfPolynomial::linear);
+      const TransferResult excluded = transfer(fem, options);
+      EXPECT_EQ(excluded.report.collapsed_elements, squashed_elements) << label;
+      EXPECT_EQ(excluded.report.excluded_gauss_points, squashed_points) << label;
+      EXPECT_DOUBLE_EQ(excluded.report.collapsed_volume_ratio, default_collapsed_volume_ratio);
+      EXPECT_LT(max_error(excluded), 1e-9) << label;
+      // Mass and volume are not the centres' business: every element keeps its particles.
+      EXPECT_NEAR(excluded.report.mass_particles, excluded.report.mass_fe,
+                  1e-12 * excluded.report.mass_fe);
+      EXPECT_NEAR(excluded.report.volume_particles, excluded.report.volume_fe,
+                  1e-12 * excluded.report.volume_fe);
+
+      options.collapsed_volume_ratio = 0.0;
+      const TransferResult kept = transfer(fem, options);
+      EXPECT_EQ(kept.report.collapsed_elements, 0U) << label;
+      EXPECT_EQ(kept.report.excluded_gauss_points, 0U) << label;
+      EXPECT_GT(max_error(kept), 0.01) << label;
+    }
+  }
+}
+
+TEST(Transfer, EveryElementCollapsedIsAnErrorForTheRbfsOnly) {
+  FemCheckpoint fem = make_block(2, 2, 1.0, 1.0, ElementType::quad4_1gp);
+  for (double& v : fem.volume) v *= 0.1;  // the checkpoint says: 10 % of V_0 is left
+  try {
+    (void)transfer(fem, with(StressInterpolation::rbf_local));
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("all 4 elements have collapsed"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(transfer(fem, with(StressInterpolation::element)).report.collapsed_elements, 4U);
+  TransferOptions options = with(StressInterpolation::rbf);
+  options.collapsed_volume_ratio = 1.5;
+  EXPECT_THROW((void)transfer(fem, options), Error);
+}
+
 TEST(Transfer, RigidBodyVelocityIsReproducedExactly) {
   const Vec2 v0(1.3, -0.4), centre(1.0, 0.5);
   const double omega = 0.35;  // rad/s
