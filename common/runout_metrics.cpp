@@ -20,23 +20,36 @@ SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width, d
                                double foundation_level) {
   SurfaceProfile profile;
   profile.bin_width = bin_width;
-  std::vector<std::vector<double>> bins;
+  // Heights of the measured particles (above the foundation level) and of all of them.
+  std::vector<std::vector<double>> bins, all_bins;
+  auto bin_of = [bin_width](const Vec2& x) { return static_cast<std::size_t>(x.x() / bin_width); };
   auto measured = [foundation_level](const Vec2& x) {
     return x.x() >= 0.0 && x.y() > foundation_level;
   };
   for (const Vec2& x : points) {
+    if (x.x() < 0.0) continue;
+    const std::size_t b = bin_of(x);
+    if (b >= all_bins.size()) all_bins.resize(b + 1);
+    all_bins[b].push_back(x.y());
     if (!measured(x)) continue;
-    const auto b = static_cast<std::size_t>(x.x() / bin_width);
     if (b >= bins.size()) bins.resize(b + 1);
     bins[b].push_back(x.y());
   }
-  std::size_t contiguous = 0;
-  while (contiguous < bins.size() && !bins[contiguous].empty()) ++contiguous;
-  profile.height.reserve(contiguous);
-  for (std::size_t b = 0; b < contiguous; ++b) {
-    profile.height.push_back(percentile(bins[b], percentile_p));
+  // The contiguous run starts at the wall; over a foundation it starts at the first bin
+  // with material above the foundation level, and the bins before it (a crest that has
+  // sunk below that level) get the height of all their particles.
+  std::size_t first = 0;
+  if (foundation_level > 0.0) {
+    while (first < bins.size() && bins[first].empty()) ++first;
   }
-  const double limit = static_cast<double>(contiguous) * bin_width;
+  std::size_t end = first;
+  while (end < bins.size() && !bins[end].empty()) ++end;
+  profile.height.reserve(end);
+  for (std::size_t b = 0; b < end; ++b) {
+    const std::vector<double>& heights = b < first ? all_bins[b] : bins[b];
+    profile.height.push_back(heights.empty() ? 0.0 : percentile(heights, percentile_p));
+  }
+  const double limit = static_cast<double>(end) * bin_width;
   profile.x_toe = 0.0;
   for (const Vec2& x : points) {
     if (!measured(x)) continue;

@@ -35,7 +35,10 @@ struct SurfaceProfile {
 
 /// Profile of the particles above `foundation_level` (METHOD.md §6 uses all of them:
 /// level 0; a foundation layer that fills every bin to the grid's end would otherwise
-/// put the toe there).
+/// put the toe there). Over a foundation (level > 0) the contiguous run of bins starts
+/// at the first bin with material above the level, and the bins between the wall and it
+/// (a crest that has sunk below the level) get the height of all their particles (0 if
+/// they have none).
 SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width,
                                double percentile_p = 99.0, double foundation_level = 0.0);
 

@@ -62,5 +62,28 @@ TEST(RunoutMetrics, FoundationLayerIsLeftOutOfTheProfileAndToe) {
   EXPECT_DOUBLE_EQ(above.height[1], 1.5);
 }
 
+TEST(RunoutMetrics, ACrestSunkBelowTheFoundationLevelKeepsItsHeightAndTheToe) {
+  // Foundation top at y = 1 to x = 9; the crest (bins 0 and 1) has sunk to y = 0.8 and
+  // 0.9, and debris above the level lies in bins 2 and 3 (toe 7.5), a stray at 11.5.
+  std::vector<Vec2> points{{0.5, 0.8}, {2.5, 0.9}, {4.5, 2.0}, {5.0, 1.6}, {7.5, 1.2}, {11.5, 1.1}};
+  for (double x = 0.25; x < 9.0; x += 0.5) points.emplace_back(x, 0.5);
+  const SurfaceProfile p = surface_profile(points, 2.0, 50.0, 1.0);
+  EXPECT_DOUBLE_EQ(p.x_toe, 7.5);
+  EXPECT_EQ(p.stray_count, 1u);
+  ASSERT_EQ(p.height.size(), 4u);
+  // Bin 0 (x < 2): all its particles, y = 0.8 and 0.5 ×4: median 0.5. Bin 1: the
+  // median of 0.9 and 0.5 ×4 is 0.5; with the 99th percentile it is 0.5 + 0.96·0.4.
+  EXPECT_DOUBLE_EQ(p.height[0], 0.5);
+  EXPECT_DOUBLE_EQ(p.height[2], 1.8);  // median of 2.0 and 1.6 (above the level only)
+  EXPECT_DOUBLE_EQ(p.height[3], 1.2);
+  EXPECT_NEAR(surface_profile(points, 2.0, 99.0, 1.0).height[1], 0.5 + 0.96 * 0.4, 1e-12);
+  const RunoutMeasures m = runout_measures(p, 5.0);
+  EXPECT_DOUBLE_EQ(m.runout, 2.5);
+  EXPECT_DOUBLE_EQ(m.crest_height, 0.5);
+  // Without a foundation level (METHOD.md §6) the run starts at the wall: every bin
+  // has particles out to bin 5, and the toe is the stray.
+  EXPECT_DOUBLE_EQ(surface_profile(points, 2.0).x_toe, 11.5);
+}
+
 }  // namespace
 }  // namespace slide
