@@ -28,7 +28,7 @@ Progress::Progress(const Logger& logger, std::string label, double start, double
       terminal_(::isatty(STDOUT_FILENO) == 1) {}
 
 Progress::~Progress() {
-  if (terminal_ && !finished_ && !logger_.quiet()) fmt::print(stdout, "\n");
+  logger_.close_progress_line();
 }
 
 double Progress::elapsed_seconds() const {
@@ -49,9 +49,13 @@ void Progress::update(double time, std::int64_t step, std::string_view status) {
     fmt::print(stdout, "\r{}: {} t={:.3f}/{:.3f} s {:5.1f}% step {} wall {} eta {} {}\033[K",
                logger_.program(), label_, time, end_, 100.0 * fraction, step,
                format_duration(elapsed), format_duration(eta), status);
+    logger_.progress_line_open_ = true;
   } else {
-    if (fraction - last_fraction_printed_ < 0.1 && since_print < 30.0) return;
-    last_fraction_printed_ = fraction;
+    // Deciles counted on the fraction reached, so the lines fall at 10 %, 20 %, ... 100 %
+    // whatever the step length (a difference of fractions would drift by a step each time).
+    const int decile = static_cast<int>(std::floor(10.0 * fraction + 1e-9));
+    if (decile <= last_decile_printed_ && since_print < 30.0) return;
+    last_decile_printed_ = decile;
     fmt::print(stdout, "{}: {} t={:.3f}/{:.3f} s ({:.0f}%) step {} wall {} eta {} {}\n",
                logger_.program(), label_, time, end_, 100.0 * fraction, step,
                format_duration(elapsed), format_duration(eta), status);
@@ -64,7 +68,6 @@ void Progress::finish() {
   if (finished_) return;
   finished_ = true;
   if (logger_.quiet()) return;
-  if (terminal_) fmt::print(stdout, "\n");
   logger_.info("{} done in {}", label_, format_duration(elapsed_seconds()));
 }
 

@@ -23,12 +23,14 @@ class Logger {
   template <typename... Args>
   void info(fmt::format_string<Args...> format, Args&&... args) const {
     if (quiet_) return;
+    close_progress_line();
     fmt::print(stdout, "{}: {}\n", program_, fmt::format(format, std::forward<Args>(args)...));
     std::fflush(stdout);
   }
 
   template <typename... Args>
   void warning(fmt::format_string<Args...> format, Args&&... args) const {
+    close_progress_line();
     fmt::print(stderr, "{}: warning: {}\n", program_,
                fmt::format(format, std::forward<Args>(args)...));
   }
@@ -36,13 +38,26 @@ class Logger {
   /// Always printed (the CONTRACT's summary line must reach scripts even with --quiet).
   template <typename... Args>
   void result(fmt::format_string<Args...> format, Args&&... args) const {
+    close_progress_line();
     fmt::print(stdout, "{}\n", fmt::format(format, std::forward<Args>(args)...));
     std::fflush(stdout);
   }
 
  private:
+  friend class Progress;
+
+  /// A progress line redrawn in place on a terminal has no newline yet: end it before
+  /// any other message, so the message starts a line of its own.
+  void close_progress_line() const {
+    if (!progress_line_open_) return;
+    fmt::print(stdout, "\n");
+    std::fflush(stdout);
+    progress_line_open_ = false;
+  }
+
   std::string program_;
   bool quiet_;
+  mutable bool progress_line_open_ = false;
 };
 
 /// Progress of a time loop on the simulation clock, from `start` to `end` seconds.
@@ -72,7 +87,7 @@ class Progress {
   bool finished_ = false;
   Clock::time_point started_at_ = Clock::now();
   Clock::time_point last_print_ = started_at_;
-  double last_fraction_printed_ = 0.0;
+  int last_decile_printed_ = 0;
 };
 
 }  // namespace slide

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# The command-line contract every program shares (CONTRACT.md, common/program.hpp):
+# --help prints usage on stdout and exits 0; a missing input, a broken case file and an
+# unknown option each exit non-zero with exactly one line on stderr that names the
+# culprit, and leave no output behind.
+#
+#   tests/common/programs_cli.sh BUILD_BIN_DIR SOURCE_DIR
+set -uo pipefail
+bin=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+
+fail() {
+  echo "FAIL: $*"
+  failures=$((failures + 1))
+}
+
+# run NAME EXPECTED_STATUS COMMAND...: runs the command with stdout and stderr captured.
+run() {
+  local name=$1 expected=$2
+  shift 2
+  "$@" >"$work/out" 2>"$work/err"
+  status=$?
+  if [[ $expected == nonzero ]]; then
+    ((status != 0)) || fail "$name: exit status 0, expected non-zero"
+  else
+    ((status == expected)) || fail "$name: exit status $status, expected $expected"
+  fi
+}
+
+# one_error_line NAME FRAGMENT: stderr is exactly one line and it contains FRAGMENT.
+one_error_line() {
+  local lines
+  lines=$(wc -l <"$work/err")
+  ((lines == 1)) || fail "$1: $lines stderr lines, expected 1: $(cat "$work/err")"
+  grep -qF -- "$2" "$work/err" || fail "$1: stderr does not name '$2': $(cat "$work/err")"
+}
+
+# A case file with one impossible value, on a known line.
+broken_case="$work/broken/case.toml"
+mkdir -p "$work/broken"
+sed 's/^poisson_ratio = 0.23/poisson_ratio = 0.5/' "$src/cases/column-short/case.toml" \
+  >"$broken_case"
+broken_line=$(grep -n '^poisson_ratio = 0.5' "$broken_case" | cut -d: -f1)
+[[ -n $broken_line ]] || fail "could not break the column-short case file"
+
+for program in fem-solve fem2mpm mpm-solve; do
+  exe="$bin/$program"
+  for flag in --help -h; do
+    run "$program $flag" 0 "$exe" "$flag"
+    grep -q "Usage:" "$work/out" || fail "$program $flag: no usage on stdout"
+    [[ ! -s $work/err ]] || fail "$program $flag: wrote to stderr: $(cat "$work/err")"
+  done
+
+  run "$program --version" 0 "$exe" --version
+  grep -q "^slide " "$work/out" || fail "$program --version: no version on stdout"
+
+  run "$program without arguments" nonzero "$exe"
+  one_error_line "$program without arguments" "$program: error:"
+done
+
+for program in fem-solve mpm-solve; do
+  exe="$bin/$program"
+  out="$work/out-$program"
+  run "$program missing case" nonzero "$exe" "$work/missing.toml" -o "$out"
+  one_error_line "$program missing case" "missing.toml"
+  [[ ! -e $out ]] || fail "$program missing case: created $out"
+
+  run "$program broken case" nonzero "$exe" "$broken_case" -o "$out"
+  one_error_line "$program broken case" "case.toml:$broken_line:"
+  grep -qF "poisson_ratio" "$work/err" || fail "$program broken case: key not named"
+  [[ ! -e $out ]] || fail "$program broken case: created $out"
+
+  run "$program unknown option" 2 "$exe" "$src/cases/column-short/case.toml" -o "$out" \
+    --no-such-option
+  one_error_line "$program unknown option" "--no-such-option"
+  [[ ! -e $out ]] || fail "$program unknown option: created $out"
+done
+
+run "fem2mpm missing checkpoint" nonzero "$bin/fem2mpm" "$work/missing.h5" -o "$work/p.h5"
+one_error_line "fem2mpm missing checkpoint" "missing.h5"
+[[ ! -e $work/p.h5 ]] || fail "fem2mpm missing checkpoint: created the particle file"
+
+printf 'not an HDF5 file\n' >"$work/garbage.h5"
+run "fem2mpm garbage checkpoint" nonzero "$bin/fem2mpm" "$work/garbage.h5" -o "$work/p.h5"
+one_error_line "fem2mpm garbage checkpoint" "garbage.h5"
+[[ ! -e $work/p.h5 ]] || fail "fem2mpm garbage checkpoint: created the particle file"
+
+run "mpm-solve garbage particles" nonzero "$bin/mpm-solve" \
+  "$src/cases/column-short/case.toml" -o "$work/out-mpm" --particles "$work/garbage.h5"
+one_error_line "mpm-solve garbage particles" "garbage.h5"
+
+if ((failures > 0)); then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "programs_cli: all checks passed"
