@@ -3,7 +3,7 @@
 // missing required key, a wrong type or an impossible value is an Error of the form
 //   case.toml:12: fem.end_time = -1 is not admissible (expected > 0 s)
 // naming the file, the line and the dotted key. The file format is documented key by
-// key in docs/case-file.md; every case in cases/ is a commented example.
+// key in common/case-file.md; every case in cases/ is a commented example.
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// The checkpoint schema in code. docs/checkpoint-schema.md documents every name written
+// The checkpoint schema in code. common/checkpoint-schema.md documents every name written
 // here; a change of name or meaning bumps checkpoint_schema_version.
 //
 // Layout (one field per dataset, row-major, one row per node/element/Gauss point/particle):

@@ -5,7 +5,7 @@
 // and shape, finite values, and index ranges. A failure is an Error naming the file,
 // the dataset and what was expected. Every write goes to a temporary file in the target
 // folder and is renamed into place, so an existing checkpoint is never left truncated.
-// The full schema, dataset by dataset, is documented in docs/checkpoint-schema.md.
+// The full schema, dataset by dataset, is documented in common/checkpoint-schema.md.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // Linear elasticity and Mohr–Coulomb plasticity with a tension cut-off, plane strain,
 // tension positive (METHOD.md §2, §3; the equations and the return regions are written
-// out in docs/constitutive.md).
+// out in common/constitutive.md).
 //
 // The Mohr–Coulomb return works in principal stresses, after Clausen, Damkilde &
 // Andersen (Int. J. Numer. Meth. Engng 66 (2006) 1036–1059; Computers & Structures 85

@@ -3,7 +3,7 @@
 # of it. `tools/check-format.sh --fix` rewrites them instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-mapfile -t files < <(find common fem mpm transfer tools tests benchmarks \
+mapfile -t files < <(find common fem mpm transfer tools tests \
   \( -name '*.cpp' -o -name '*.hpp' \) -not -path '*/data/*' | sort)
 if [[ ${1:-} == --fix ]]; then
   clang-format -i "${files[@]}"

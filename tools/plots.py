@@ -5,7 +5,7 @@
 
 Uses Debian's python3-matplotlib, python3-numpy and python3-h5py only. Reads what the
 pipeline wrote: fem/fem_history.csv, tt*/mpm_history.csv, sweep.csv, profiles.csv and
-the particle checkpoints (datasets as documented in docs/checkpoint-schema.md).
+the particle checkpoints (datasets as documented in common/checkpoint-schema.md).
 Every figure is optional: one whose inputs are missing is skipped with a note.
 """
 import csv

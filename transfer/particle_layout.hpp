@@ -15,7 +15,7 @@
 //   n² ≥ 4   centroids of the regular n×n subdivision into n² congruent
 //            triangles, equal weights 1/n² (4, 9, 16, 25, …)                 degree 1
 // The standard 4-point (degree 3) and 13-point (degree 7) rules have a negative centroid
-// weight and are deliberately not used. docs/transfer.md lists the rules in full.
+// weight and are deliberately not used. transfer/README.md lists the rules in full.
 #pragma once
 
 #include <string>

@@ -35,12 +35,12 @@
 
 namespace slide::transfer {
 
-/// k of rbf-local when the user gives none; justified in docs/transfer.md by the
-/// measurement of benchmarks/transfer (bench_transfer neighbours).
+/// k of rbf-local when the user gives none; justified in transfer/README.md by the
+/// measurement of tools/benchmarks/transfer (bench_transfer neighbours).
 inline constexpr int default_rbf_neighbours = 16;
 
 /// r of TransferOptions::collapsed_volume_ratio when the user gives none; chosen in
-/// docs/transfer.md ("Collapsed elements") from the column-short measurement.
+/// transfer/README.md ("Collapsed elements") from the column-short measurement.
 inline constexpr double default_collapsed_volume_ratio = 0.2;
 
 struct TransferOptions {

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Reads the sample checkpoints of write_sample_checkpoints with h5py, as a user would.
 
-Only names documented in docs/checkpoint-schema.md are used. For each kind the script
+Only names documented in common/checkpoint-schema.md are used. For each kind the script
 checks that the file holds exactly the documented datasets with their documented shapes,
 dtypes and units, the file and group attributes, and a few values whose formulas are in
 write_sample_checkpoints.cpp.

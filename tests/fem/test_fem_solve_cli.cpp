@@ -216,7 +216,7 @@ TEST(FemSolveCli, GeostaticOnlyCaseWritesTheTimeZeroCheckpoint) {
 
 TEST(FemSolveCli, ColumnShortRegression) {
   // The first two seconds of the column-short failure stage (520 steps), against the
-  // numbers of the reference run (small strain, quad4-1gp; docs/fem.md). Tolerances: 2 %
+  // numbers of the reference run (small strain, quad4-1gp; fem/README.md). Tolerances: 2 %
   // on KE/PE0 and εq,max, 0.01 on (|J_t|/|J_0|)_min: round-off differences between
   // compilers grow slowly in this smooth phase, a change of the physics shifts these
   // numbers by far more.

@@ -230,7 +230,7 @@ TEST_F(Fem2mpm, RefusesBadOptionsInOneLine) {
 // skips where fem-solve is not built. By t = 2 s the small-strain FE mesh has entangled
 // at the toe (fem-solve reports (|J_t|/|J_0|)_min < 0 from about 1.9 s): that checkpoint
 // needs --allow-inverted, and there the two interpolations differ at the toe (see
-// docs/transfer.md, "Collapsed elements").
+// transfer/README.md, "Collapsed elements").
 TEST_F(Fem2mpm, RbfAndRbfLocalOnColumnShort) {
   const fs::path fem_solve = fs::path(SLIDE_BINARY_DIR) / "bin" / "fem-solve";
   if (!fs::exists(fem_solve)) GTEST_SKIP() << "fem-solve is not built";

@@ -1,4 +1,4 @@
-// Benchmarks of the transfer (not timed tests; docs/transfer.md quotes the figures).
+// Benchmarks of the transfer (not timed tests; transfer/README.md quotes the figures).
 //
 //   bench_transfer neighbours           accuracy and time of rbf-local against k, with the
 //                                       dense rbf for reference: the measurement behind

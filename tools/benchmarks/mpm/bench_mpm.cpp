@@ -5,7 +5,7 @@
 // steps of the real solver (no output) on 1 and on 2 threads and prints particle-steps
 // per second, the best of R repetitions, and the memory per particle.
 //
-//   build/benchmarks/mpm/bench_mpm [--steps 500] [--repeat 3] [--threads 1,2]
+//   build/tools/benchmarks/mpm/bench_mpm [--steps 500] [--repeat 3] [--threads 1,2]
 //                                  [--shape gimp|linear] [--scheme musl|usl]
 //                                  [--sort-interval 10] [--skip 0]
 //

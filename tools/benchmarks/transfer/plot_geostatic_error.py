@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the geostatic-4x4 transfer error field as a PNG (standard library only).
 
-    bench_transfer geostatic err.csv && plot_geostatic_error.py err.csv docs/transfer-geostatic-error.png
+    bench_transfer geostatic err.csv && plot_geostatic_error.py err.csv transfer/geostatic-error.png
 
 Each particle is a square cell of the 64 x 64 particle lattice (the 4 m column, 16 x 16
 elements of 4 x 4 Gauss-Legendre particles), coloured by the signed σyy error over ρgH

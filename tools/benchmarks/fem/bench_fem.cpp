@@ -1,6 +1,6 @@
-// Benchmark of the FE step loop (not a timed test; docs/fem.md quotes the figures).
+// Benchmark of the FE step loop (not a timed test; fem/README.md quotes the figures).
 //
-//   OMP_NUM_THREADS=1 build/benchmarks/fem/bench_fem [CASE.toml] [ELEMENT...]
+//   OMP_NUM_THREADS=1 build/tools/benchmarks/fem/bench_fem [CASE.toml] [ELEMENT...]
 //
 // For the case (default cases/column-short/case.toml) and each element type (default:
 // quad4-1gp, quad4-2x2, tri3): geostatic stage, switch to the failure models, then the
