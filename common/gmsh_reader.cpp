@@ -3,18 +3,30 @@
 // Sections read: $MeshFormat, $PhysicalNames, $Entities (4.1: which physical groups an
 // entity belongs to), $Nodes, $Elements; every other section is skipped. Element types:
 // 3 (4-node quadrangle), 2 (3-node triangle), 1 (2-node line, boundary groups), 15
-// (point, ignored). The file is read as a stream of white-space separated tokens (as
-// Gmsh itself reads it), remembering the line of every token for the messages.
+// (point: it only excuses its node, below). The file is read as a stream of white-space
+// separated tokens (as Gmsh itself reads it), remembering the line of every token for
+// the messages.
 //
-// What the reader makes of it:
+// What the reader makes of it (each error names the file, the line and the Gmsh tag of
+// the element, node or group at fault):
 //  - surface elements: each in exactly one 2-D physical group, whose name is a material
-//    of the case; re-oriented counter-clockwise when Gmsh lists them clockwise;
+//    of the case; det J of one sign at every corner (no re-entrant or zero-area element);
+//    orientation consistent within each elementary (geometric) surface entity, the
+//    element's 2nd tag in 2.2, its block's entity in 4.1. Gmsh orients all elements of
+//    a surface alike, clockwise when its curve loop is clockwise: a wholly clockwise
+//    entity is turned counter-clockwise, an element turned against the rest of its
+//    entity is an error (the mesh folds over itself; a tie goes to the entity's first
+//    element);
 //  - nodes: those of the surface elements, numbered in increasing tag order (tags need
-//    not be contiguous; unused nodes are dropped), so a 2.2 and a 4.1 export of the same
-//    mesh, whose $Nodes sections list the nodes in different orders, read the same;
+//    not be contiguous), so a 2.2 and a 4.1 export of the same mesh, whose $Nodes
+//    sections list the nodes in different orders, read the same. Every element's nodes
+//    must be in $Nodes. A node no surface element uses is an error, unless only point
+//    elements use it: then it is dropped (a geometry point Gmsh saved on its own);
 //  - node sets: one per 1-D physical group, the nodes of its lines, with the outward
 //    normal of the surface-element edges the lines lie on (each line must be an edge of
-//    exactly one surface element, and the group must be straight);
+//    exactly one surface element, and the group must be straight). A line in no group
+//    is ignored but must still be an edge of the mesh (no dangling lines);
+//  - physical groups: every 1-D or 2-D name of $PhysicalNames must hold elements;
 //  - tri3: quadrangles are split along their shorter diagonal (of the two diagonals that
 //    leave both triangles counter-clockwise); triangles are taken as they are.
 #include "common/gmsh_reader.hpp"
@@ -46,6 +58,9 @@ namespace {
 // length from its line, and every line's normal is within ~1e-3 rad of the group's.
 constexpr double straightness_tolerance = 1e-6;
 constexpr double normal_tolerance = 1e-6;  // 1 − cos(angle)
+// det J at a corner of at most this fraction of the longest edge squared counts as zero
+// (the order of validate_mesh's threshold).
+constexpr double degenerate_fraction = 1e-14;
 
 constexpr int gmsh_line = 1;
 constexpr int gmsh_triangle = 2;
@@ -211,15 +226,17 @@ class Scanner {
 struct RawNode {
   std::int64_t tag;
   Vec2 x;
+  std::size_t line;
 };
 
-/// A line, triangle or quadrangle as the file gives it.
+/// A point, line, triangle or quadrangle as the file gives it.
 struct RawElement {
   std::int64_t tag;
   int type;
   int node_count;
   std::array<std::int64_t, 4> nodes{};
   std::vector<int> physicals;  ///< physical groups (of the element's dimension)
+  int entity;                  ///< the elementary (geometric) entity it meshes, 0 if not given
   std::size_t line;
 };
 
@@ -336,7 +353,7 @@ class GmshReader {
     if (!node_index_.emplace(tag, nodes_.size()).second) {
       in_.fail(line, "node tag {} appears twice", tag);
     }
-    nodes_.push_back(RawNode{tag, Vec2(x, y)});
+    nodes_.push_back(RawNode{tag, Vec2(x, y), line});
   }
 
   void read_nodes_22() {
@@ -389,10 +406,10 @@ class GmshReader {
     in_.end_section();
   }
 
-  /// Reads the node tags of one element of Gmsh type `type` and stores it, unless it is a
-  /// point; `physicals` are the physical groups it belongs to.
+  /// Reads the node tags of one element of Gmsh type `type` (in elementary entity
+  /// `entity`) and stores it; `physicals` are the physical groups it belongs to.
   void read_element(std::int64_t tag, std::int64_t type, std::size_t line,
-                    std::vector<int> physicals) {
+                    std::vector<int> physicals, int entity) {
     const int n = gmsh_node_count(type);
     if (n == 0) {
       in_.fail(line,
@@ -400,12 +417,12 @@ class GmshReader {
                "3-node triangles (2), 2-node lines (1) and points (15) are read",
                type, gmsh_type_name(type), tag);
     }
-    RawElement element{tag, static_cast<int>(type), n, {}, std::move(physicals), line};
+    RawElement element{tag, static_cast<int>(type), n, {}, std::move(physicals), entity, line};
     for (int k = 0; k < n; ++k) {
       element.nodes[static_cast<std::size_t>(k)] =
           in_.integer(fmt::format("node {} of element {}", k + 1, tag));
     }
-    if (type != gmsh_point) elements_.push_back(std::move(element));
+    elements_.push_back(std::move(element));
   }
 
   void read_elements_22() {
@@ -418,12 +435,14 @@ class GmshReader {
       const std::int64_t type = in_.integer(what);
       const std::int64_t n_tags = in_.count(what);
       std::vector<int> physicals;
+      int entity = 0;
       for (std::int64_t t = 0; t < n_tags; ++t) {
         const auto value = static_cast<int>(in_.integer(what));
         // The first tag is the physical group (0: none), the second the entity.
         if (t == 0 && value != 0) physicals.push_back(value);
+        if (t == 1) entity = value;
       }
-      read_element(tag, type, line, std::move(physicals));
+      read_element(tag, type, line, std::move(physicals), entity);
     }
     in_.end_section();
   }
@@ -445,7 +464,7 @@ class GmshReader {
           found == entity_physicals_.end() ? std::vector<int>{} : found->second;
       for (std::int64_t k = 0; k < in_block; ++k) {
         const std::int64_t tag = in_.integer(fmt::format("element {} of {}", read + k + 1, n));
-        read_element(tag, type, in_.line(), physicals);
+        read_element(tag, type, in_.line(), physicals, entity);
       }
       read += in_block;
     }
@@ -464,7 +483,7 @@ class GmshReader {
   std::size_t raw_index(const RawElement& e, std::size_t k) const {
     const auto found = node_index_.find(e.nodes[k]);
     if (found == node_index_.end()) {
-      in_.fail(e.line, "element {} refers to node {}, an unknown node tag", e.tag, e.nodes[k]);
+      in_.fail(e.line, "element {} refers to node {}, which is not in $Nodes", e.tag, e.nodes[k]);
     }
     return found->second;
   }
@@ -495,7 +514,117 @@ class GmshReader {
              known.empty() ? "none" : known);
   }
 
+  /// Every element's node tags are in $Nodes (points included).
+  void check_node_references() const {
+    for (const RawElement& e : elements_) {
+      for (int k = 0; k < e.node_count; ++k) raw_index(e, static_cast<std::size_t>(k));
+    }
+  }
+
+  /// Every 1-D and 2-D physical group of $PhysicalNames holds elements: a boundary or a
+  /// material named but not meshed is a mistake, not an empty set.
+  void check_physical_groups_have_elements() const {
+    std::map<DimTag, std::size_t> counts;
+    for (const RawElement& e : elements_) {
+      const int dim = e.type == gmsh_line ? 1 : e.type == gmsh_point ? 0 : 2;
+      for (const int p : e.physicals) ++counts[{dim, p}];
+    }
+    for (const auto& [group, named] : physical_names_) {
+      if (group.first != 1 && group.first != 2) continue;
+      if (counts[group] == 0) {
+        in_.fail(named.line,
+                 "physical group '{}' (dimension {}, tag {}) has no elements (a {} named in "
+                 "$PhysicalNames but not meshed)",
+                 named.name, group.first, group.second, group.first == 1 ? "boundary" : "material");
+      }
+    }
+  }
+
+  /// Coordinates of a surface element's nodes, in the file's order.
+  ElementNodes raw_coordinates(const RawElement& e) const {
+    ElementNodes x = ElementNodes::Zero();
+    for (int k = 0; k < e.node_count; ++k) {
+      x.row(k) = nodes_[raw_index(e, static_cast<std::size_t>(k))].x.transpose();
+    }
+    return x;
+  }
+
+  /// +1 if surface element `e` is counter-clockwise as listed, −1 if clockwise. An element
+  /// whose det J is not of one sign at all its corners (a re-entrant quadrangle) or is
+  /// zero somewhere is an error whatever its orientation.
+  int orientation_of(const RawElement& e) const {
+    const ElementShape shape = e.type == gmsh_triangle ? ElementShape::tri3 : ElementShape::quad4;
+    const ElementNodes x = raw_coordinates(e);
+    const double sign = element_area(shape, x) < 0.0 ? -1.0 : 1.0;
+    double longest2 = 0.0;
+    for (int k = 0; k < e.node_count; ++k) {
+      longest2 = std::max(longest2, (x.row((k + 1) % e.node_count) - x.row(k)).squaredNorm());
+    }
+    static const std::array<Vec2, 4> quad_corners{Vec2(-1.0, -1.0), Vec2(1.0, -1.0), Vec2(1.0, 1.0),
+                                                  Vec2(-1.0, 1.0)};
+    static const std::array<Vec2, 4> tri_corners{Vec2(0.0, 0.0), Vec2(1.0, 0.0), Vec2(0.0, 1.0),
+                                                 Vec2(0.0, 0.0)};
+    const auto& corners = shape == ElementShape::quad4 ? quad_corners : tri_corners;
+    for (int k = 0; k < e.node_count; ++k) {
+      // det J of the element turned counter-clockwise, at the node listed k-th.
+      const double det =
+          sign * jacobian(shape, x, corners[static_cast<std::size_t>(k)]).determinant();
+      if (det <= degenerate_fraction * longest2) {
+        const Vec2 centre = x.topRows(e.node_count).colwise().mean().transpose();
+        in_.fail(e.line,
+                 "element {} at ({:.6g}, {:.6g}) is inverted or has zero area: det J = {:.6g} "
+                 "at its corner {} (node {} at ({:.6g}, {:.6g}))",
+                 e.tag, centre.x(), centre.y(), det, k, e.nodes[static_cast<std::size_t>(k)],
+                 x(k, 0), x(k, 1));
+      }
+    }
+    return sign > 0.0 ? 1 : -1;
+  }
+
+  /// Orientation must be consistent within each surface entity: Gmsh orients all the
+  /// elements of one surface alike (clockwise when its curve loop is), so an element
+  /// turned against the rest of its surface is folded over its neighbours (or the file
+  /// was edited). Returns each surface element's orientation; an entity wholly
+  /// clockwise is fine and is turned by the caller.
+  std::vector<int> consistent_orientations(const std::vector<std::size_t>& surface) const {
+    struct Count {
+      int counter_clockwise = 0;
+      int clockwise = 0;
+      int first = 0;  ///< orientation of its first element, breaks a tie
+    };
+    std::vector<int> orientation;
+    std::map<int, Count> entities;
+    for (const std::size_t i : surface) {
+      orientation.push_back(orientation_of(elements_[i]));
+      Count& count = entities[elements_[i].entity];
+      if (count.first == 0) count.first = orientation.back();
+      ++(orientation.back() > 0 ? count.counter_clockwise : count.clockwise);
+    }
+    const auto name = [](int o) { return o > 0 ? "counter-clockwise" : "clockwise"; };
+    for (std::size_t s = 0; s < surface.size(); ++s) {
+      const RawElement& e = elements_[surface[s]];
+      const Count& count = entities.at(e.entity);
+      const int majority = count.counter_clockwise > count.clockwise   ? 1
+                           : count.clockwise > count.counter_clockwise ? -1
+                                                                       : count.first;
+      if (orientation[s] == majority) continue;
+      const ElementShape shape = e.type == gmsh_triangle ? ElementShape::tri3 : ElementShape::quad4;
+      const ElementNodes x = raw_coordinates(e);
+      const Vec2 centre = x.topRows(e.node_count).colwise().mean().transpose();
+      in_.fail(e.line,
+               "element {} at ({:.6g}, {:.6g}) is {} (det J = {:.6g} at its centre) but {} of "
+               "the {} elements of surface entity {} are {}: the mesh folds over itself there "
+               "(Gmsh orients all the elements of one surface alike)",
+               e.tag, centre.x(), centre.y(), name(orientation[s]),
+               jacobian(shape, x, reference_centre(shape)).determinant(),
+               majority > 0 ? count.counter_clockwise : count.clockwise,
+               count.counter_clockwise + count.clockwise, e.entity, name(majority));
+    }
+    return orientation;
+  }
+
   Mesh assemble() {
+    check_node_references();
     const ElementShape shape = shape_of(type_);
     // Surface elements: nodes (still raw), material, and which raw nodes are used.
     struct Polygon {
@@ -507,9 +636,10 @@ class GmshReader {
     std::vector<Polygon> polygons;
     std::vector<bool> used(nodes_.size(), false);
     std::unordered_set<std::int64_t> surface_tags;
+    std::vector<std::size_t> surface;
     for (std::size_t i = 0; i < elements_.size(); ++i) {
       const RawElement& e = elements_[i];
-      if (e.type == gmsh_line) continue;
+      if (e.type != gmsh_triangle && e.type != gmsh_quadrangle) continue;
       if (e.type == gmsh_triangle && shape == ElementShape::quad4) {
         in_.fail(e.line,
                  "element {} is a triangle, which element type {} cannot use (a triangle mesh "
@@ -530,10 +660,13 @@ class GmshReader {
         used[raw] = true;
       }
       polygons.push_back(polygon);
+      surface.push_back(i);
     }
     if (polygons.empty()) {
       throw Error("{}: no quadrangles or triangles (a 2-D mesh is expected)", in_.file());
     }
+    check_physical_groups_have_elements();
+    const std::vector<int> orientation = consistent_orientations(surface);
 
     // Renumber the used nodes in increasing tag order.
     Mesh mesh;
@@ -557,18 +690,18 @@ class GmshReader {
       return ab.x() * ac.y() - ab.y() * ac.x();
     };
 
-    // Counter-clockwise surface elements and their directed edges.
+    // Counter-clockwise surface elements (the clockwise entities turned) and their
+    // directed edges.
     std::vector<std::array<Index, 4>> elements;
     std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>> edges;
-    for (const Polygon& polygon : polygons) {
+    for (std::size_t i = 0; i < polygons.size(); ++i) {
+      const Polygon& polygon = polygons[i];
       std::array<Index, 4> v{};
       for (std::size_t k = 0; k < 4; ++k) {
         v[k] = k < static_cast<std::size_t>(polygon.count) ? new_index[polygon.nodes[k]] : -1;
       }
       const auto count = static_cast<std::size_t>(polygon.count);
-      double area = 0.0;
-      for (std::size_t k = 1; k + 1 < count; ++k) area += twice_area(v[0], v[k], v[k + 1]);
-      if (area < 0.0) std::reverse(v.begin() + 1, v.begin() + static_cast<long>(count));
+      if (orientation[i] < 0) std::reverse(v.begin() + 1, v.begin() + static_cast<long>(count));
       for (std::size_t k = 0; k < count; ++k) {
         const Index a = v[k];
         const Index b = v[(k + 1) % count];
@@ -602,7 +735,24 @@ class GmshReader {
     }
 
     add_boundary_groups(mesh, new_index, edges);
+    check_unused_nodes(used);
     return mesh;
+  }
+
+  /// A node no surface element uses is an error, unless only point elements refer to it
+  /// (the mesh vertex of a geometry point, which Gmsh may save on its own): it is dropped.
+  void check_unused_nodes(const std::vector<bool>& used) const {
+    std::vector<bool> of_a_point(nodes_.size(), false);
+    for (const RawElement& e : elements_) {
+      if (e.type == gmsh_point) of_a_point[raw_index(e, 0)] = true;
+    }
+    for (std::size_t r = 0; r < nodes_.size(); ++r) {
+      if (used[r] || of_a_point[r]) continue;
+      in_.fail(nodes_[r].line,
+               "node {} at ({:.6g}, {:.6g}) belongs to no element (every node of $Nodes must be "
+               "a node of a surface element)",
+               nodes_[r].tag, nodes_[r].x.x(), nodes_[r].x.y());
+    }
   }
 
   /// One node set per 1-D physical group, with the outward normal of the surface-element
@@ -617,17 +767,22 @@ class GmshReader {
     };
     std::map<int, std::vector<Line>> groups;  // physical tag → lines
     for (const RawElement& e : elements_) {
-      if (e.type != gmsh_line || e.physicals.empty()) continue;
+      if (e.type != gmsh_line) continue;
+      // Every line, in a physical group or not, must be an edge of the surface mesh: a
+      // dangling line is a curve meshed apart from the surfaces.
       const Index a = new_index[raw_index(e, 0)];
       const Index b = new_index[raw_index(e, 1)];
+      const auto found = edges.find({std::min(a, b), std::max(a, b)});
+      if (a < 0 || b < 0 || found == edges.end()) {
+        const std::string group =
+            e.physicals.empty()
+                ? std::string("in no physical group")
+                : fmt::format("of physical group '{}'", group_name(1, e.physicals.front()));
+        in_.fail(e.line,
+                 "line element {} (nodes {} and {}) {} is not an edge of any surface element",
+                 e.tag, e.nodes[0], e.nodes[1], group);
+      }
       for (const int group : e.physicals) {
-        const auto found = edges.find({std::min(a, b), std::max(a, b)});
-        if (a < 0 || b < 0 || found == edges.end()) {
-          in_.fail(e.line,
-                   "line element {} (nodes {} and {}) of physical group '{}' is not an edge of "
-                   "any surface element",
-                   e.tag, e.nodes[0], e.nodes[1], group_name(1, group));
-        }
         if (found->second.size() > 1) {
           in_.fail(e.line,
                    "line element {} of physical group '{}' lies between two surface elements (a "

@@ -1,5 +1,6 @@
 // Gmsh import: the hand-written files in tests/common/data/ (the same two-quad mesh as
-// 2.2 and 4.1, and broken files), and small broken files written on the fly.
+// 2.2 and 4.1, folded and otherwise broken meshes), and small broken files written on
+// the fly. Every rejection asserts the message, which names the element, node or group.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -54,21 +55,23 @@ std::string read_error(const std::string& name, const std::string& text,
   return message;
 }
 
-/// A 2.2 file of one unit quad (nodes 1–4) with the given extra physical names and
-/// elements; the quad is element 1 in physical surface 1 "soil".
-std::string unit_quad_22(const std::string& names, const std::string& elements) {
+/// A 2.2 file of one unit quad (nodes 1–4, then node 5 at (2, 2) if `node_5`) with the
+/// given physical names and elements; the quad is element 1 in physical surface 1 "soil".
+/// Line 17 is the first element (18 with node 5).
+std::string unit_quad_22(const std::string& names, const std::string& elements,
+                         bool node_5 = false) {
   return "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n" + names +
-         "$EndPhysicalNames\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n"
-         "$Elements\n" +
-         elements + "$EndElements\n";
+         "$EndPhysicalNames\n$Nodes\n" + (node_5 ? "5" : "4") +
+         "\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n" + (node_5 ? "5 2 2 0\n" : "") +
+         "$EndNodes\n$Elements\n" + elements + "$EndElements\n";
 }
 
 void expect_two_quads(const Mesh& mesh) {
   EXPECT_EQ(mesh.element_type, ElementType::quad4_1gp);
-  // Nodes 1 2 3 7 8 9 in tag order; node 20 (used by no element) is dropped.
+  // Nodes 1 2 3 7 8 9 in tag order; node 20 (used by a point element only) is dropped.
   const std::vector<Vec2> nodes{{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}};
   EXPECT_EQ(mesh.nodes, nodes);
-  // Element 8 was clockwise (2 8 9 3): it comes back as 2 3 9 8.
+  // Element 8, the whole of the clockwise surface 2 (2 8 9 3), comes back as 2 3 9 8.
   EXPECT_EQ(mesh.connectivity, (std::vector<Index>{0, 1, 4, 3, 1, 2, 5, 4}));
   EXPECT_EQ(mesh.material_id, (std::vector<std::int32_t>{1, 1}));
   // Physical lines in tag order; the top line is in no group and gives no set.
@@ -179,12 +182,108 @@ TEST(GmshReader, RejectsAnInvertedElement) {
   const std::string message = error_of([&] { build_mesh(c); });
   const std::string expected_start =
       (data_dir / "inverted.msh").string() +
-      ": element 0 at (0.65, 0.65) is inverted or has zero area: det J = ";
+      ":17: element 1 at (0.65, 0.65) is inverted or has zero area: det J = ";
   EXPECT_EQ(message.rfind(expected_start, 0), 0U) << message;
-  EXPECT_NE(message.find("at its corner 2 (node 2 at (0.6, 0.6))"), std::string::npos) << message;
+  EXPECT_NE(message.find("at its corner 2 (node 3 at (0.6, 0.6))"), std::string::npos) << message;
   // det J at the reflex corner: ((x2 − x3) × (x2 − x1)) / 4 = −0.4.
   const std::size_t det_at = expected_start.size();
   EXPECT_NEAR(std::stod(message.substr(det_at)), -0.4, 1e-12);
+}
+
+TEST(GmshReader, RejectsAZeroAreaTriangle) {
+  EXPECT_EQ(read_error("flat.msh", unit_quad_22("1\n2 1 \"soil\"\n", "1\n1 2 2 1 1 1 3 5\n", true),
+                       ElementType::tri3),
+            "flat.msh:18: element 1 at (1, 1) is inverted or has zero area: det J = 0 at its "
+            "corner 0 (node 1 at (0, 0))");
+}
+
+// A folded mesh has the area of its elements' absolute values, more than the body's:
+// an element turned against the rest of its surface entity is an error.
+TEST(GmshReader, RejectsAFoldedTriangleMesh) {
+  const auto path = data_dir / "folded_triangles_v22.msh";
+  const std::string message = error_of([&] { read_gmsh(path, ElementType::tri3, materials()); });
+  // Triangle 4: nodes (1, 0), (2, 1), (1.6, 0.3); det J = 2 × signed area = −0.3.
+  EXPECT_EQ(message, path.string() +
+                         ":27: element 4 at (1.53333, 0.433333) is clockwise (det J = -0.3 at its "
+                         "centre) but 3 of the 4 elements of surface entity 1 are "
+                         "counter-clockwise: the mesh folds over itself there (Gmsh orients all "
+                         "the elements of one surface alike)");
+}
+
+TEST(GmshReader, RejectsAFoldedQuadMesh) {
+  const auto path = data_dir / "folded_quads_v41.msh";
+  const std::string message =
+      error_of([&] { read_gmsh(path, ElementType::quad4_2x2, materials()); });
+  // Quad 2: the unit square (2, 0) (1, 0) (1, 1) (2, 1), det J = −¼ at its centre.
+  EXPECT_EQ(message, path.string() +
+                         ":41: element 2 at (1.5, 0.5) is clockwise (det J = -0.25 at its "
+                         "centre) but 2 of the 3 elements of surface entity 1 are "
+                         "counter-clockwise: the mesh folds over itself there (Gmsh orients all "
+                         "the elements of one surface alike)");
+}
+
+TEST(GmshReader, TurnsAWhollyClockwiseSurface) {
+  // Both triangles of the unit square listed clockwise, as Gmsh writes a surface whose
+  // curve loop is clockwise: accepted, turned counter-clockwise, area 1.
+  const Mesh mesh = read_gmsh(
+      scratch_file("clockwise.msh",
+                   unit_quad_22("1\n2 1 \"soil\"\n", "2\n1 2 2 1 7 1 3 2\n2 2 2 1 7 1 4 3\n")),
+      ElementType::tri3, materials());
+  EXPECT_EQ(mesh.connectivity, (std::vector<Index>{0, 1, 2, 0, 2, 3}));
+  double area = 0.0;
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    area += element_area(ElementShape::tri3, mesh.element_nodes(e, mesh.nodes));
+  }
+  EXPECT_DOUBLE_EQ(area, 1.0);
+}
+
+TEST(GmshReader, RejectsAnEmptyPhysicalGroup) {
+  // 4.1: the physical line "crest" is given to a curve that has no line elements.
+  const auto path = data_dir / "empty_group_v41.msh";
+  EXPECT_EQ(error_of([&] { read_gmsh(path, ElementType::quad4_1gp, materials()); }),
+            path.string() +
+                ":6: physical group 'crest' (dimension 1, tag 5) has no elements (a boundary "
+                "named in $PhysicalNames but not meshed)");
+  // 2.2: a material surface without elements.
+  EXPECT_EQ(read_error("rock.msh",
+                       unit_quad_22("2\n2 1 \"soil\"\n2 2 \"rock\"\n", "1\n1 3 2 1 1 1 2 3 4\n")),
+            "rock.msh:7: physical group 'rock' (dimension 2, tag 2) has no elements (a material "
+            "named in $PhysicalNames but not meshed)");
+}
+
+TEST(GmshReader, RejectsADanglingLine) {
+  const std::string names = "2\n2 1 \"soil\"\n1 2 \"crest\"\n";
+  // A line of the group "crest" from the quad's corner to node 5, off the mesh.
+  EXPECT_EQ(read_error("dangling.msh",
+                       unit_quad_22(names, "2\n1 3 2 1 1 1 2 3 4\n2 1 2 2 1 3 5\n", true)),
+            "dangling.msh:20: line element 2 (nodes 3 and 5) of physical group 'crest' is not an "
+            "edge of any surface element");
+  // The same line in no physical group.
+  EXPECT_EQ(read_error("loose.msh", unit_quad_22("1\n2 1 \"soil\"\n",
+                                                 "2\n1 3 2 1 1 1 2 3 4\n2 1 2 0 1 3 5\n", true)),
+            "loose.msh:19: line element 2 (nodes 3 and 5) in no physical group is not an edge of "
+            "any surface element");
+}
+
+TEST(GmshReader, RejectsANodeNoElementUses) {
+  // 4.1: the vertex of a geometry point, no element on it (Mesh.SaveAll = 0 would not
+  // have saved it).
+  const auto path = data_dir / "unused_node_v41.msh";
+  EXPECT_EQ(error_of([&] { read_gmsh(path, ElementType::quad4_1gp, materials()); }),
+            path.string() +
+                ":21: node 5 at (3, 3) belongs to no element (every node of $Nodes must be a "
+                "node of a surface element)");
+  // 2.2: node 5 in $Nodes, in no element.
+  EXPECT_EQ(
+      read_error("unused.msh", unit_quad_22("1\n2 1 \"soil\"\n", "1\n1 3 2 1 1 1 2 3 4\n", true)),
+      "unused.msh:14: node 5 at (2, 2) belongs to no element (every node of $Nodes must be "
+      "a node of a surface element)");
+  // A point element alone on it: dropped.
+  const Mesh mesh = read_gmsh(
+      scratch_file("point.msh",
+                   unit_quad_22("1\n2 1 \"soil\"\n", "2\n1 3 2 1 1 1 2 3 4\n2 15 2 0 1 5\n", true)),
+      ElementType::quad4_1gp, materials());
+  EXPECT_EQ(mesh.node_count(), 4);
 }
 
 TEST(GmshReader, RejectsAnUnknownElementType) {
@@ -227,7 +326,13 @@ TEST(GmshReader, RejectsMeshesWithoutMeaning) {
   const std::string soil = "1\n2 1 \"soil\"\n";
   // Line 17 of unit_quad_22 is the first element.
   EXPECT_EQ(read_error("unknown_tag.msh", unit_quad_22(soil, "1\n1 3 2 1 1 1 2 3 5\n")),
-            "unknown_tag.msh:17: element 1 refers to node 5, an unknown node tag");
+            "unknown_tag.msh:17: element 1 refers to node 5, which is not in $Nodes");
+  EXPECT_EQ(read_error("unknown_line_tag.msh",
+                       unit_quad_22(soil, "2\n1 3 2 1 1 1 2 3 4\n2 1 2 0 1 4 6\n")),
+            "unknown_line_tag.msh:18: element 2 refers to node 6, which is not in $Nodes");
+  EXPECT_EQ(read_error("unknown_point_tag.msh",
+                       unit_quad_22(soil, "2\n1 15 2 0 1 7\n2 3 2 1 1 1 2 3 4\n")),
+            "unknown_point_tag.msh:17: element 1 refers to node 7, which is not in $Nodes");
   EXPECT_EQ(read_error("no_group.msh", unit_quad_22(soil, "1\n1 3 2 0 1 1 2 3 4\n")),
             "no_group.msh:17: surface element 1 is in no physical group (every surface needs a "
             "physical group named after its material)");
