@@ -1,6 +1,8 @@
 #include "common/program.hpp"
 
+#include <cmath>
 #include <exception>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -28,6 +30,37 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
     return 2;
   }
   return std::nullopt;
+}
+
+namespace {
+
+CLI::Validator number_check(const char* description, bool (*admissible)(double)) {
+  return CLI::Validator(
+      [description, admissible](std::string& text) -> std::string {
+        double value = 0.0;
+        std::size_t used = 0;
+        try {
+          value = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || used == 0) return "'" + text + "' is not a number";
+        if (!std::isfinite(value) || !admissible(value)) {
+          return "must be " + std::string(description) + ", got " + text;
+        }
+        return {};
+      },
+      description);
+}
+
+}  // namespace
+
+CLI::Validator positive_number() {
+  return number_check("> 0", [](double v) { return v > 0.0; });
+}
+
+CLI::Validator non_negative_number() {
+  return number_check(">= 0", [](double v) { return v >= 0.0; });
 }
 
 int run_main(const std::string& program, const std::function<void()>& body) {

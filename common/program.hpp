@@ -19,6 +19,11 @@ std::string version_string();
 /// nothing when it should go on.
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
 
+/// Option checks with a readable message ("must be > 0"); CLI11's PositiveNumber names
+/// the range of the type instead, a 309-digit number for a double.
+CLI::Validator positive_number();
+CLI::Validator non_negative_number();
+
 /// Runs `body`; an exception becomes "program: error: message" on stderr and status 1.
 int run_main(const std::string& program, const std::function<void()>& body);
 

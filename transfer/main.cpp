@@ -6,6 +6,8 @@
 //
 // Settings come from the built-in defaults, then the case's [transfer] table (--case),
 // then the command line.
+#include <filesystem>
+
 #include <CLI/CLI.hpp>
 
 #include "common/atomic_file.hpp"
@@ -84,9 +86,13 @@ void run(const CommandLine& line, const CLI::App& app) {
         "element)",
         result.report.limited_stress_particles);
   }
-  write_checkpoint(line.output, result.particles);
+  // The report goes with its particle file: it is written first, under a temporary name,
+  // and renamed only once the particle file is in place, so a failure leaves neither.
   const auto json = transfer::report_path(line.output);
-  write_text_atomically(json, transfer::report_json(result.report));
+  write_atomically(json, [&](const std::filesystem::path& temporary_json) {
+    write_text_atomically(temporary_json, transfer::report_json(result.report));
+    write_checkpoint(line.output, result.particles);
+  });
   for (const auto& text : transfer::format_report_lines(result.report)) logger.info("{}", text);
   logger.info("wrote {} and {}", line.output, json.string());
 }
@@ -111,7 +117,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"rbf", "rbf-local", "element"}));
   app.add_option("--rbf-shape", line.rbf_shape,
                  "multiquadric shape parameter c in m (default sqrt(A_box/N_g))")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   app.add_option("--rbf-polynomial", line.rbf_polynomial,
                  "none or linear (exact for linear fields); default none for rbf, linear for "
                  "rbf-local")
@@ -119,7 +125,7 @@ int main(int argc, char** argv) {
   app.add_option(
          "--rbf-neighbours", line.rbf_neighbours,
          "k of rbf-local (default " + std::to_string(transfer::default_rbf_neighbours) + ")")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   app.add_flag("--allow-inverted", line.allow_inverted,
                "transfer inverted elements (with their reference volume) instead of stopping");
   app.add_option("--collapsed-volume-ratio", line.collapsed_volume_ratio,

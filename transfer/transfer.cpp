@@ -251,8 +251,13 @@ LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_
     }
   }
   // Rounding-level excursions (a constant column, a linear field at a boundary) are left
-  // alone: only an excess beyond 1e-9 of the column's magnitude is an overshoot.
-  const Eigen::RowVectorXd tolerance = 1e-9 * gauss_values.cwiseAbs().colwise().maxCoeff();
+  // alone: only an excess beyond 1e-9 of the field's magnitude is an overshoot. The
+  // magnitude is the field's (all four stress or strain components together), since
+  // round-off scales with it: a σxy that is zero up to round-off of σyy is not clipped.
+  Eigen::RowVectorXd tolerance = 1e-9 * gauss_values.cwiseAbs().colwise().maxCoeff();
+  for (const Eigen::Index first : {stress_column, strain_column}) {
+    tolerance.segment<4>(first).setConstant(tolerance.segment<4>(first).maxCoeff());
+  }
   LimitedCounts limited;
   for (Eigen::Index p = 0; p < at_particles.rows(); ++p) {
     const auto row = static_cast<Eigen::Index>(particle_element[static_cast<std::size_t>(p)]);
