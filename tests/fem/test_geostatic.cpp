@@ -11,11 +11,13 @@
 //              with the cases' chequerboard diagonals, in the interior too), which adds
 //              a local error of the same order.
 // Both errors are O(h): the convergence order is 1. On geostatic-4x4 (h = 0.25 m,
-// H = 4 m) ρ g h/(2√3) is 1.8 % of ρ g H, so the 1 % bound holds there for the
-// element-mean stress and at the Gauss points of quad4-1gp; on column-short (h = 1 m,
-// H = 40 m) it holds at every Gauss point of every element type.
+// H = 4 m) ρ g h/(2√3) is 1.80 % of ρ g H, so the 1 % bound holds there for the
+// element-mean stress, at the Gauss points of quad4-1gp (0) and of tri3 (0.53 %), not
+// at those of quad4-2×2; on column-short (h = 1 m, H = 40 m) it holds at every Gauss
+// point of every element type.
 #include <cmath>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "common/case_file.hpp"
@@ -88,14 +90,22 @@ TEST(Geostatic, Geostatic4x4IsExactAtTheCentresOfOnePointQuads) {
 }
 
 TEST(Geostatic, Geostatic4x4GaussPointErrorsAreTheKnownOffsets) {
+  // h = 0.25 m, H = 4 m: the 2×2 Gauss points sit h/(2√3) from the centre of their
+  // element, so they err by exactly ρ g h/(2√3) = 1.80 % of ρ g H; the element means
+  // are exact. This offset is inherent to the bilinear element at this h, not a defect.
   const double h = 0.25;
   const ColumnErrors quad = case_errors("geostatic-4x4", ElementType::quad4_2x2);
   const double rho_g = 1700.0 * gravity_acceleration;
+  RecordProperty("quad4_2x2_gauss_error_over_rho_g_H",
+                 fmt::format("{:.5f}", quad.gauss / quad.rho_g_h));
   EXPECT_NEAR(quad.gauss, rho_g * h / (2.0 * std::sqrt(3.0)), 1e-9 * quad.rho_g_h);
+  EXPECT_NEAR(quad.gauss / quad.rho_g_h, (h / 4.0) / (2.0 * std::sqrt(3.0)), 1e-9);
   EXPECT_LT(quad.element_mean, 1e-12 * quad.rho_g_h);
-  EXPECT_LT(quad.element_mean, 0.01 * quad.rho_g_h);
+  // tri3: centroids h/6 from the row centre plus the uneven load split of the diagonals
+  // (see the top of this file); measured 0.53 % of ρ g H, held to 1 %.
   const ColumnErrors tri = case_errors("geostatic-4x4", ElementType::tri3);
-  EXPECT_LT(tri.gauss, 2.0 * rho_g * h / 6.0);
+  RecordProperty("tri3_gauss_error_over_rho_g_H", fmt::format("{:.5f}", tri.gauss / tri.rho_g_h));
+  EXPECT_LT(tri.gauss, 0.01 * tri.rho_g_h) << tri.gauss / tri.rho_g_h;
   EXPECT_LT(tri.element_mean, 0.01 * tri.rho_g_h);
 }
 
