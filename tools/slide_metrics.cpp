@@ -8,11 +8,15 @@
 //
 // `sweep` looks in OUT/ for tt<T>/mpm_final.h5, pure-mpm/mpm_final.h5 and
 // pure-fem/particles_final.h5, and reads the FE mesh quality at each transfer time
-// from OUT/fem/fem_history.csv. Errors and RMSE are against the tt0 run. It also
+// from OUT/fem/fem_history.csv. Errors and RMSE are against the tt0 run. The KE/PE0
+// peak of a run comes from its histories: for tt<T> the FE phase up to T
+// (fem/fem_history.csv) and tt<T>/mpm_history.csv, for pure-mpm its mpm_history.csv,
+// for pure-fem its fem_history.csv (a missing history leaves the cells empty). It also
 // writes OUT/sweep.md (the table for the report) and OUT/profiles.csv (every run's
 // surface profile, for the plots).
 #include <algorithm>
 #include <filesystem>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -80,16 +84,27 @@ void sweep(const fs::path& case_file, const fs::path& out) {
     }
   }
   std::sort(transfers.begin(), transfers.end());
+  // The samples of a history file, none if it is missing.
+  auto energy = [](const fs::path& file) {
+    return fs::exists(file) ? read_energy_history(file) : std::vector<EnergySample>{};
+  };
   std::vector<RunMetrics> runs;
   for (const auto& [tt, file] : transfers) {
     RunMetrics run = measure_run(c, file.parent_path().filename().string(), tt, file);
     run.fem_at_transfer = history_at(history, tt);
+    run.ke_peak = ke_over_pe0_peak(
+        transfer_run_energy(history, tt, energy(file.parent_path() / "mpm_history.csv")));
     runs.push_back(std::move(run));
   }
-  for (const auto& [name, file] :
-       {std::pair{"pure-mpm", out / "pure-mpm" / "mpm_final.h5"},
-        std::pair{"pure-fem", out / "pure-fem" / "particles_final.h5"}}) {
-    if (fs::exists(file)) runs.push_back(measure_run(c, name, std::nullopt, file));
+  for (const auto& [name, file, run_history] :
+       {std::tuple{"pure-mpm", out / "pure-mpm" / "mpm_final.h5",
+                   out / "pure-mpm" / "mpm_history.csv"},
+        std::tuple{"pure-fem", out / "pure-fem" / "particles_final.h5",
+                   out / "pure-fem" / "fem_history.csv"}}) {
+    if (!fs::exists(file)) continue;
+    RunMetrics run = measure_run(c, name, std::nullopt, file);
+    run.ke_peak = ke_over_pe0_peak(energy(run_history));
+    runs.push_back(std::move(run));
   }
   if (runs.empty()) throw Error("{}: no finished run to measure", out.string());
   const std::string reference = runs.front().run == "tt0" ? "tt0" : "";

@@ -1,9 +1,10 @@
 #include "tools/sweep_metrics.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <sstream>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -38,9 +39,56 @@ double parse_number(const std::string& text, const std::filesystem::path& path, 
   }
 }
 
+/// The named columns of a history CSV (header line, then one row per output step; blank
+/// lines skipped), row by row in the order of `names`.
+std::vector<std::vector<double>> read_columns(const std::filesystem::path& path,
+                                              const std::string& what,
+                                              const std::vector<std::string>& names) {
+  std::ifstream in(path);
+  if (!in) throw Error("{}: cannot open {}", path.string(), what);
+  std::string line;
+  if (!std::getline(in, line)) throw Error("{}: empty file, expected a header line", path.string());
+  const auto header = split_csv_line(line);
+  std::vector<std::size_t> index;
+  for (const auto& name : names) {
+    const auto found = std::find(header.begin(), header.end(), name);
+    if (found == header.end()) throw Error("{}: missing column {}", path.string(), name);
+    index.push_back(static_cast<std::size_t>(found - header.begin()));
+  }
+  std::vector<std::vector<double>> rows;
+  int line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty() || line == "\r") continue;
+    const auto cells = split_csv_line(line);
+    if (cells.size() != header.size()) {
+      throw Error("{}:{}: {} cells, expected {}", path.string(), line_number, cells.size(),
+                  header.size());
+    }
+    std::vector<double> values;
+    for (std::size_t i : index) values.push_back(parse_number(cells[i], path, line_number));
+    rows.push_back(std::move(values));
+  }
+  return rows;
+}
+
+/// "-0", "-0.0 %" and the like: a value that rounds to zero is printed without a minus
+/// sign ("+" kept where the format asks for a sign).
+std::string without_negative_zero(std::string text, bool signed_format) {
+  if (text.empty() || text[0] != '-') return text;
+  if (text.find_first_of("123456789") != std::string::npos) return text;
+  if (signed_format) {
+    text[0] = '+';
+  } else {
+    text.erase(0, 1);
+  }
+  return text;
+}
+
 std::string cell(std::optional<double> value, const char* format = "{:.6g}") {
   if (!value || !std::isfinite(*value)) return "";
-  return fmt::format(fmt::runtime(format), *value);
+  const std::string text = fmt::format(fmt::runtime(format), *value);
+  return without_negative_zero(text, std::string_view(format).find('+') != std::string_view::npos);
 }
 
 const RunMetrics* find_run(const std::vector<RunMetrics>& runs, const std::string& name) {
@@ -53,7 +101,8 @@ const RunMetrics* find_run(const std::vector<RunMetrics>& runs, const std::strin
 /// The derived quantities of one row, shared by the CSV and Markdown writers.
 struct SweepRow {
   std::optional<double> tt, tt_over_tauc, runout, runout_normalised, runout_normalised_error,
-      crest_height, crest_height_error, rmse, jacobian_ratio_min, jacobian_ratio_avg, eps_q_avg;
+      crest_height, crest_height_error, rmse, jacobian_ratio_min, jacobian_ratio_avg, eps_q_avg,
+      ke_over_pe0_peak, ke_over_pe0_peak_time, ke_over_pe0_peak_time_over_tauc;
 };
 
 SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* reference) {
@@ -75,19 +124,17 @@ SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* refer
     row.jacobian_ratio_avg = run.fem_at_transfer->jacobian_ratio_avg;
     row.eps_q_avg = run.fem_at_transfer->eps_q_avg;
   }
+  if (run.ke_peak) {
+    row.ke_over_pe0_peak = run.ke_peak->ke_over_pe0;
+    row.ke_over_pe0_peak_time = run.ke_peak->time;
+    row.ke_over_pe0_peak_time_over_tauc = run.ke_peak->time / critical_time(c);
+  }
   return row;
 }
 
 }  // namespace
 
 std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("{}: cannot open the FE history", path.string());
-  std::string line;
-  if (!std::getline(in, line)) throw Error("{}: empty file, expected a header line", path.string());
-  const auto header = split_csv_line(line);
-  std::map<std::string, std::size_t> column;
-  for (std::size_t i = 0; i < header.size(); ++i) column[header[i]] = i;
   const std::vector<std::pair<std::string, double FemHistoryRow::*>> fields{
       {"time", &FemHistoryRow::time},
       {"kinetic_energy", &FemHistoryRow::kinetic_energy},
@@ -98,26 +145,42 @@ std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path) {
       {"eps_q_avg", &FemHistoryRow::eps_q_avg},
       {"eps_q_max", &FemHistoryRow::eps_q_max},
       {"n_elements_yielding", &FemHistoryRow::n_elements_yielding}};
-  for (const auto& [name, member] : fields) {
-    if (!column.contains(name)) throw Error("{}: missing column {}", path.string(), name);
-  }
+  std::vector<std::string> names;
+  for (const auto& field : fields) names.push_back(field.first);
   std::vector<FemHistoryRow> rows;
-  int line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.empty()) continue;
-    const auto cells = split_csv_line(line);
-    if (cells.size() != header.size()) {
-      throw Error("{}:{}: {} cells, expected {}", path.string(), line_number, cells.size(),
-                  header.size());
-    }
+  for (const auto& values : read_columns(path, "the FE history", names)) {
     FemHistoryRow row;
-    for (const auto& [name, member] : fields) {
-      row.*member = parse_number(cells[column[name]], path, line_number);
-    }
+    for (std::size_t i = 0; i < fields.size(); ++i) row.*fields[i].second = values[i];
     rows.push_back(row);
   }
   return rows;
+}
+
+std::vector<EnergySample> read_energy_history(const std::filesystem::path& path) {
+  std::vector<EnergySample> samples;
+  for (const auto& values : read_columns(path, "the history", {"time", "ke_over_pe0"})) {
+    samples.push_back({values[0], values[1]});
+  }
+  return samples;
+}
+
+std::vector<EnergySample> transfer_run_energy(const std::vector<FemHistoryRow>& fem, double tt,
+                                              const std::vector<EnergySample>& mpm) {
+  std::vector<EnergySample> samples;
+  for (const auto& row : fem) {
+    if (row.time <= tt + 1e-6) samples.push_back({row.time, row.ke_over_pe0});
+  }
+  samples.insert(samples.end(), mpm.begin(), mpm.end());
+  return samples;
+}
+
+std::optional<EnergyPeak> ke_over_pe0_peak(const std::vector<EnergySample>& samples) {
+  std::optional<EnergyPeak> peak;
+  for (const auto& sample : samples) {
+    if (!std::isfinite(sample.ke_over_pe0)) continue;
+    if (!peak || sample.ke_over_pe0 > peak->ke_over_pe0) peak = {sample.ke_over_pe0, sample.time};
+  }
+  return peak;
 }
 
 std::optional<FemHistoryRow> history_at(const std::vector<FemHistoryRow>& history, double time) {
@@ -163,14 +226,16 @@ std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,
   const RunMetrics* ref = find_run(runs, reference);
   std::string csv =
       "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
-      "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\n";
+      "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+      "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n";
   for (const auto& run : runs) {
     const SweepRow r = sweep_row(c, run, ref);
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", run.run, cell(r.tt),
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", run.run, cell(r.tt),
                        cell(r.tt_over_tauc), cell(r.runout), cell(r.runout_normalised),
                        cell(r.runout_normalised_error), cell(r.crest_height),
                        cell(r.crest_height_error), cell(r.rmse), cell(r.jacobian_ratio_min),
-                       cell(r.jacobian_ratio_avg), cell(r.eps_q_avg));
+                       cell(r.jacobian_ratio_avg), cell(r.eps_q_avg), cell(r.ke_over_pe0_peak),
+                       cell(r.ke_over_pe0_peak_time), cell(r.ke_over_pe0_peak_time_over_tauc));
   }
   return csv;
 }
@@ -190,20 +255,24 @@ std::string profiles_csv(const std::vector<RunMetrics>& runs) {
 std::string sweep_markdown(const Case& c, const std::vector<RunMetrics>& runs,
                            const std::string& reference) {
   const RunMetrics* ref = find_run(runs, reference);
+  // A "|" inside a cell must be escaped, or Markdown starts a new cell there.
   std::string md =
       "| run | t_T (s) | t_T/τc | R (m) | R_N | R_N error | H_c (m) | H_c error | RMSE | "
-      "(|J_t|/|J_0|)_min | (|J_t|/|J_0|)_avg | εq,avg |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "(\\|J_t\\|/\\|J_0\\|)_min | (\\|J_t\\|/\\|J_0\\|)_avg | εq,avg | KE/PE0 peak | "
+      "peak t (s) | peak t/τc |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto percent = [](std::optional<double> v) { return v ? cell(*v * 100.0, "{:+.1f} %") : ""; };
   for (const auto& run : runs) {
     const SweepRow r = sweep_row(c, run, ref);
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", run.run,
-                      cell(r.tt, "{:.3g}"), cell(r.tt_over_tauc, "{:.2f}"),
-                      cell(r.runout, "{:.1f}"), cell(r.runout_normalised, "{:.3f}"),
-                      percent(r.runout_normalised_error), cell(r.crest_height, "{:.2f}"),
-                      percent(r.crest_height_error), cell(r.rmse, "{:.3f}"),
-                      cell(r.jacobian_ratio_min, "{:.3f}"), cell(r.jacobian_ratio_avg, "{:.3f}"),
-                      r.eps_q_avg ? cell(*r.eps_q_avg * 100.0, "{:.1f} %") : "");
+    md += fmt::format(
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", run.run,
+        cell(r.tt, "{:.3g}"), cell(r.tt_over_tauc, "{:.2f}"), cell(r.runout, "{:.2f}"),
+        cell(r.runout_normalised, "{:.3f}"), percent(r.runout_normalised_error),
+        cell(r.crest_height, "{:.2f}"), percent(r.crest_height_error), cell(r.rmse, "{:.3f}"),
+        cell(r.jacobian_ratio_min, "{:.3f}"), cell(r.jacobian_ratio_avg, "{:.3f}"),
+        r.eps_q_avg ? cell(*r.eps_q_avg * 100.0, "{:.1f} %") : "",
+        cell(r.ke_over_pe0_peak, "{:.3g}"), cell(r.ke_over_pe0_peak_time, "{:.2f}"),
+        cell(r.ke_over_pe0_peak_time_over_tauc, "{:.2f}"));
   }
   return md;
 }

@@ -1,6 +1,7 @@
 // The measurements of a transfer-time sweep (METHOD.md §6, CONTRACT.md sweep.csv):
 // one row per run (tt0, tt1, ..., pure-mpm, pure-fem) with runout, crest height and
-// profile RMSE against the tt0 run, and the FE mesh quality at the transfer time.
+// profile RMSE against the tt0 run, the FE mesh quality at the transfer time and,
+// after the CONTRACT columns, the run's KE/PE0 peak, its time and that time over τc.
 #pragma once
 
 #include <filesystem>
@@ -25,6 +26,30 @@ struct FemHistoryRow {
 /// Reads fem_history.csv (CONTRACT.md columns, by name); throws Error naming the file.
 std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path);
 
+/// One (time, KE/PE0) sample of an FE or MPM history.
+struct EnergySample {
+  double time = 0.0;
+  double ke_over_pe0 = 0.0;
+};
+
+/// Reads the `time` and `ke_over_pe0` columns (by name) of fem_history.csv or
+/// mpm_history.csv; throws Error naming the file, line and problem.
+std::vector<EnergySample> read_energy_history(const std::filesystem::path& path);
+
+/// The samples of a hybrid run transferred at `tt`: the FE history up to t_T, then the
+/// MPM history (which starts at t_T).
+std::vector<EnergySample> transfer_run_energy(const std::vector<FemHistoryRow>& fem, double tt,
+                                              const std::vector<EnergySample>& mpm);
+
+struct EnergyPeak {
+  double ke_over_pe0 = 0.0;
+  double time = 0.0;  ///< s, of the first sample with the largest value
+};
+
+/// The largest finite KE/PE0 of the samples (the earliest on ties); none if no sample is
+/// finite.
+std::optional<EnergyPeak> ke_over_pe0_peak(const std::vector<EnergySample>& samples);
+
 /// The row at `time` (within 1e-6 s), if any.
 std::optional<FemHistoryRow> history_at(const std::vector<FemHistoryRow>& history, double time);
 
@@ -38,13 +63,15 @@ struct RunMetrics {
   SurfaceProfile profile;
   RunoutMeasures measures;
   std::optional<FemHistoryRow> fem_at_transfer;
+  std::optional<EnergyPeak> ke_peak;  ///< over the whole run (FE phase included)
 };
 
 /// Measures the final particles of one run (a "particles" or "mpm" checkpoint).
 RunMetrics measure_run(const Case& c, const std::string& run, std::optional<double> tt,
                        const std::filesystem::path& particle_file);
 
-/// Writes sweep.csv (CONTRACT.md columns) with errors and RMSE against the run called
+/// Writes sweep.csv (CONTRACT.md columns, then ke_over_pe0_peak, ke_over_pe0_peak_time,
+/// ke_over_pe0_peak_time_over_tauc) with errors and RMSE against the run called
 /// `reference` (normally "tt0"); empty cells where a value is not defined.
 std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,
                       const std::string& reference);

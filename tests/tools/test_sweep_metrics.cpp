@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -162,6 +163,43 @@ RunMetrics run(const std::string& name, std::optional<double> tt, std::vector<do
   return r;
 }
 
+/// The cells of a Markdown table row: split at every "|" not escaped as "\\|".
+std::vector<std::string> markdown_cells(const std::string& row) {
+  std::vector<std::string> cells;
+  std::string current;
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    if (row[i] == '\\' && i + 1 < row.size() && row[i + 1] == '|') {
+      current += "\\|";
+      ++i;
+    } else if (row[i] == '|') {
+      cells.push_back(current);
+      current.clear();
+    } else {
+      current += row[i];
+    }
+  }
+  cells.push_back(current);
+  // "| a | b |" splits into "", " a ", " b ", "": drop the outer empties.
+  if (!cells.empty() && cells.front().empty()) cells.erase(cells.begin());
+  if (!cells.empty() && cells.back().empty()) cells.pop_back();
+  return cells;
+}
+
+/// GitHub renders a table only if the header has as many cells as the delimiter row;
+/// every body row must have that many too.
+void expect_well_formed_markdown_table(const std::string& md) {
+  std::istringstream lines(md);
+  std::string header, delimiter;
+  ASSERT_TRUE(std::getline(lines, header));
+  ASSERT_TRUE(std::getline(lines, delimiter));
+  const std::size_t columns = markdown_cells(delimiter).size();
+  EXPECT_EQ(markdown_cells(header).size(), columns) << header;
+  for (const auto& cell : markdown_cells(delimiter)) EXPECT_EQ(cell, "---");
+  for (std::string row; std::getline(lines, row);) {
+    EXPECT_EQ(markdown_cells(row).size(), columns) << row;
+  }
+}
+
 TEST(SweepTable, ErrorsAndRmseAgainstTheReferenceRun) {
   // L0 = 5 m so that four 2 m bins reach past it. Reference tt0: heights 10, 8, 6, 4 m,
   // toe 7.5 m: R = 2.5 m, R_N = 0.5, H_c = 10 m.
@@ -186,20 +224,96 @@ TEST(SweepTable, ErrorsAndRmseAgainstTheReferenceRun) {
 
   EXPECT_EQ(sweep_csv(c, runs, "tt0"),
             "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
-            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\n"
-            "tt0,0,0,2.5,0.5,0,10,0,0,1,,\n"
-            "tt1,1,0.495227,2.75,0.55,0.1,9,-0.1,0.127359,0.86,0.99,0.126\n"
-            "pure-mpm,,,0.5,0.1,-0.8,10,0,0.470588,,,\n");
+            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n"
+            "tt0,0,0,2.5,0.5,0,10,0,0,1,,,,,\n"
+            "tt1,1,0.495227,2.75,0.55,0.1,9,-0.1,0.127359,0.86,0.99,0.126,,,\n"
+            "pure-mpm,,,0.5,0.1,-0.8,10,0,0.470588,,,,,,\n");
 
   // Without the reference run the errors and RMSE are not defined: empty cells.
   const std::string without = sweep_csv(c, runs, "tt9");
-  EXPECT_NE(without.find("tt1,1,0.495227,2.75,0.55,,9,,,0.86,0.99,0.126\n"), std::string::npos)
+  EXPECT_NE(without.find("tt1,1,0.495227,2.75,0.55,,9,,,0.86,0.99,0.126,,,\n"), std::string::npos)
       << without;
 
   const std::string md = sweep_markdown(c, runs, "tt0");
   EXPECT_NE(md.find("| tt1 |"), std::string::npos) << md;
   EXPECT_NE(md.find("+10.0 %"), std::string::npos) << md;  // R_N error of tt1
   EXPECT_NE(md.find("-80.0 %"), std::string::npos) << md;  // R_N error of pure-mpm
+  // The header's |J_t|/|J_0| is escaped: 15 header cells like the 15 delimiter cells.
+  EXPECT_NE(md.find("(\\|J_t\\|/\\|J_0\\|)_min"), std::string::npos) << md;
+  EXPECT_EQ(markdown_cells(md.substr(0, md.find('\n'))).size(), 15U);
+  expect_well_formed_markdown_table(md);
+}
+
+TEST(SweepTable, NoNegativeZero) {
+  // A run identical to the reference gives (x − x)/x_ref = −0 where x_ref < 0 (the
+  // geostatic column's R_N is −0.004) and values that round to zero print as "-0.0":
+  // both are written without the minus sign.
+  Case c = column_short();
+  c.metrics.initial_length = 5.0;
+  std::vector<RunMetrics> runs{run("tt0", 0.0, {4.0, 4.0}, 4.98, 5.0),
+                               run("pure-mpm", std::nullopt, {4.0, 4.0}, 4.98, 5.0)};
+  runs[1].measures.runout_normalised = -0.004 * (1.0 + 1e-7);  // error −1e-7: "-0.0 %"
+  const std::string csv = sweep_csv(c, runs, "tt0");
+  EXPECT_NE(csv.find("tt0,0,0,-0.02,-0.004,0,4,0,0,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find(",-0,"), std::string::npos) << csv;
+  const std::string md = sweep_markdown(c, runs, "tt0");
+  EXPECT_EQ(md.find("-0.0 %"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pure-mpm |  |  | -0.02 | -0.004 | +0.0 % |"), std::string::npos) << md;
+}
+
+TEST(EnergyHistory, PeaksOfFemAndMpmHistoriesAndTheirErrors) {
+  // An MPM history in the writer's order and an FE history (CONTRACT columns): the time
+  // and ke_over_pe0 columns are found by name; nan samples do not count.
+  const auto mpm = read_energy_history(
+      write_file("energy-mpm.csv",
+                 "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised\n"
+                 "2,1,10,0.1,60,10,0.2\n2.1,3,10,0.3,61,11,0.22\n2.2,nan,10,nan,62,12,0.24\n"
+                 "2.3,2,10,0.2,63,13,0.26\n"));
+  ASSERT_EQ(mpm.size(), 4U);
+  EXPECT_DOUBLE_EQ(mpm[1].time, 2.1);
+  EXPECT_DOUBLE_EQ(mpm[1].ke_over_pe0, 0.3);
+  ASSERT_TRUE(ke_over_pe0_peak(mpm).has_value());
+  EXPECT_DOUBLE_EQ(ke_over_pe0_peak(mpm)->ke_over_pe0, 0.3);
+  EXPECT_DOUBLE_EQ(ke_over_pe0_peak(mpm)->time, 2.1);
+  EXPECT_FALSE(ke_over_pe0_peak({}).has_value());
+  EXPECT_FALSE(ke_over_pe0_peak({{0.0, std::nan("")}}).has_value());
+
+  // A transfer at 2 s: FE rows at 0, 1, 2 s count (the FE peak 0.5 at 2 s wins), the FE
+  // row at 3 s does not.
+  std::vector<FemHistoryRow> fem = history({1.0, 1.0, 1.0, 1.0});
+  fem[1].ke_over_pe0 = 0.05;
+  fem[2].ke_over_pe0 = 0.5;
+  fem[3].ke_over_pe0 = 0.9;
+  const auto samples = transfer_run_energy(fem, 2.0, mpm);
+  ASSERT_EQ(samples.size(), 7U);  // 3 FE rows + 4 MPM rows
+  EXPECT_DOUBLE_EQ(ke_over_pe0_peak(samples)->ke_over_pe0, 0.5);
+  EXPECT_DOUBLE_EQ(ke_over_pe0_peak(samples)->time, 2.0);
+  // A transfer at 1 s: the MPM peak 0.3 at 2.1 s.
+  EXPECT_DOUBLE_EQ(ke_over_pe0_peak(transfer_run_energy(fem, 1.0, mpm))->time, 2.1);
+
+  // The FE history format reads too (pure-fem's peak).
+  const auto fe = read_energy_history(
+      write_file("energy-fem.csv",
+                 std::string(contract_header) +
+                     "\n0,0,3.4e9,0,1,nan,nan,0,0\n2.4,4.8e8,3.4e9,0.142,0.5,0.9,0.3,1,9\n"));
+  EXPECT_DOUBLE_EQ(ke_over_pe0_peak(fe)->time, 2.4);
+
+  // Broken files: errors naming the file, the line and the problem.
+  for (const auto& [name, text, part] :
+       {std::tuple<std::string, std::string, std::string>{"energy-no-ke.csv", "time,x_toe\n0,1\n",
+                                                          "missing column ke_over_pe0"},
+        {"energy-bad.csv", "time,ke_over_pe0\n0,0\n1,fast\n", ":3: \"fast\" is not a number"},
+        {"energy-short.csv", "time,ke_over_pe0,x_toe\n0,0\n", ":2: 2 cells, expected 3"}}) {
+    const fs::path path = write_file(name, text);
+    try {
+      read_energy_history(path);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  }
 }
 
 /// A final particle state written as a checkpoint, as mpm-solve ("mpm") or the pure-FE
@@ -314,37 +428,66 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
 
   // sweep.csv: the CONTRACT columns; tt0 has zero errors and RMSE, the NaN averages of
   // the t = 0 history row and everything FE- or tt-related of pure-fem are empty.
-  // tt_over_tauc of tt1 = 1/2.01928 = 0.495227.
+  // The KE/PE0 peaks, over the FE phase up to t_T and the run's MPM history:
+  // tt0: FE 0 at t = 0, MPM 0, 0.02, 0.02 at 0, 0.5, 1 s → 0.02 at 0.5 s (the earliest of
+  //   a tie), t/τc = 0.5/2.01928 = 0.247614.
+  // tt1: FE 0, 0.005 at 0, 1 s (the FE rows after 1 s do not count, although 0.01 at 2 s
+  //   is larger than the MPM values), MPM 0.004, 0.012, 0.008 at 1, 1.5, 2 s → 0.012 at
+  //   1.5 s, t/τc = 0.742841.
+  // pure-fem: no history given, empty cells.
+  const std::string mpm_header =
+      "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised\n";
+  const auto mpm0 = read_energy_history(write_file(
+      "tt0-mpm-history.csv", mpm_header + "0,0,3.4e9,0,5,0,0\n0.5,6.8e7,3.4e9,0.02,6,1,0.2\n"
+                                          "1,6.8e7,3.4e9,0.02,7,2,0.4\n"));
+  const auto mpm1 = read_energy_history(
+      write_file("tt1-mpm-history.csv", mpm_header + "1,1.36e7,3.4e9,0.004,6,1,0.2\n"
+                                                     "1.5,4.08e7,3.4e9,0.012,7,2,0.4\n"
+                                                     "2,2.72e7,3.4e9,0.008,8,3,0.6\n"));
+  runs[0].ke_peak = ke_over_pe0_peak(transfer_run_energy(history, 0.0, mpm0));
+  runs[1].ke_peak = ke_over_pe0_peak(transfer_run_energy(history, 1.0, mpm1));
+  ASSERT_TRUE(runs[1].ke_peak.has_value());
+  EXPECT_DOUBLE_EQ(runs[1].ke_peak->ke_over_pe0, 0.012);
+  EXPECT_DOUBLE_EQ(runs[1].ke_peak->time, 1.5);
+
+  // sweep.csv: the CONTRACT columns, then the three KE/PE0 peak columns; tt0 has zero
+  // errors and RMSE, the NaN averages of the t = 0 history row and everything FE- or
+  // tt-related of pure-fem are empty. tt_over_tauc of tt1 = 1/2.01928 = 0.495227.
   const std::string csv = sweep_csv(c, runs, "tt0");
   EXPECT_EQ(csv,
             "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
-            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\n"
-            "tt0,0,0,2.5,0.5,0,9.99,0,0,1,,\n"
-            "tt1,1,0.495227,3.5,0.7,0.4,9,-0.0990991,0.127191,0.9,0.97,0.051\n"
-            "pure-fem,,,-2.5,-0.5,-2,11.99,0.2002,0.681955,,,\n");
-  // Every row has as many cells as the header (12 columns, 11 commas).
+            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n"
+            "tt0,0,0,2.5,0.5,0,9.99,0,0,1,,,0.02,0.5,0.247614\n"
+            "tt1,1,0.495227,3.5,0.7,0.4,9,-0.0990991,0.127191,0.9,0.97,0.051,0.012,1.5,0.742841\n"
+            "pure-fem,,,-2.5,-0.5,-2,11.99,0.2002,0.681955,,,,,,\n");
+  // Every row has as many cells as the header (15 columns, 14 commas).
   std::istringstream lines(csv);
   for (std::string line; std::getline(lines, line);) {
-    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 11) << line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 14) << line;
   }
 
   // No reference run (slide-metrics passes "" when there is no tt0): the three error
   // columns and the RMSE are empty in every row, the measures stay.
   EXPECT_EQ(sweep_csv(c, runs, ""),
             "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
-            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\n"
-            "tt0,0,0,2.5,0.5,,9.99,,,1,,\n"
-            "tt1,1,0.495227,3.5,0.7,,9,,,0.9,0.97,0.051\n"
-            "pure-fem,,,-2.5,-0.5,,11.99,,,,,\n");
+            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n"
+            "tt0,0,0,2.5,0.5,,9.99,,,1,,,0.02,0.5,0.247614\n"
+            "tt1,1,0.495227,3.5,0.7,,9,,,0.9,0.97,0.051,0.012,1.5,0.742841\n"
+            "pure-fem,,,-2.5,-0.5,,11.99,,,,,,,,\n");
 
   // The Markdown table: same numbers, rounded for the report; errors in %, εq,avg in %.
   const std::string md = sweep_markdown(c, runs, "tt0");
   EXPECT_EQ(md.substr(md.find('\n') + 1),
-            "|---|---|---|---|---|---|---|---|---|---|---|---|\n"
-            "| tt0 | 0 | 0.00 | 2.5 | 0.500 | +0.0 % | 9.99 | +0.0 % | 0.000 | 1.000 |  |  |\n"
-            "| tt1 | 1 | 0.50 | 3.5 | 0.700 | +40.0 % | 9.00 | -9.9 % | 0.127 | 0.900 | 0.970 | "
-            "5.1 % |\n"
-            "| pure-fem |  |  | -2.5 | -0.500 | -200.0 % | 11.99 | +20.0 % | 0.682 |  |  |  |\n");
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+            "| tt0 | 0 | 0.00 | 2.50 | 0.500 | +0.0 % | 9.99 | +0.0 % | 0.000 | 1.000 |  |  | "
+            "0.02 | 0.50 | 0.25 |\n"
+            "| tt1 | 1 | 0.50 | 3.50 | 0.700 | +40.0 % | 9.00 | -9.9 % | 0.127 | 0.900 | 0.970 | "
+            "5.1 % | 0.012 | 1.50 | 0.74 |\n"
+            "| pure-fem |  |  | -2.50 | -0.500 | -200.0 % | 11.99 | +20.0 % | 0.682 |  |  |  |  "
+            "|  |  |\n");
+  expect_well_formed_markdown_table(md);
 }
 
 TEST(SweepTable, MeasuringAMissingParticleFileIsAnErrorNamingIt) {
