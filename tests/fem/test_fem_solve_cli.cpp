@@ -1,6 +1,8 @@
-// fem-solve end to end: restart bit for bit, the files of the CONTRACT, the
-// instability guard, the updated-Lagrangian stop, bad input, and a cut column-short
-// regression against stored reference numbers.
+// fem-solve end to end: restart bit for bit, the files of the CONTRACT (checkpoint
+// times, VTK frames read back with VTK), the zone-exit checkpoint, the instability
+// guard, the updated-Lagrangian stop, bad input, and a cut column-short regression
+// against stored reference numbers.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -11,6 +13,13 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include "common/checkpoint.hpp"
 #include "fem_test_support.hpp"
@@ -199,6 +208,99 @@ TEST(FemSolveCli, WritesTheContractFiles) {
             true);
 }
 
+/// A .vtu file read back with VTK's own reader.
+vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& path) {
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
+
+/// The (time, file) entries of a .pvd collection.
+std::vector<std::pair<double, std::string>> pvd_entries(const fs::path& path) {
+  std::vector<std::pair<double, std::string>> entries;
+  std::istringstream in(read_text(path));
+  for (std::string line; std::getline(in, line);) {
+    const auto t = line.find("timestep=\""), f = line.find("file=\"");
+    if (t == std::string::npos || f == std::string::npos) continue;
+    entries.emplace_back(std::stod(line.substr(t + 10)),
+                         line.substr(f + 6, line.find('"', f + 6) - f - 6));
+  }
+  return entries;
+}
+
+TEST(FemSolveCli, VtkFramesHoldTheFieldsOfTheCheckpoints) {
+  // The column (80 quads, 99 nodes) to 0.4 s with outputs every 0.1 s: fem.pvd lists the
+  // five frames, each read back by VTK holds the point and cell arrays of fem/README.md
+  // with one tuple per node or element, and the frames at the checkpoint times carry
+  // the checkpoint's current coordinates, displacement and |J_t|/|J_0|.
+  const fs::path dir = scratch("vtk");
+  const fs::path case_file = write_case(dir, ColumnCase{}.text());
+  const ProgramRun run =
+      fem_solve(case_file.string() + " -o " + (dir / "out").string() + " -q", dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto frames = pvd_entries(dir / "out" / "fem.pvd");
+  ASSERT_EQ(frames.size(), 5U);
+  std::map<double, fs::path> frame_at;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_NEAR(frames[i].first, 0.1 * static_cast<double>(i), 1e-12);
+    EXPECT_TRUE(fs::exists(dir / "out" / frames[i].second)) << frames[i].second;
+    frame_at[frames[i].first] = dir / "out" / frames[i].second;
+  }
+  std::size_t mesh_files = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "out" / "vtk")) {
+    mesh_files += entry.path().filename().string().rfind("fem_0", 0) == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(mesh_files, frames.size()) << "a frame the collection does not list";
+  EXPECT_EQ(pvd_entries(dir / "out" / "fem_gauss_points.pvd").size(), frames.size());
+
+  for (const double time : {0.2, 0.4}) {
+    SCOPED_TRACE(time);
+    const FemCheckpoint c = read_fem_checkpoint(dir / "out" / fmt::format("fem_t{:.3f}.h5", time));
+    const auto found = std::find_if(frame_at.begin(), frame_at.end(), [&](const auto& f) {
+      return std::abs(f.first - c.header.time) < 1e-9;
+    });
+    ASSERT_NE(found, frame_at.end());
+    EXPECT_EQ(found->second.filename().string(), fmt::format("fem_{:06d}.vtu", c.header.step));
+    const auto grid = read_vtu(found->second);
+    ASSERT_NE(grid, nullptr);
+    const auto nodes = static_cast<vtkIdType>(c.coordinates.size());
+    const auto elements = static_cast<vtkIdType>(c.jacobian_ratio.size());
+    ASSERT_EQ(grid->GetNumberOfPoints(), nodes);
+    ASSERT_EQ(grid->GetNumberOfCells(), elements);
+    ASSERT_EQ(nodes, 99);
+    ASSERT_EQ(elements, 80);
+    struct Expected {
+      const char* name;
+      bool point;
+      int components;
+    };
+    for (const Expected& e : {Expected{"displacement", true, 3}, Expected{"velocity", true, 3},
+                              Expected{"stress", false, 4}, Expected{"strain", false, 4},
+                              Expected{"eps_q", false, 1}, Expected{"jacobian_ratio", false, 1}}) {
+      vtkDataArray* array =
+          e.point ? grid->GetPointData()->GetArray(e.name) : grid->GetCellData()->GetArray(e.name);
+      ASSERT_NE(array, nullptr) << e.name;
+      EXPECT_EQ(array->GetNumberOfTuples(), e.point ? nodes : elements) << e.name;
+      EXPECT_EQ(array->GetNumberOfComponents(), e.components) << e.name;
+    }
+    vtkDataArray* ratio = grid->GetCellData()->GetArray("jacobian_ratio");
+    vtkDataArray* displacement = grid->GetPointData()->GetArray("displacement");
+    for (vtkIdType e = 0; e < elements; ++e) {
+      EXPECT_EQ(ratio->GetTuple1(e), c.jacobian_ratio[static_cast<std::size_t>(e)]) << e;
+    }
+    for (vtkIdType n = 0; n < nodes; ++n) {
+      const auto i = static_cast<std::size_t>(n);
+      double x[3];
+      grid->GetPoint(n, x);
+      EXPECT_EQ(Vec2(x[0], x[1]), c.coordinates[i]) << n;
+      EXPECT_EQ(Vec2(displacement->GetComponent(n, 0), displacement->GetComponent(n, 1)),
+                c.displacement[i])
+          << n;
+    }
+  }
+}
+
 TEST(FemSolveCli, GeostaticOnlyCaseWritesTheTimeZeroCheckpoint) {
   const fs::path dir = scratch("geostatic-only");
   const ProgramRun run = fem_solve((source_dir / "cases" / "geostatic-4x4" / "case.toml").string() +
@@ -265,10 +367,53 @@ TEST(FemSolveCli, CheckpointAtZoneExitKeepsTheLastStateInsideTheZone) {
   const auto at = summary.find("last_time_in_zone = ");
   ASSERT_NE(at, std::string::npos);
   const std::string last_inside = summary.substr(at + 20, summary.find('\n', at) - at - 20);
-  ASSERT_NE(last_inside, "none") << "the run never left the zone: lengthen it";
+  ASSERT_NE(last_inside, "none") << summary;
+  ASSERT_EQ(summary.find("zone_exit_time = none"), std::string::npos)
+      << "the run never left the zone: lengthen it\n"
+      << summary;
   const fs::path file = dir / "out" / ("fem_t" + last_inside + ".h5");
   ASSERT_TRUE(fs::exists(file)) << file;
-  EXPECT_NEAR(read_fem_checkpoint(file).header.time, std::stod(last_inside), 1e-9);
+  // The kept state is the state a run cut at that time ends with, every dataset equal.
+  const ProgramRun cut = fem_solve(case_file.string() + " -o " + (dir / "cut").string() +
+                                       " --no-vtk --quiet --until " + last_inside,
+                                   dir);
+  ASSERT_EQ(cut.status, 0) << cut.err;
+  expect_identical(file, dir / "cut" / ("fem_t" + last_inside + ".h5"));
+}
+
+TEST(FemSolveCli, CheckpointEveryWritesExactlyTheMultiples) {
+  // --checkpoint-every 0.15 on a case without checkpoint_every, outputs every 0.1 s, to
+  // 0.4 s: checkpoints at 0 (geostatic), 0.15, 0.3 and the end time, nothing else; each
+  // at its time exactly (the step before it is shortened to land on it).
+  const fs::path dir = scratch("checkpoint-every");
+  ColumnCase column;
+  column.checkpoint_every = 0.0;
+  const fs::path case_file = write_case(dir, column.text());
+  const ProgramRun run = fem_solve(
+      case_file.string() + " -o " + (dir / "out").string() + " --no-vtk -q --checkpoint-every 0.15",
+      dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir / "out")) {
+    if (entry.path().extension() == ".h5") names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"fem_t0.000.h5", "fem_t0.150.h5", "fem_t0.300.h5",
+                                             "fem_t0.400.h5"}));
+  for (const int k : {1, 2}) {
+    const FemCheckpoint c =
+        read_fem_checkpoint(dir / "out" / fmt::format("fem_t{:.3f}.h5", 0.15 * k));
+    EXPECT_NEAR(c.header.time, 0.15 * k, 1e-12) << k;
+  }
+  // A checkpoint time is an output step too: the history has the rows of both grids.
+  std::istringstream history(read_text(dir / "out" / "fem_history.csv"));
+  std::string line;
+  std::getline(history, line);
+  std::vector<double> times;
+  while (std::getline(history, line)) times.push_back(std::stod(line));
+  const std::vector<double> expected{0.0, 0.1, 0.15, 0.2, 0.3, 0.4};
+  ASSERT_EQ(times.size(), expected.size());
+  for (std::size_t i = 0; i < times.size(); ++i) EXPECT_NEAR(times[i], expected[i], 1e-12);
 }
 
 TEST(FemSolveCli, InstabilityStopsWithoutWritingABadCheckpoint) {
@@ -393,7 +538,11 @@ TEST_F(FemSolveBadInput, GmshFileWithAnInvertedElement) {
              "1 2 \"right\"\n1 3 \"base\"\n2 4 \"soil\"\n$EndPhysicalNames\n$Nodes\n4\n"
              "1 0 0 0\n2 1 0 0\n3 0.2 0.2 0\n4 0 1 0\n$EndNodes\n$Elements\n4\n"
              "1 1 2 1 1 1 4\n2 1 2 2 2 2 3\n3 1 2 3 3 1 2\n4 3 2 4 1 1 2 3 4\n$EndElements\n");
-  expect_one_line_error(run_case(gmsh_case("mesh.msh")), "element");
+  // Element 4 on line 23; its centre is the mean of its nodes, and det J at the reflex
+  // corner 2 is ((x2 − x3) × (x2 − x1))/4 = ((0.2, −0.8) × (−0.8, 0.2))/4 = −0.15.
+  expect_one_line_error(run_case(gmsh_case("mesh.msh")),
+                        "mesh.msh:23: element 4 at (0.3, 0.3) is inverted or has zero area: det J "
+                        "= -0.15 at its corner 2 (node 3 at (0.2, 0.2))");
 }
 
 TEST_F(FemSolveBadInput, RestartFromAParticleFile) {
