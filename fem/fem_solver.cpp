@@ -496,17 +496,26 @@ FemRunSummary FemRun::finish() {
     }
   }
   if (case_.fem.failure_stage) {
-    const auto when = [](std::optional<double> t) {
-      return t ? fmt::format("t = {:.3f} s", *t) : std::string("never");
-    };
-    logger_.info(
-        "recommended transfer zone ((|J_t|/|J_0|)_avg ≥ {}, εq,avg ≤ {}): last inside "
-        "at {}, left at {}",
-        zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, when(summary.last_time_in_zone),
-        when(summary.zone_exit_time));
-    logger_.info("(|J_t|/|J_0|)_min < 0 first at {}; KE/PE0 peak {:.5f} at t = {:.3f} s",
-                 when(summary.first_time_inverted), summary.ke_over_pe0_max,
-                 summary.ke_over_pe0_max_time);
+    const auto at = [](double t) { return fmt::format("t = {:.3f} s", t); };
+    std::string zone;
+    if (summary.last_time_in_zone && summary.zone_exit_time) {
+      zone = fmt::format("last inside at {}, left at {}", at(*summary.last_time_in_zone),
+                         at(*summary.zone_exit_time));
+    } else if (summary.last_time_in_zone) {
+      zone = fmt::format("inside at every output step, to {}", at(*summary.last_time_in_zone));
+    } else if (summary.zone_exit_time) {
+      zone = fmt::format("outside from {} on", at(*summary.zone_exit_time));
+    } else {
+      zone = "no output step";
+    }
+    logger_.info("recommended transfer zone ((|J_t|/|J_0|)_avg ≥ {}, εq,avg ≤ {}): {}",
+                 zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, zone);
+    const std::string inversion =
+        summary.first_time_inverted
+            ? fmt::format("(|J_t|/|J_0|)_min < 0 first at {}", at(*summary.first_time_inverted))
+            : std::string("no element inverted ((|J_t|/|J_0|)_min ≥ 0 at every output step)");
+    logger_.info("{}; KE/PE0 peak {:.5f} at {}", inversion, summary.ke_over_pe0_max,
+                 at(summary.ke_over_pe0_max_time));
   }
   const std::string text = fmt::format(
       "# fem-solve summary of case {} (times in s; METHOD.md §3)\n"
