@@ -1,66 +1,73 @@
 #!/usr/bin/python3
 """Reads the sample checkpoints of write_sample_checkpoints with h5py, as a user would.
 
-Only names documented in common/checkpoint-schema.md are used. For each kind the script
+Only names documented in common/checkpoint-schema.md are used: the script reads them from
+that page's tables, so the page and the files cannot drift apart. For each kind it
 checks that the file holds exactly the documented datasets with their documented shapes,
 dtypes and units, the file and group attributes, and a few values whose formulas are in
 write_sample_checkpoints.cpp.
 
-Usage: read_checkpoint_with_h5py.py FOLDER
+Usage: read_checkpoint_with_h5py.py FOLDER SCHEMA_PAGE (common/checkpoint-schema.md)
 """
 import math
+import re
 import sys
 from pathlib import Path
 
 import h5py
 import numpy as np
 
-# Documented datasets: name -> (columns or None for 1-D, dtype kind, units).
-# The row count is n_nodes, n_elements, n_gp, n_p or the node-set size.
-FEM_DATASETS = {
-    "nodes/reference_coordinates": (2, "f", "m"),
-    "nodes/coordinates": (2, "f", "m"),
-    "nodes/displacement": (2, "f", "m"),
-    "nodes/velocity": (2, "f", "m/s"),
-    "nodes/acceleration": (2, "f", "m/s^2"),
-    "nodes/pore_pressure": (None, "f", "Pa"),
-    "elements/connectivity": (4, "i", "1"),
-    "elements/material_id": (None, "i", "1"),
-    "elements/jacobian_ratio": (None, "f", "1"),
-    "elements/volume_reference": (None, "f", "m^3/m"),
-    "elements/volume": (None, "f", "m^3/m"),
-    "gauss_points/element": (None, "i", "1"),
-    "gauss_points/local_coordinates": (2, "f", "1"),
-    "gauss_points/coordinates": (2, "f", "m"),
-    "gauss_points/weight": (None, "f", "1"),
-    "gauss_points/stress": (4, "f", "Pa"),
-    "gauss_points/strain": (4, "f", "1"),
-    "gauss_points/eps_q": (None, "f", "1"),
-    "gauss_points/state/plastic_shear_strain": (None, "f", "1"),
-    "gauss_points/state/plastic_volumetric_strain": (None, "f", "1"),
-    "boundary/left/nodes": (None, "i", "1"),
-    "boundary/right/nodes": (None, "i", "1"),
-    "boundary/base/nodes": (None, "i", "1"),
-}
-PARTICLE_DATASETS = {
-    "particles/coordinates": (2, "f", "m"),
-    "particles/displacement": (2, "f", "m"),
-    "particles/velocity": (2, "f", "m/s"),
-    "particles/stress": (4, "f", "Pa"),
-    "particles/strain": (4, "f", "1"),
-    "particles/eps_q": (None, "f", "1"),
-    "particles/pore_pressure": (None, "f", "Pa"),
-    "particles/volume": (None, "f", "m^3/m"),
-    "particles/mass": (None, "f", "kg/m"),
-    "particles/size": (2, "f", "m"),
-    "particles/material_id": (None, "i", "1"),
-    "particles/element": (None, "i", "1"),
-    "particles/id": (None, "i", "1"),
-    "particles/state/plastic_shear_strain": (None, "f", "1"),
-    "particles/state/plastic_volumetric_strain": (None, "f", "1"),
-}
-MATERIAL_ATTRIBUTES = ["name", "model", "density", "youngs_modulus", "poisson_ratio",
-                       "friction_angle", "cohesion", "dilation_angle", "tension_cutoff"]
+DTYPE_KINDS = {"float64": "f", "int64": "i", "int32": "i"}
+
+
+def documented_schema(schema_page):
+    """The datasets and material attributes the schema page documents, parsed from its
+    tables: {kind section: {name: (columns or None, dtype kind, units, optional)}}, with
+    the symbolic column count k of the connectivity resolved to 4 (quad samples)."""
+    sections, section, group, in_table = {}, None, None, False
+    material_attributes = []
+    for line in Path(schema_page).read_text(encoding="utf-8").splitlines():
+        heading = re.match(r"^## (.*)", line)
+        if heading:
+            title = heading.group(1)
+            section = "fem" if title.startswith('Kind "fem"') else \
+                "particles" if title.startswith("Kinds") else \
+                "materials" if title.startswith("Materials") else None
+            sections.setdefault(section, {})
+            group, in_table = None, False
+            continue
+        sub = re.match(r"^### `/([a-z_]+)`", line)
+        if sub:
+            group, in_table = sub.group(1), False
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")] if line.startswith("|") else []
+        if cells and cells[0] in ("dataset", "attribute"):
+            in_table = True
+            continue
+        if not cells:
+            in_table = False
+            # the boundary node sets are documented in a list, not a table
+            bullet = re.match(r"^\s*- dataset `(\w+)`: n_set, (\w+), units `\"(.*)\"`", line)
+            if bullet and section == "fem":
+                sections["fem"]["boundary/*/" + bullet.group(1)] = (
+                    None, DTYPE_KINDS[bullet.group(2)], bullet.group(3), False)
+            continue
+        if not in_table or set(cells[0]) <= set("-"):
+            continue
+        name = cells[0].strip("`")
+        if section == "materials":
+            material_attributes.append(name)
+        elif section in ("fem", "particles") and group and len(cells) >= 5:
+            shape = cells[1].split("×")
+            columns = None if len(shape) == 1 else shape[1].strip()
+            columns = 4 if columns == "k" else (int(columns) if columns else None)
+            optional = "*optional*" in cells[4]
+            sections[section][f"{group}/{name}"] = (
+                columns, DTYPE_KINDS[cells[2]], cells[3], optional)
+    return sections["fem"], sections["particles"], material_attributes
+
+
+FEM_DATASETS, PARTICLE_DATASETS, MATERIAL_ATTRIBUTES = documented_schema(sys.argv[2])
 
 failures = []
 
@@ -79,9 +86,18 @@ def datasets_of(f):
 def check_datasets(f, documented, rows_of):
     label = Path(f.filename).name
     present = set(datasets_of(f))
-    check(not present - set(documented), f"{label}: undocumented datasets {sorted(present - set(documented))}")
-    check(not set(documented) - present, f"{label}: missing datasets {sorted(set(documented) - present)}")
-    for name, (columns, kind, units) in documented.items():
+    # boundary/*/nodes stands for one dataset per node set present in the file
+    expanded = {}
+    for name, spec in documented.items():
+        if name.startswith("boundary/*/"):
+            for node_set in f.get("boundary", {}):
+                expanded[name.replace("*", node_set)] = spec
+        else:
+            expanded[name] = spec
+    required = {name for name, spec in expanded.items() if not spec[3]}
+    check(not present - set(expanded), f"{label}: undocumented datasets {sorted(present - set(expanded))}")
+    check(not required - present, f"{label}: missing datasets {sorted(required - present)}")
+    for name, (columns, kind, units, _) in expanded.items():
         if name not in f:
             continue
         d = f[name]
@@ -208,6 +224,9 @@ def read_particles(path, kind, time, step):
 
 def main():
     folder = Path(sys.argv[1])
+    check(len(FEM_DATASETS) >= 20 and len(PARTICLE_DATASETS) >= 15 and len(MATERIAL_ATTRIBUTES) >= 9,
+          f"schema page parsed to {len(FEM_DATASETS)} fem datasets, {len(PARTICLE_DATASETS)} "
+          f"particle datasets, {len(MATERIAL_ATTRIBUTES)} material attributes: tables not found")
     read_fem(folder / "fem.h5")
     particles = read_particles(folder / "particles.h5", "particles", 2.0, 0)
     mpm = read_particles(folder / "mpm.h5", "mpm", 3.0, 500)
