@@ -69,23 +69,7 @@ void run(const CommandLine& line, const CLI::App& app) {
   transfer::TransferResult result = transfer::transfer(fem, options, &logger);
   result.report.input = line.input;
   result.report.output = line.output;
-  if (!result.report.inverted_elements.empty()) {
-    logger.warning("{} inverted element(s) transferred with their reference volume, first {}",
-                   result.report.inverted_elements.size(), result.report.inverted_elements.front());
-  }
-  if (result.report.excluded_gauss_points > 0) {
-    logger.warning(
-        "{} collapsed element(s) (inverted or V_t/V_0 < {:g}) left out of the RBF centres; "
-        "their particles take the fields interpolated from the other elements",
-        result.report.collapsed_elements, result.report.collapsed_volume_ratio);
-  }
-  if (result.report.limited_stress_particles > 0) {
-    logger.warning(
-        "{} particle(s) had RBF stresses beyond their element patch's range, limited "
-        "to it (crowded or folded Gauss points; compare --stress-interpolation "
-        "element)",
-        result.report.limited_stress_particles);
-  }
+  for (const auto& text : transfer::report_warnings(result.report)) logger.warning("{}", text);
   // The report goes with its particle file: it is written first, under a temporary name,
   // and renamed only once the particle file is in place, so a failure leaves neither.
   const auto json = transfer::report_path(line.output);

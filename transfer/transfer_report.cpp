@@ -123,6 +123,29 @@ std::vector<std::string> format_report_lines(const TransferReport& r) {
   return lines;
 }
 
+std::vector<std::string> report_warnings(const TransferReport& report) {
+  std::vector<std::string> lines;
+  if (!report.inverted_elements.empty()) {
+    lines.push_back(
+        fmt::format("{} inverted element(s) transferred with their reference volume, first {}",
+                    report.inverted_elements.size(), report.inverted_elements.front()));
+  }
+  if (report.excluded_gauss_points > 0) {
+    lines.push_back(fmt::format(
+        "{} collapsed element(s) (inverted or V_t/V_0 < {:g}) left out of the RBF centres; "
+        "their particles take the fields interpolated from the other elements",
+        report.collapsed_elements, report.collapsed_volume_ratio));
+  }
+  if (report.limited_stress_particles > 0) {
+    lines.push_back(
+        fmt::format("{} particle(s) had RBF stresses beyond their element patch's range, limited "
+                    "to it (crowded or folded Gauss points; compare --stress-interpolation "
+                    "element)",
+                    report.limited_stress_particles));
+  }
+  return lines;
+}
+
 std::string report_json(const TransferReport& r) {
   std::string inverted = "[";
   for (std::size_t i = 0; i < r.inverted_elements.size(); ++i) {

@@ -76,6 +76,9 @@ struct TransferReport {
 
 /// Multi-line text for the console (each line without the program prefix).
 std::vector<std::string> format_report_lines(const TransferReport& report);
+/// What the user must not miss (inverted, collapsed elements, limited stresses), one
+/// warning per line; empty for a clean transfer.
+std::vector<std::string> report_warnings(const TransferReport& report);
 /// The same as a JSON object (non-finite numbers become null).
 std::string report_json(const TransferReport& report);
 /// PARTICLES.h5 → PARTICLES.transfer.json (any other name: name + ".transfer.json").
