@@ -1,21 +1,28 @@
 # The stages of a case as Make rules (CONTRACT.md "Cases"). Each case's Makefile sets
 # CASE_DIR and includes this file. Every target depends on the files of the stage
-# before, so `make` reruns only what is stale, and independent runs go in parallel
-# under `make -j2`.
+# before, so `make` reruns only what is stale (a second `make main` runs nothing), and
+# independent runs go in parallel under `make -j2`.
 #
 #   make fem              FE phase:           out/fem/fem_t*.h5, fem_history.csv
-#   make transfer TT=2    FE -> particles:    out/tt2/particles.h5
+#                         (also fem_t<T>.h5 at T, the last output inside the
+#                         recommended transfer zone, e.g. fem_t1.300.h5)
+#   make transfer TT=2    FE -> particles:    out/tt2/particles.h5 (TT: any FE
+#                         checkpoint time, e.g. TT=1.3 for fem_t1.300.h5)
 #   make mpm TT=2         MPM from them:      out/tt2/mpm_final.h5, mpm_history.csv
 #   make pure-mpm         MPM from geometry:  out/pure-mpm/
 #   make pure-fem         FE to the MPM end:  out/pure-fem/ (+ particles for metrics)
 #   make sweep            t_T = 0, 1, 2, ... while the FE mesh is not entangled,
 #                         plus pure-mpm and pure-fem: out/sweep.csv
-#   make report           out/report/report.md with its figures
+#   make report           out/report/report.md with its figures, from every finished
+#                         run in out/ (re-measured when a run is newer than sweep.csv)
 #   make main             the README's main job: tt0, tt<main>, pure runs, report
+#   make sweep-plan       the runs `make sweep` makes (after the FE phase)
 #
 # Variables: OUT=dir (default out/ next to case.toml), BUILD=dir (default build/ at
-# the top of the repository), PYTHON (default /usr/bin/python3, Debian's, with h5py
-# and matplotlib), THREADS (OpenMP threads per MPM run), VTK_EVERY (s between MPM VTK
+# the top of the repository) or BIN=dir (the programs, default BUILD/bin), PYTHON
+# (default /usr/bin/python3, Debian's, with h5py and matplotlib), THREADS (OpenMP
+# threads per MPM run; unset: all cores for a run made alone, 1 per run under make -j,
+# so that two runs do not oversubscribe two cores), VTK_EVERY (s between MPM VTK
 # frames, default 1; 0 for every output step), MPM_FLAGS, FEM_FLAGS, TRANSFER_FLAGS.
 
 ROOT    := $(abspath $(CASE_DIR)/../..)
@@ -33,10 +40,9 @@ METRICS   := $(BIN)/slide-metrics
 PROGRAMS  := $(FEM_SOLVE) $(FEM2MPM) $(MPM_SOLVE) $(METRICS)
 
 VTK_EVERY ?= 1
-MPM_FLAGS += --vtk-every $(VTK_EVERY)
-ifneq ($(THREADS),)
-  MPM_FLAGS += --threads $(THREADS)
-endif
+# Expanded in the recipes, where MAKEFLAGS carries -j (it does not while parsing).
+mpm_threads = $(or $(THREADS),$(if $(filter-out -j1,$(filter -j%,$(MAKEFLAGS))),1))
+MPM_OPTIONS = --vtk-every $(VTK_EVERY) $(if $(mpm_threads),--threads $(mpm_threads))
 
 # The case's own numbers (MAIN_TT, SWEEP_TTS, FEM_END, MPM_END, TAU_C), read once
 # from case.toml by the same reader the programs use.
@@ -65,8 +71,10 @@ ifeq ($(FEM_END),0)
 else
   PURE_RUNS := $(PURE_MPM) $(PURE_FEM)
 endif
+run_file = $(OUT)/tt$(1)/mpm_final.h5
+MAIN_RUNS := $(call run_file,0) $(call run_file,$(MAIN_TT)) $(PURE_RUNS)
 
-.PHONY: all main fem transfer mpm pure-mpm pure-fem sweep sweep-runs report clean help
+.PHONY: all main fem transfer mpm pure-mpm pure-fem sweep sweep-plan report clean help
 .DELETE_ON_ERROR:
 .SECONDARY:
 
@@ -76,32 +84,42 @@ help:
 	@sed -n '/^#   make/,/^#$$/p' $(lastword $(MAKEFILE_LIST)) | sed 's/^# //'
 
 # --------------------------------------------------------------------------- stages
+# --checkpoint-at-zone-exit: the state at the last output inside the recommended
+# transfer zone is written too (fem_t1.300.h5 for column-short), so that the transfer
+# time the report recommends can be run with `make mpm TT=1.3`.
 fem: $(FEM_DONE)
 $(FEM_DONE): $(CASE) $(FEM_SOLVE)
-	$(FEM_SOLVE) $(CASE) -o $(OUT)/fem $(FEM_FLAGS)
+	$(FEM_SOLVE) $(CASE) -o $(OUT)/fem --checkpoint-at-zone-exit $(FEM_FLAGS)
 
+# TT names the folder (tt1.3) and, with three decimals, the FE checkpoint (fem_t1.300.h5).
 transfer: $(OUT)/tt$(TT)/particles.h5
 $(OUT)/tt%/particles.h5: $(FEM_DONE) $(FEM2MPM)
-	$(FEM2MPM) $(OUT)/fem/fem_t$(call three_decimals,$*).h5 -o $@ --case $(CASE) $(TRANSFER_FLAGS)
+	@test -f $(OUT)/fem/fem_t$(call three_decimals,$*).h5 || { \
+	  echo "no FE checkpoint at t_T = $* s ($(OUT)/fem/fem_t$(call three_decimals,$*).h5); the FE phase wrote t_T =" \
+	    $$(ls $(OUT)/fem | sed -n 's/^fem_t\(.*\)\.h5$$/\1/p' | sort -g | awk '{ printf "%g ", $$1 }') >&2; \
+	  exit 1; }
+	$(FEM2MPM) $(OUT)/fem/fem_t$(call three_decimals,$*).h5 -o $@ --case $(CASE) \
+	  $(ALLOW_INVERTED) $(TRANSFER_FLAGS)
 
 # The main job transfers at t_T ≈ τc as the study prescribes, even where the toe
 # elements have begun to fold (column-short: J_min = -0.004 at 2 s); their particles
 # get the elements' reference volumes and the transfer report lists them. Sweeps only
 # use checkpoints with (|J_t|/|J_0|)_min > 0 (METHOD.md §7).
-$(OUT)/tt$(MAIN_TT)/particles.h5: TRANSFER_FLAGS += --allow-inverted
+$(OUT)/tt$(MAIN_TT)/particles.h5: ALLOW_INVERTED := --allow-inverted
 
-mpm: $(OUT)/tt$(TT)/mpm_final.h5
+mpm: $(call run_file,$(TT))
 $(OUT)/tt%/mpm_final.h5: $(OUT)/tt%/particles.h5 $(MPM_SOLVE)
-	$(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< $(MPM_FLAGS)
+	$(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< $(MPM_OPTIONS) $(MPM_FLAGS)
 
 pure-mpm: $(PURE_MPM)
 $(PURE_MPM): $(CASE) $(MPM_SOLVE)
-	$(MPM_SOLVE) $(CASE) -o $(OUT)/pure-mpm $(MPM_FLAGS)
+	$(MPM_SOLVE) $(CASE) -o $(OUT)/pure-mpm $(MPM_OPTIONS) $(MPM_FLAGS)
 
 # Pure FE: the FE model run on to the MPM end time, measured through the same
 # particles (element-wise transfer of its final state, folded elements included:
-# small strain runs on through inversion) as the MPM runs.
-pure-fem: $(PURE_FEM)
+# small strain runs on through inversion) as the MPM runs. Nothing to do for a case
+# without a failure stage.
+pure-fem: $(filter $(PURE_FEM),$(PURE_RUNS))
 $(PURE_FEM): $(CASE) $(FEM_SOLVE) $(FEM2MPM)
 	$(FEM_SOLVE) $(CASE) -o $(OUT)/pure-fem --until $(MPM_END) --no-vtk $(FEM_FLAGS)
 	$(FEM2MPM) $(OUT)/pure-fem/fem_t$(call three_decimals,$(MPM_END)).h5 -o $@ \
@@ -109,27 +127,60 @@ $(PURE_FEM): $(CASE) $(FEM_SOLVE) $(FEM2MPM)
 
 # --------------------------------------------------------------------------- sweep
 # The valid transfer times are known only once the FE phase has run (the mesh must
-# not have entangled), so `sweep` runs the FE phase, then asks for them.
+# not have entangled), so `sweep` runs the FE phase, then a second make with them as
+# TTS, whose sweep.csv depends on those runs.
+sweep_times = $$($(METRICS) transfer-times $(CASE) $(OUT)/fem/fem_history.csv)
 sweep: fem
-	+$(MAKE) -f $(firstword $(MAKEFILE_LIST)) sweep-runs \
-	  TTS="$$($(METRICS) transfer-times $(CASE) $(OUT)/fem/fem_history.csv)"
+	+$(MAKE) -f $(firstword $(MAKEFILE_LIST)) $(OUT)/sweep.csv TTS="$(sweep_times)"
 
-sweep-runs: $(foreach t,$(TTS),$(OUT)/tt$(t)/mpm_final.h5) $(PURE_RUNS)
+sweep-plan: fem
+	@for t in $(sweep_times); do printf 'tt%s ' $$t; done; \
+	  echo $(patsubst $(OUT)/%/,%,$(dir $(PURE_RUNS)))
+
+# --------------------------------------------------------------------------- metrics
+# sweep.csv measures every finished run in OUT/ (slide-metrics sweep), so it depends
+# on all of them, on their histories (KE/PE0 peaks) and on the runs the goal asks for:
+# the main job's with `make main`, the sweep's with the TTS of `make sweep`.
+goals := $(or $(MAKECMDGOALS),all)
+WANTED_RUNS :=
+ifneq ($(filter main all,$(goals)),)
+  WANTED_RUNS += $(MAIN_RUNS)
+endif
+ifneq ($(TTS),)
+  WANTED_RUNS += $(foreach t,$(TTS),$(call run_file,$(t))) $(PURE_RUNS)
+endif
+MEASURED  := $(sort $(WANTED_RUNS) $(wildcard $(OUT)/tt*/mpm_final.h5 $(PURE_RUNS)))
+HISTORIES := $(wildcard $(OUT)/fem/fem_history.csv $(OUT)/*/mpm_history.csv \
+                        $(OUT)/pure-fem/fem_history.csv)
+SWEEP_CSV := $(OUT)/sweep.csv
+FIGURES   := $(OUT)/report/figures.txt
+REPORT    := $(OUT)/report/report.md
+
+ifneq ($(filter sweep,$(goals)),)
+# `make sweep report`: the sweep's own make measures its runs; this make only waits for
+# it (two makes building the same run at once under -j2 would collide).
+$(SWEEP_CSV): | sweep
+else
+$(SWEEP_CSV): $(MEASURED) $(HISTORIES) $(CASE) $(METRICS)
+endif
+$(SWEEP_CSV):
+	@test -n "$(MEASURED)$(wildcard $(OUT)/tt*/mpm_final.h5)" || { \
+	  echo "no finished run in $(OUT) yet: run 'make sweep' or 'make main' first" >&2; exit 1; }
 	$(METRICS) sweep $(CASE) $(OUT)
 
 # --------------------------------------------------------------------------- report
-report: $(OUT)/sweep.csv
+# plots.py writes the PNGs, then report/figures.txt listing them; report.py reads the
+# tables, the FE history and the PNGs.
+$(FIGURES): $(SWEEP_CSV) $(HISTORIES) $(CASE) $(TOOLS)/plots.py
 	$(PYTHON) $(TOOLS)/plots.py $(CASE) $(OUT)
+
+$(REPORT): $(SWEEP_CSV) $(FIGURES) $(wildcard $(OUT)/report/*.png) $(HISTORIES) $(CASE) \
+           $(TOOLS)/report.py
 	$(PYTHON) $(TOOLS)/report.py $(CASE) $(OUT)
-	@echo "report: $(OUT)/report/report.md"
 
-$(OUT)/sweep.csv:
-	@echo "no $@ yet: run 'make sweep' or 'make main' first" >&2
-	@false
+report: $(REPORT)
 
-main: $(OUT)/tt0/mpm_final.h5 $(OUT)/tt$(MAIN_TT)/mpm_final.h5 $(PURE_RUNS)
-	$(METRICS) sweep $(CASE) $(OUT)
-	+$(MAKE) -f $(firstword $(MAKEFILE_LIST)) report
+main: $(REPORT)
 
 clean:
 	rm -rf $(OUT)

@@ -6,7 +6,9 @@
 Uses Debian's python3-matplotlib, python3-numpy and python3-h5py only. Reads what the
 pipeline wrote: fem/fem_history.csv, tt*/mpm_history.csv, sweep.csv, profiles.csv and
 the particle checkpoints (datasets as documented in common/checkpoint-schema.md).
-Every figure is optional: one whose inputs are missing is skipped with a note.
+Every figure is optional: one whose inputs are missing is skipped. The last file
+written is OUT/report/figures.txt, the names of the PNGs made (one a line): the Make
+pipeline's target for this step.
 """
 import csv
 import math
@@ -50,9 +52,13 @@ def transfer_runs(out):
     return [d for _, d in sorted(runs)]
 
 
+SAVED = []
+
+
 def save(fig, path):
     fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
+    SAVED.append(path.name)
     print(f"plots: {path}")
 
 
@@ -258,6 +264,10 @@ def main():
     for plot in (plot_profiles, plot_histories, plot_fem_quality, plot_rmse_vs_quality,
                  plot_snapshots, plot_geostatic_transfer_error):
         plot(case, out, figures)
+    listing = figures / "figures.txt"
+    tmp = listing.with_suffix(".txt.tmp")
+    tmp.write_text("".join(f"{name}\n" for name in SAVED))
+    tmp.replace(listing)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The Make pipeline on the geostatic-4x4 case (seconds): `make main` produces the
-# CONTRACT files and the report, a second `make` reruns nothing, and a newer MPM
-# program reruns the MPM stages but not the FE phase or the transfer.
+# CONTRACT files and the report, a second `make` reruns nothing (`make -q` agrees), a
+# newer MPM output re-measures and rewrites the report, a transfer time without an FE
+# checkpoint is a clear error, and a newer MPM program reruns the MPM stages but not
+# the FE phase or the transfer.
 #
 #   pipeline_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 set -euo pipefail
@@ -22,11 +24,33 @@ done
 head -1 "$work/out/sweep.csv" | grep -q '^run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\(,\|$\)' \
   || fail "sweep.csv header differs from CONTRACT.md"
 
-# Up to date: no program runs again (report and sweep table are always rewritten).
+# Up to date: `make -q` finds nothing to do and a second `make main` runs nothing at all
+# (no program, no re-measuring, no plots, no report).
+run_make -q main > /dev/null || fail "make -q main: not up to date right after make main"
 run_make main > "$work/second.log" 2>&1 || fail "second make main failed"
-if grep -E 'bin/(fem-solve|fem2mpm|mpm-solve) ' "$work/second.log"; then
+if grep -E 'bin/(fem-solve|fem2mpm|mpm-solve|slide-metrics) |plots.py|report.py' "$work/second.log"; then
   fail "an up-to-date stage was rerun"
 fi
+
+# A newer MPM output (here its history, which gives the KE/PE0 peak): the table, the
+# plots and the report are made again, no program runs.
+report_before=$(stat -c %Y.%N "$work/out/report/report.md")
+touch "$work/out/tt0/mpm_history.csv"  # now: newer than the report written before
+run_make -q report > /dev/null && fail "make -q report: up to date although an MPM history is newer"
+run_make report > "$work/touched.log" 2>&1 || { cat "$work/touched.log"; fail "make report failed"; }
+grep -q 'bin/slide-metrics sweep ' "$work/touched.log" || fail "sweep.csv not re-measured"
+grep -q 'plots.py' "$work/touched.log" || fail "plots not redrawn"
+grep -q 'report.py' "$work/touched.log" || fail "report not rewritten"
+if grep -E 'bin/(fem-solve|fem2mpm|mpm-solve) ' "$work/touched.log"; then
+  fail "a program was rerun for a newer history"
+fi
+[[ $(stat -c %Y.%N "$work/out/report/report.md") != "$report_before" ]] || fail "report.md not rewritten"
+run_make -q main > /dev/null || fail "make -q main: not up to date after make report"
+
+# A transfer time without an FE checkpoint: a one-line reason naming the times there are.
+if run_make transfer TT=0.5 > "$work/bad-tt.log" 2>&1; then fail "make transfer TT=0.5 succeeded"; fi
+grep -q 'no FE checkpoint at t_T = 0.5 s.*the FE phase wrote t_T = 0' "$work/bad-tt.log" \
+  || { cat "$work/bad-tt.log"; fail "no helpful message for a missing FE checkpoint"; }
 
 # A stale stage: pretend mpm-solve was rebuilt. The MPM runs rerun, FE and transfer do not.
 fem_before=$(stat -c %Y.%N "$work/out/fem/fem_t0.000.h5")
@@ -37,4 +61,4 @@ if grep -E 'bin/(fem-solve|fem2mpm) ' "$work/third.log"; then
   fail "the FE phase or the transfer was rerun although up to date"
 fi
 [[ $(stat -c %Y.%N "$work/out/fem/fem_t0.000.h5") == "$fem_before" ]] || fail "FE checkpoint rewritten"
-echo "pipeline_test: main, up-to-date and stale-stage checks passed"
+echo "pipeline_test: main, up-to-date, newer-output, bad-TT and stale-stage checks passed"
