@@ -42,6 +42,43 @@ def run_label(run):
     return run if not run.startswith("tt") else f"t_T = {run[2:]} s"
 
 
+# Curves of runs that end up on top of each other (tt0 and pure MPM, early transfers)
+# stay apart: the reference tt0 is a wide pale band drawn underneath, every other run a
+# thin line with its own dash pattern and sparse markers staggered along the curve.
+TRANSFER_DASHES = ["--", "-.", ":", (0, (6, 2)), (0, (3, 1, 1, 1, 1, 1)), (0, (1, 1))]
+TRANSFER_MARKERS = ["o", "s", "^", "v", "D", "P", "X", "*"]
+# Dark, distinct colours for the transfers (red and blue are the pure runs').
+TRANSFER_COLOURS = ["tab:purple", "tab:green", "tab:orange", "tab:brown", "tab:olive",
+                    "tab:cyan", "tab:pink", "tab:gray", "black"]
+PURE_STYLES = {
+    "pure-mpm": dict(color="tab:red", ls="--", marker="x"),
+    "pure-fem": dict(color="tab:blue", ls="-.", marker="+"),
+}
+
+
+def run_styles(runs, points):
+    """Plot keyword arguments per run name, for curves of about `points` samples."""
+    transfers = [r for r in runs if r.startswith("tt")]
+    colours = [TRANSFER_COLOURS[k % len(TRANSFER_COLOURS)] for k in range(len(transfers))]
+    step = max(points // 10, 1)
+    styles = {}
+    for i, run in enumerate(runs):
+        if run == "tt0":
+            styles[run] = dict(color=colours[transfers.index(run)], ls="-", lw=5, alpha=0.35, zorder=2,
+                               solid_capstyle="butt")
+            continue
+        if run in PURE_STYLES:
+            style = dict(PURE_STYLES[run], lw=1.3, zorder=4)
+        else:
+            k = transfers.index(run)
+            style = dict(color=colours[k], ls=TRANSFER_DASHES[k % len(TRANSFER_DASHES)],
+                         marker=TRANSFER_MARKERS[k % len(TRANSFER_MARKERS)], lw=1.3, zorder=3)
+        style.update(markersize=4, markevery=((i * step) // max(len(runs), 1) % step, step),
+                     markerfacecolor="none")
+        styles[run] = style
+    return styles
+
+
 def transfer_runs(out):
     runs = []
     for d in out.glob("tt*"):
@@ -68,7 +105,7 @@ def plot_profiles(case, out, figures):
         return
     rows = read_csv(path)
     runs = list(dict.fromkeys(r["run"] for r in rows))
-    fig, ax = plt.subplots(figsize=(10, 4))
+    fig, ax = plt.subplots(figsize=(10, 4.5))
     surface = case.get("mesh", {}).get("surface")
     if surface:  # the body's initial outline: its surface polyline, down to the base
         xs = [p[0] for p in surface] + [surface[-1][0]]
@@ -76,23 +113,23 @@ def plot_profiles(case, out, figures):
     else:
         length, height = case["metrics"]["initial_length"], case["metrics"]["initial_height"]
         xs, ys = [0, length, length], [height, height, 0]
-    ax.plot(xs, ys, "k:", lw=1, label="initial body")
-    cmap = plt.get_cmap("viridis", max(len(runs), 2))
-    for i, run in enumerate(runs):
+    ax.plot(xs, ys, color="0.4", ls=":", lw=1, label="initial body", zorder=1)
+    points = max(sum(1 for r in rows if r["run"] == run) for run in runs)
+    styles = run_styles(runs, points)
+    for run in runs:
         sel = [r for r in rows if r["run"] == run]
         x = [float(r["x_centre"]) for r in sel]
         y = [float(r["height"]) for r in sel]
-        style = {"pure-mpm": "r--", "pure-fem": "b-."}.get(run)
-        if style:
-            ax.plot(x, y, style, lw=1.5, label=run)
-        else:
-            ax.plot(x, y, color=cmap(i), lw=1.2, label=run_label(run))
+        ax.plot(x, y, label=run_label(run), **styles[run])
     ax.set_xlabel("x (m)")
-    ax.set_ylabel("surface height (m), 99th percentile per 2 m bin")
-    ax.set_title(f"{case['case']['name']}: final surface profiles")
+    ax.set_ylabel("surface height y (m)")
+    ax.set_title(f"{case['case']['name']}: final surface profiles "
+                 f"(99th percentile per {case['metrics'].get('bin_width', 2.0):g} m bin)")
+    ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.legend(fontsize=7, ncol=2)
+    ax.set_aspect("equal", adjustable="box")
+    ax.grid(True, lw=0.3, alpha=0.5)
+    ax.legend(fontsize=7, ncol=2, loc="upper right")
     save(fig, figures / "profiles.png")
 
 
@@ -103,24 +140,24 @@ def plot_histories(case, out, figures):
     if not histories:
         return
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
-    cmap = plt.get_cmap("viridis", max(len(histories), 2))
-    for i, (name, path) in enumerate(histories):
-        rows = read_csv(path)
+    samples = {name: read_csv(path) for name, path in histories}
+    styles = run_styles(list(samples), max(len(rows) for rows in samples.values()))
+    for name, rows in samples.items():
         t = column(rows, "time") / tau_c
-        color = "r" if name == "pure-mpm" else cmap(i)
-        ax1.plot(t, column(rows, "runout_normalised"), color=color, lw=1, label=run_label(name))
-        ax2.plot(t, column(rows, "ke_over_pe0"), color=color, lw=1, label=run_label(name))
+        ax1.plot(t, column(rows, "runout_normalised"), label=run_label(name), **styles[name])
+        ax2.plot(t, column(rows, "ke_over_pe0"), label=run_label(name), **styles[name])
     fem = out / "fem" / "fem_history.csv"
     if fem.exists():
         rows = read_csv(fem)
-        ax2.plot(column(rows, "time") / tau_c, column(rows, "ke_over_pe0"), "k--", lw=1,
-                 label="FE phase")
+        ax2.plot(column(rows, "time") / tau_c, column(rows, "ke_over_pe0"), color="k",
+                 ls=(0, (2, 1)), lw=1, label="FE phase", zorder=5)
     ax1.set_xlabel("t / τc")
     ax1.set_ylabel("R_N = (x_toe − L0)/L0")
     ax2.set_xlabel("t / τc")
     ax2.set_ylabel("KE / PE0")
-    ax1.legend(fontsize=7)
-    ax2.legend(fontsize=7)
+    for ax in (ax1, ax2):
+        ax.grid(True, lw=0.3, alpha=0.5)
+        ax.legend(fontsize=7)
     fig.suptitle(f"{case['case']['name']}: runout and kinetic energy (τc = {tau_c:.2f} s)")
     save(fig, figures / "runout_and_energy.png")
 
@@ -193,40 +230,72 @@ def plot_rmse_vs_quality(case, out, figures):
     save(fig, figures / "rmse_vs_mesh_quality.png")
 
 
-def particle_snapshot(ax, path, field, label, cmap, vmin=None, vmax=None):
+def read_snapshot(path, field):
     with h5py.File(path, "r") as f:
         x = f["particles/coordinates"][:]
         if field == "sigma_yy":
             values = f["particles/stress"][:, 1] / 1e3
         else:
             values = 100 * f["particles/eps_q"][:]
-        time = f.attrs["time"]
-    sc = ax.scatter(x[:, 0], x[:, 1], c=values, s=0.3, cmap=cmap, vmin=vmin, vmax=vmax,
-                    rasterized=True)
-    ax.set_aspect("equal")
-    ax.set_title(f"t = {time:.2f} s", fontsize=8)
-    return sc
+        return x, values, float(f.attrs["time"])
+
+
+def nice_ceil(value):
+    """`value` rounded up to a multiple of a fifth of its order of magnitude (157 → 160,
+    4.08 → 4.2)."""
+    step = 0.2 * 10 ** math.floor(math.log10(value))
+    return math.ceil(value / step - 1e-9) * step
 
 
 def plot_snapshots(case, out, figures):
     main = out / f"tt{case['transfer'].get('main_time', 0):g}"
     run = main if main.exists() else out / "pure-mpm"
-    files = sorted(run.glob("mpm_t*.h5"), key=lambda p: float(p.stem[5:]))
+    files = [(float(p.stem[5:]), p) for p in run.glob("mpm_t*.h5")]
     if (run / "particles.h5").exists():
-        files.insert(0, run / "particles.h5")
+        files.append((float(run.name[2:]) - 1e-9, run / "particles.h5"))  # first of its time
+    files.sort(key=lambda item: item[0])
+    # One file per time: the transfer's particles.h5 and mpm_t<t_T>.h5 hold the same state.
+    files = [p for i, (t, p) in enumerate(files) if i == 0 or t - files[i - 1][0] > 1e-6]
     if not files:
         return
     pick = [files[i] for i in sorted({0, len(files) // 3, 2 * len(files) // 3, len(files) - 1})]
     height = case["metrics"]["initial_height"]
     rho = case["materials"][0]["density"]
+    spacing = case["mpm"]["cell_size"] / case["mpm"].get("particles_per_cell", [4, 4])[0]
     for field, label, cmap, limits in (
         ("sigma_yy", "σyy (kPa)", "viridis", (-rho * G * height / 1e3, 0)),
         ("eps_q", "εq (%)", "magma_r", (0, 100)),
     ):
-        fig, axes = plt.subplots(len(pick), 1, figsize=(10, 2.2 * len(pick)), sharex=True)
-        for ax, path in zip(np.atleast_1d(axes), pick):
-            sc = particle_snapshot(ax, path, field, label, cmap, *limits)
-        fig.colorbar(sc, ax=axes, label=label, shrink=0.8)
+        snapshots = [read_snapshot(path, field) for path in pick]
+        # One x and y range for every panel, from the wall to the farthest particle, so
+        # that the panels line up and show the spreading at the same scale.
+        x_max = nice_ceil(1.02 * max(x[:, 0].max() for x, _, _ in snapshots))
+        y_max = nice_ceil(1.02 * max(x[:, 1].max() for x, _, _ in snapshots))
+        ratio = y_max / x_max
+        # Panels stacked for a wide body (a runout), side by side for a tall one.
+        stacked = ratio < 0.5
+        width = 7.6 if stacked else 8.4 / len(pick)  # inches of one panel
+        rows, cols = (len(pick), 1) if stacked else (1, len(pick))
+        fig, axes = plt.subplots(rows, cols, squeeze=False, sharex=True, sharey=True,
+                                 figsize=(10 if stacked else 10.5,
+                                          (width * ratio + 0.45) * rows + 0.8))
+        axes = axes.ravel()
+        # Discs about 1.5 particle spacings wide: they overlap, so the body looks solid
+        # (squares one spacing wide leave pixel gaps once rasterised).
+        marker_points = 1.5 * spacing * width * 72 / x_max
+        for ax, (x, values, time) in zip(axes, snapshots):
+            sc = ax.scatter(x[:, 0], x[:, 1], c=values, s=max(marker_points ** 2, 0.2),
+                            marker="o", linewidths=0, cmap=cmap, vmin=limits[0],
+                            vmax=limits[1], rasterized=True)
+            ax.set_xlim(0, x_max)
+            ax.set_ylim(0, y_max)
+            ax.set_aspect("equal")
+            ax.set_title(f"t = {time:.2f} s", fontsize=8)
+        for ax in axes[-cols:]:
+            ax.set_xlabel("x (m)")
+        for ax in axes[::cols]:
+            ax.set_ylabel("y (m)")
+        fig.colorbar(sc, ax=list(axes), label=label, shrink=0.8)
         fig.suptitle(f"{case['case']['name']}, {run.name}: particles coloured by {label}")
         save(fig, figures / f"snapshots_{field}.png")
 
@@ -248,6 +317,8 @@ def plot_geostatic_transfer_error(case, out, figures):
     sc = ax.scatter(x[:, 0], x[:, 1], c=error, s=8, cmap="coolwarm", vmin=-limit, vmax=limit)
     fig.colorbar(sc, label="(σyy − (−ρg(H−y))) / ρgH (%)")
     ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
     ax.set_title(f"σyy transfer error at t = 0\nmax |e| = {np.abs(error).max():.3g} % of ρgH",
                  fontsize=10)
     save(fig, figures / "geostatic_transfer_error.png")

@@ -39,7 +39,21 @@ def inside_zone(row):
         math.isnan(e_avg) or e_avg <= ZONE_EPS_Q_AVG)
 
 
-def fem_summary(history, tau_c):
+def time_text(t):
+    """A history time as make's TT wants it: 1.3, not 1.30 or 1.3000000000000003."""
+    return f"{round(t, 6):g}"
+
+
+def make_command(case_file, out, goals):
+    """The make command line, from the repository's top, that makes `goals` for this case
+    and output folder."""
+    case_dir = case_file.resolve().parent
+    where = case_dir.relative_to(case_dir.parents[1])  # cases/<name>
+    default_out = out.resolve() == (case_dir / "out").resolve()
+    return f"make -C {where} {goals}" + ("" if default_out else f" OUT={out}")
+
+
+def fem_summary(history, tau_c, case_file, out):
     if not history:
         return None, None, []
     last_inside = None
@@ -56,6 +70,13 @@ def fem_summary(history, tau_c):
                      f"((|J_t|/|J_0|)_avg ≥ {ZONE_JACOBIAN_AVG} and εq,avg ≤ "
                      f"{ZONE_EPS_Q_AVG:.0%}): **t = {last_inside:.2f} s** "
                      f"(t/τc = {last_inside / tau_c:.2f}).")
+        if last_inside > 0:
+            tt = time_text(last_inside)
+            ran = (out / f"tt{tt}" / "mpm_final.h5").exists()
+            lines.append(f"  The FE phase keeps its state there (fem/fem_t{last_inside:.3f}.h5); "
+                         + (f"the run transferred then is row tt{tt} below." if ran else
+                            f"to run MPM from it: `{make_command(case_file, out, f'mpm TT={tt}')}`"
+                            f", then `{make_command(case_file, out, 'report')}`."))
     if entangled is not None:
         lines.append(f"- (|J_t|/|J_0|)_min first ≤ 0 (an element inverted) at "
                      f"t = {entangled:.2f} s (t/τc = {entangled / tau_c:.2f}).")
@@ -125,7 +146,7 @@ def reading(case, sweep, last_inside, tau_c):
                 f"{number(worst['tt']):g} s the R_N error reaches "
                 f"{number(worst['runout_normalised_error']):+.1%}.")
         text.append(
-            f"**Recommended transfer time for this case: t_T ≈ {last_inside:.1f} s "
+            f"**Recommended transfer time for this case: t_T ≈ {time_text(last_inside)} s "
             f"(t_T/τc = {last_inside / tau_c:.2f})**, the last FE output inside the zone: "
             "late enough for the FE phase to capture the onset of failure, early enough that "
             "the mesh distortion does not bias the runout.")
@@ -149,7 +170,7 @@ def main():
     tau_c = math.sqrt(metrics["initial_height"] / G)
     history = read_csv(out / "fem" / "fem_history.csv")
     sweep = read_csv(out / "sweep.csv")
-    last_inside, _, fem_lines = fem_summary(history, tau_c)
+    last_inside, _, fem_lines = fem_summary(history, tau_c, case_file, out)
 
     md = [f"# {case['case']['name']}: {case['case'].get('description', '')}", "",
           f"Generated {datetime.datetime.now():%Y-%m-%d %H:%M} by `make report` from "
