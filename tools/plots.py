@@ -230,14 +230,13 @@ def plot_rmse_vs_quality(case, out, figures):
     save(fig, figures / "rmse_vs_mesh_quality.png")
 
 
-def read_snapshot(path, field):
+def read_snapshot(path):
+    """Coordinates, {field: values} and time of a particle checkpoint."""
     with h5py.File(path, "r") as f:
         x = f["particles/coordinates"][:]
-        if field == "sigma_yy":
-            values = f["particles/stress"][:, 1] / 1e3
-        else:
-            values = 100 * f["particles/eps_q"][:]
-        return x, values, float(f.attrs["time"])
+        fields = {"sigma_yy": f["particles/stress"][:, 1] / 1e3,
+                  "eps_q": 100 * f["particles/eps_q"][:]}
+        return x, fields, float(f.attrs["time"])
 
 
 def nice_ceil(value):
@@ -262,11 +261,12 @@ def plot_snapshots(case, out, figures):
     height = case["metrics"]["initial_height"]
     rho = case["materials"][0]["density"]
     spacing = case["mpm"]["cell_size"] / case["mpm"].get("particles_per_cell", [4, 4])[0]
+    states = [read_snapshot(path) for path in pick]
     for field, label, cmap, limits in (
         ("sigma_yy", "σyy (kPa)", "viridis", (-rho * G * height / 1e3, 0)),
         ("eps_q", "εq (%)", "magma_r", (0, 100)),
     ):
-        snapshots = [read_snapshot(path, field) for path in pick]
+        snapshots = [(x, fields[field], time) for x, fields, time in states]
         # One x and y range for every panel, from the wall to the farthest particle, so
         # that the panels line up and show the spreading at the same scale.
         x_max = nice_ceil(1.02 * max(x[:, 0].max() for x, _, _ in snapshots))
@@ -300,21 +300,40 @@ def plot_snapshots(case, out, figures):
         save(fig, figures / f"snapshots_{field}.png")
 
 
+def densities(f, material):
+    """ρ of every particle, from the /materials attributes (one read per material)."""
+    ids = np.unique(material)
+    rho = {m: f[f"materials/{m}"].attrs["density"] for m in ids}
+    return np.array([rho[m] for m in ids])[np.searchsorted(ids, material)]
+
+
 def plot_geostatic_transfer_error(case, out, figures):
+    # Only a body with a flat top has the closed form σyy = −ρg(H − y) (both columns and
+    # the geostatic column; not the slopes).
+    surface = case["mesh"].get("surface")
+    if not surface or len({p[1] for p in surface}) != 1:
+        return
     path = out / "tt0" / "particles.h5"
     if not path.exists():
         return
     with h5py.File(path, "r") as f:
         x = f["particles/coordinates"][:]
         syy = f["particles/stress"][:, 1]
-        material = f["particles/material_id"][:]
-        rho = np.array([f[f"materials/{m}"].attrs["density"] for m in material])
-    height = case["metrics"]["initial_height"]
+        rho = densities(f, f["particles/material_id"][:])
+    height = surface[0][1]
     exact = -rho * G * (height - x[:, 1])
     error = 100 * (syy - exact) / (rho * G * height)
     fig, ax = plt.subplots(figsize=(5, 5))
     limit = max(np.abs(error).max(), 1e-6)
-    sc = ax.scatter(x[:, 0], x[:, 1], c=error, s=8, cmap="coolwarm", vmin=-limit, vmax=limit)
+    # Discs about 1.5 particle spacings wide on the ~3.8 in wide axes.
+    extent = max(np.ptp(x[:, 0]), np.ptp(x[:, 1]), 1e-9)
+    spacing = case["mpm"]["cell_size"] / case["mpm"].get("particles_per_cell", [4, 4])[0]
+    if case["transfer"].get("particles_per_element"):
+        spacing = case["mesh"].get("element_size", spacing) / case["transfer"][
+            "particles_per_element"][0]
+    size = max((1.5 * spacing * 3.8 * 72 / extent) ** 2, 0.5)
+    sc = ax.scatter(x[:, 0], x[:, 1], c=error, s=size, linewidths=0, cmap="coolwarm",
+                    vmin=-limit, vmax=limit, rasterized=True)
     fig.colorbar(sc, label="(σyy − (−ρg(H−y))) / ρgH (%)")
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
