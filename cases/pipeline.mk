@@ -157,16 +157,17 @@ FIGURES   := $(OUT)/report/figures.txt
 REPORT    := $(OUT)/report/report.md
 
 ifneq ($(filter sweep,$(goals)),)
-# `make sweep report`: the sweep's own make measures its runs; this make only waits for
-# it (two makes building the same run at once under -j2 would collide).
+# `make sweep report`: the sweep's own make measures its runs and writes sweep.csv;
+# this make only waits for it (two makes building the same run at once under -j2
+# would collide).
 $(SWEEP_CSV): | sweep
+	@:
 else
 $(SWEEP_CSV): $(MEASURED) $(HISTORIES) $(CASE) $(METRICS)
-endif
-$(SWEEP_CSV):
-	@test -n "$(MEASURED)$(wildcard $(OUT)/tt*/mpm_final.h5)" || { \
+	@ls -d $(OUT)/tt*/mpm_final.h5 $(PURE_RUNS) 2> /dev/null | grep -q . || { \
 	  echo "no finished run in $(OUT) yet: run 'make sweep' or 'make main' first" >&2; exit 1; }
 	$(METRICS) sweep $(CASE) $(OUT)
+endif
 
 # --------------------------------------------------------------------------- report
 # plots.py writes the PNGs, then report/figures.txt listing them; report.py reads the

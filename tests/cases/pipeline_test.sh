@@ -2,8 +2,8 @@
 # The Make pipeline on the geostatic-4x4 case (seconds): `make main` produces the
 # CONTRACT files and the report, a second `make` reruns nothing (`make -q` agrees), a
 # newer MPM output re-measures and rewrites the report, a transfer time without an FE
-# checkpoint is a clear error, and a newer MPM program reruns the MPM stages but not
-# the FE phase or the transfer.
+# checkpoint is a clear error, a newer MPM program reruns the MPM stages but not the
+# FE phase or the transfer, and `make -j2 sweep report` works from an empty folder.
 #
 #   pipeline_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 set -euo pipefail
@@ -61,4 +61,11 @@ if grep -E 'bin/(fem-solve|fem2mpm) ' "$work/third.log"; then
   fail "the FE phase or the transfer was rerun although up to date"
 fi
 [[ $(stat -c %Y.%N "$work/out/fem/fem_t0.000.h5") == "$fem_before" ]] || fail "FE checkpoint rewritten"
-echo "pipeline_test: main, up-to-date, newer-output, bad-TT and stale-stage checks passed"
+
+# `make -j2 sweep report` from nothing: the report waits for the sweep's own make.
+make -C "$source/cases/geostatic-4x4" OUT="$work/out-sweep" BIN="$work/bin" -j2 sweep report \
+  > "$work/sweep.log" 2>&1 || { cat "$work/sweep.log"; fail "make -j2 sweep report failed"; }
+for f in sweep.csv report/report.md; do
+  [[ -s $work/out-sweep/$f ]] || fail "make -j2 sweep report did not write $f"
+done
+echo "pipeline_test: main, up-to-date, newer-output, bad-TT, stale-stage and sweep-report checks passed"
