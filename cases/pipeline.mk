@@ -139,8 +139,9 @@ sweep-plan: fem
 
 # --------------------------------------------------------------------------- metrics
 # sweep.csv measures every finished run in OUT/ (slide-metrics sweep), so it depends
-# on all of them, on their histories (KE/PE0 peaks) and on the runs the goal asks for:
-# the main job's with `make main`, the sweep's with the TTS of `make sweep`.
+# on all of them, on their histories (KE/PE0 peaks) and on the runs the goals ask for:
+# the main job's with `make main`, the sweep's with the TTS of `make sweep`, tt$(TT)
+# with `make mpm`, the pure runs with `make pure-mpm` or `make pure-fem`.
 goals := $(or $(MAKECMDGOALS),all)
 WANTED_RUNS :=
 ifneq ($(filter main all,$(goals)),)
@@ -149,6 +150,10 @@ endif
 ifneq ($(TTS),)
   WANTED_RUNS += $(foreach t,$(TTS),$(call run_file,$(t))) $(PURE_RUNS)
 endif
+# `make mpm TT=1.3 report` and the like: the run asked for is measured too.
+WANTED_RUNS += $(if $(filter mpm,$(goals)),$(call run_file,$(TT))) \
+               $(if $(filter pure-mpm,$(goals)),$(PURE_MPM)) \
+               $(if $(filter pure-fem,$(goals)),$(filter $(PURE_FEM),$(PURE_RUNS)))
 MEASURED  := $(sort $(WANTED_RUNS) $(wildcard $(OUT)/tt*/mpm_final.h5 $(PURE_RUNS)))
 HISTORIES := $(wildcard $(OUT)/fem/fem_history.csv $(OUT)/*/mpm_history.csv \
                         $(OUT)/pure-fem/fem_history.csv)
