@@ -21,6 +21,23 @@ void Particles::resize(std::size_t n) {
   state.resize(n, MaterialState{});
 }
 
+void Particles::shrink_to_fit() {
+  coordinates.shrink_to_fit();
+  displacement.shrink_to_fit();
+  velocity.shrink_to_fit();
+  stress.shrink_to_fit();
+  strain.shrink_to_fit();
+  eps_q.shrink_to_fit();
+  pore_pressure.shrink_to_fit();
+  volume.shrink_to_fit();
+  mass.shrink_to_fit();
+  size.shrink_to_fit();
+  material_id.shrink_to_fit();
+  element.shrink_to_fit();
+  id.shrink_to_fit();
+  state.shrink_to_fit();
+}
+
 void Particles::check_consistent_sizes() const {
   const std::size_t n = coordinates.size();
   auto check = [n](std::size_t entries, const char* name) {

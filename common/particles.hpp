@@ -30,6 +30,8 @@ struct Particles {
   std::size_t count() const { return coordinates.size(); }
   /// Resizes every field to n (new entries zero-initialised).
   void resize(std::size_t n);
+  /// Releases the spare capacity of every field (one field reallocated at a time).
+  void shrink_to_fit();
   /// Throws Error naming the field when the fields do not all have the same length.
   void check_consistent_sizes() const;
 };

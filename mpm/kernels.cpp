@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/error.hpp"
 #include "mpm/shape_functions.hpp"
 
 namespace slide::mpm {
@@ -162,10 +163,33 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   }
 }
 
+/// One particle's stress update from its velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x,
+/// ∂vy/∂y]: strain increment Δε = Δt sym(l), spin ω = ½ Δt (∂vx/∂y − ∂vy/∂x), Jaumann
+/// rotation, the constitutive update (one model per material id), accumulated strain and
+/// its εq, and the volume from the particle's own deformation-gradient increment:
+/// V_{n+1} = det(I + Δt l) V_n. Not inlined into the gather: it then compiles to the
+/// arithmetic of the former separate stress pass (inlined, -march=native contracts some
+/// products into FMAs differently), so results stay bit-identical to that pass's.
+[[gnu::noinline]] void update_stress(Particles& particles,
+                                     std::span<const ConstitutiveModel> models, double dt,
+                                     const Vec4& l, std::size_t p) {
+  const Vec4 strain_increment(dt * l[0], dt * l[3], 0.0, dt * (l[1] + l[2]));
+  const double spin = 0.5 * dt * (l[1] - l[2]);
+  Vec4& stress = particles.stress[p];
+  rotate_jaumann(stress, spin);
+  const auto material = static_cast<std::size_t>(particles.material_id[p]);
+  models[material].update(stress, particles.state[p], strain_increment);
+  particles.strain[p] += strain_increment;
+  particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
+  // det(I + Δt L): the particle's own volume ratio over the step.
+  const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];
+  particles.volume[p] *= jacobian;
+}
+
 template <class Shape, UpdateScheme Scheme>
 double gather_block(Particles& particles, const GridGeometry& grid, const GridState& state,
-                    const StepLengths& step, double pic_fraction, std::span<Vec4> gradient,
-                    std::size_t begin, std::size_t end) {
+                    const StepLengths& step, double pic_fraction,
+                    std::span<const ConstitutiveModel> models, std::size_t begin, std::size_t end) {
   constexpr int n = Shape::support;
   const double flip = 1.0 - pic_fraction;
   double kinetic = 0.0;
@@ -207,42 +231,90 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
     const Vec2 dx(step.dt * vx, step.dt * vy);
     particles.coordinates[p] += dx;
     particles.displacement[p] += dx;
-    gradient[p] = Vec4(lxx, lxy, lyx, lyy) * w.inv_h;
     kinetic += 0.5 * particles.mass[p] * v.squaredNorm();
+    // The stress update while the particle is in registers: no per-particle scratch
+    // array for the velocity gradient.
+    update_stress(particles, models, step.dt, Vec4(lxx, lxy, lyx, lyy) * w.inv_h, p);
   }
   return kinetic;
 }
 
-template <class T>
-void permute(std::vector<T>& field, const std::vector<std::uint32_t>& order) {
-  std::vector<T> sorted(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = field[order[k]];
-  field.swap(sorted);
+// Every field of Particles, so that a permutation moves whole particles. A new field
+// must be added to ParticleRow and move_particle below (this trips when Particles grows).
+static_assert(sizeof(Particles) == 14 * sizeof(std::vector<double>),
+              "a field was added to Particles: add it to ParticleRow and move_particle");
+
+/// One particle, all fields: the one-particle buffer of the in-place permutation.
+struct ParticleRow {
+  Vec2 coordinates, displacement, velocity;
+  Vec4 stress, strain;
+  double eps_q, pore_pressure, volume, mass;
+  Vec2 size;
+  std::int32_t material_id;
+  std::int64_t element, id;
+  MaterialState state;
+
+  static ParticleRow of(const Particles& p, std::size_t k) {
+    return {p.coordinates[k], p.displacement[k],  p.velocity[k], p.stress[k], p.strain[k],
+            p.eps_q[k],       p.pore_pressure[k], p.volume[k],   p.mass[k],   p.size[k],
+            p.material_id[k], p.element[k],       p.id[k],       p.state[k]};
+  }
+  void store(Particles& p, std::size_t k) const {
+    p.coordinates[k] = coordinates;
+    p.displacement[k] = displacement;
+    p.velocity[k] = velocity;
+    p.stress[k] = stress;
+    p.strain[k] = strain;
+    p.eps_q[k] = eps_q;
+    p.pore_pressure[k] = pore_pressure;
+    p.volume[k] = volume;
+    p.mass[k] = mass;
+    p.size[k] = size;
+    p.material_id[k] = material_id;
+    p.element[k] = element;
+    p.id[k] = id;
+    p.state[k] = state;
+  }
+};
+
+void move_particle(Particles& p, std::size_t to, std::size_t from) {
+  p.coordinates[to] = p.coordinates[from];
+  p.displacement[to] = p.displacement[from];
+  p.velocity[to] = p.velocity[from];
+  p.stress[to] = p.stress[from];
+  p.strain[to] = p.strain[from];
+  p.eps_q[to] = p.eps_q[from];
+  p.pore_pressure[to] = p.pore_pressure[from];
+  p.volume[to] = p.volume[from];
+  p.mass[to] = p.mass[from];
+  p.size[to] = p.size[from];
+  p.material_id[to] = p.material_id[from];
+  p.element[to] = p.element[from];
+  p.id[to] = p.id[from];
+  p.state[to] = p.state[from];
 }
 
-void permute_with(std::vector<Vec4>& field, const std::vector<std::uint32_t>& order,
-                  std::vector<Vec4>& buffer) {
-  buffer.resize(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) buffer[k] = field[order[k]];
-  field.swap(buffer);
-}
-
-void permute_all(Particles& particles, const std::vector<std::uint32_t>& order,
-                 std::vector<Vec4>& buffer) {
-  permute(particles.coordinates, order);
-  permute(particles.displacement, order);
-  permute(particles.velocity, order);
-  permute_with(particles.stress, order, buffer);
-  permute_with(particles.strain, order, buffer);
-  permute(particles.eps_q, order);
-  permute(particles.pore_pressure, order);
-  permute(particles.volume, order);
-  permute(particles.mass, order);
-  permute(particles.size, order);
-  permute(particles.material_id, order);
-  permute(particles.element, order);
-  permute(particles.id, order);
-  permute(particles.state, order);
+/// Particle k takes the place of old particle order[k] (`order` is a permutation of
+/// [0, n)), in place: each cycle of the permutation is followed once with a one-particle
+/// buffer, and `order` marks the places done (order[k] = k). No second copy of any field;
+/// the sort of a nearly sorted body has short, local cycles, so it is cache-friendly too.
+void permute_in_place(Particles& particles, std::vector<std::uint32_t>& order) {
+  const std::size_t n = order.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    if (order[k] == k) continue;
+    const ParticleRow first = ParticleRow::of(particles, k);
+    std::size_t to = k;
+    for (;;) {
+      const std::size_t from = order[to];
+      order[to] = static_cast<std::uint32_t>(to);
+      if (from == k) {
+        first.store(particles, to);
+        break;
+      }
+      move_particle(particles, to, from);
+      to = from;
+    }
+  }
 }
 
 }  // namespace
@@ -413,12 +485,11 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
 
 LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
                                UpdateScheme scheme, const StepLengths& step, double pic_fraction,
-                               std::span<const ConstitutiveModel> models,
-                               std::span<Vec4> velocity_gradient, ParticleBlocks& blocks,
+                               std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
                                const GridState& state) {
   const auto nblocks = static_cast<int>(blocks.count());
   using Gather = double (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&,
-                            double, std::span<Vec4>, std::size_t, std::size_t);
+                            double, std::span<const ConstitutiveModel>, std::size_t, std::size_t);
   Gather gather = nullptr;
   if (shape == ShapeFunction::gimp) {
     gather = scheme == UpdateScheme::musl ? gather_block<GimpShape, UpdateScheme::musl>
@@ -430,15 +501,14 @@ LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, S
   auto locate = shape == ShapeFunction::gimp ? locate_block<GimpShape> : locate_block<LinearShape>;
   std::vector<std::int64_t> non_finite(blocks.count(), -1);
   std::vector<std::vector<std::size_t>> outside(blocks.count());
-  // Block by block: the gather, then the stress update and the location for the next
-  // step while the block's particles are still in cache.
+  // Block by block: the gather with each particle's stress update, then the location for
+  // the next step while the block's particles are still in cache.
 #pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
   for (int b = 0; b < nblocks; ++b) {
     const auto k = static_cast<std::size_t>(b);
     const std::size_t begin = blocks.offsets[k], end = blocks.offsets[k + 1];
     blocks.kinetic_energy[k] =
-        gather(particles, grid, state, step, pic_fraction, velocity_gradient, begin, end);
-    update_stresses(particles, models, step.dt, velocity_gradient, begin, end);
+        gather(particles, grid, state, step, pic_fraction, models, begin, end);
     locate(particles, grid, begin, end, blocks.column_begin[k], blocks.column_end[k], non_finite[k],
            outside[k]);
   }
@@ -450,30 +520,11 @@ LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, S
   return result;
 }
 
-std::size_t update_stresses(Particles& particles, std::span<const ConstitutiveModel> models,
-                            double dt, std::span<const Vec4> velocity_gradient, std::size_t begin,
-                            std::size_t end) {
-  std::size_t yielded = 0;
-  for (std::size_t p = begin; p < end; ++p) {
-    const Vec4& l = velocity_gradient[p];  // [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y]
-    const Vec4 strain_increment(dt * l[0], dt * l[3], 0.0, dt * (l[1] + l[2]));
-    const double spin = 0.5 * dt * (l[1] - l[2]);
-    Vec4& stress = particles.stress[p];
-    rotate_jaumann(stress, spin);
-    const auto material = static_cast<std::size_t>(particles.material_id[p]);
-    if (models[material].update(stress, particles.state[p], strain_increment)) ++yielded;
-    particles.strain[p] += strain_increment;
-    particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
-    // det(I + Δt L): the particle's own volume ratio over the step.
-    const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];
-    particles.volume[p] *= jacobian;
-  }
-  return yielded;
-}
-
 void sort_particles_by_cell(Particles& particles, std::size_t active_count,
-                            const GridGeometry& grid, std::vector<Vec4>& buffer) {
+                            const GridGeometry& grid) {
   const std::size_t n = particles.count();
+  if (n > std::numeric_limits<std::uint32_t>::max())
+    throw Error("mpm: {} particles, more than the sort's 32-bit indices hold", n);
   const std::size_t frozen_bucket = grid.cell_count();
   auto key = [&](std::size_t p) {
     return p < active_count ? grid.cell_of(particles.coordinates[p]) : frozen_bucket;
@@ -484,7 +535,7 @@ void sort_particles_by_cell(Particles& particles, std::size_t active_count,
   for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
   std::vector<std::uint32_t> order(n);
   for (std::size_t p = 0; p < n; ++p) order[start[key(p)]++] = static_cast<std::uint32_t>(p);
-  permute_all(particles, order, buffer);
+  permute_in_place(particles, order);
 }
 
 std::size_t retire_particles(Particles& particles, std::size_t active_count,
@@ -505,8 +556,13 @@ std::size_t retire_particles(Particles& particles, std::size_t active_count,
     }
   }
   for (std::size_t p = active_count; p < n; ++p) order.push_back(static_cast<std::uint32_t>(p));
-  std::vector<Vec4> buffer;
-  permute_all(particles, order, buffer);
+  const std::size_t kept = order.size();
+  // Removed particles go last (the in-place move needs a whole permutation), then are cut.
+  if (mode == ParticleExit::remove) {
+    for (std::size_t p : indices) order.push_back(static_cast<std::uint32_t>(p));
+  }
+  permute_in_place(particles, order);
+  particles.resize(kept);
   return new_active;
 }
 

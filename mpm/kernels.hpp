@@ -88,30 +88,23 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
 
 /// Final pass, grid → particles, block by block: position and displacement
 /// x_p += Δt Σ N_ip v_i^L, the velocity gradient L_p = Σ v_i ⊗ ∇N_ip (v_i: re-projected
-/// in MUSL, v_i^L in USL; USL also updates the velocities here, as above), then, while
-/// the block is in cache, its stresses (update_stresses) and its location on the grid
-/// for the next step (returned). Accumulates the kinetic energy per block.
-/// `velocity_gradient[p]` = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y].
-LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
-                               UpdateScheme scheme, const StepLengths& step, double pic_fraction,
-                               std::span<const ConstitutiveModel> models,
-                               std::span<Vec4> velocity_gradient, ParticleBlocks& blocks,
-                               const GridState& state);
-
-/// Particles [begin, end): strain increment Δε = Δt sym(L), spin
+/// in MUSL, v_i^L in USL; USL also updates the velocities here, as above) and at once,
+/// particle by particle, the stress update: strain increment Δε = Δt sym(L), spin
 /// ω = ½ Δt (∂vx/∂y − ∂vy/∂x), Jaumann rotation, the constitutive update (one model per
 /// material id), accumulated strain and its εq, and the volume from the particle's own
-/// deformation-gradient increment: V_{n+1} = det(I + Δt L_p) V_n.
-/// Returns the number of particles that yielded.
-std::size_t update_stresses(Particles& particles, std::span<const ConstitutiveModel> models,
-                            double dt, std::span<const Vec4> velocity_gradient, std::size_t begin,
-                            std::size_t end);
+/// deformation-gradient increment, V_{n+1} = det(I + Δt L_p) V_n. Then, while the block
+/// is in cache, its location on the grid for the next step (returned). Accumulates the
+/// kinetic energy per block.
+LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
+                               UpdateScheme scheme, const StepLengths& step, double pic_fraction,
+                               std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
+                               const GridState& state);
 
 /// Stable counting sort of the particles by cell (x-major); particles from
-/// `active_count` on (frozen ones) keep their order at the end. `buffer` (n entries) is
-/// the per-step scratch the sort borrows for the 32-byte fields.
+/// `active_count` on (frozen ones) keep their order at the end. In place: the only
+/// per-particle memory it takes is the 4-byte permutation.
 void sort_particles_by_cell(Particles& particles, std::size_t active_count,
-                            const GridGeometry& grid, std::vector<Vec4>& buffer);
+                            const GridGeometry& grid);
 
 /// Moves the particles listed in `indices` (sorted, all < active_count) behind the active
 /// ones (freeze) or deletes them (remove), keeping the order of the others. Returns the

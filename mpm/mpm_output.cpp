@@ -63,8 +63,8 @@ fs::path checkpoint_path(const fs::path& output_dir, double time) {
   return output_dir / fmt::format("mpm_t{:.3f}.h5", time);
 }
 
-ParticleCheckpoint make_checkpoint(const MpmSolver& solver, const RunReferences& references,
-                                   const std::string& case_name, const TransferSettings& transfer) {
+void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunReferences& references,
+                          const std::string& case_name, const TransferSettings& transfer) {
   ParticleCheckpoint c;
   c.header.kind = CheckpointKind::mpm;
   c.header.producer = "mpm-solve " + version_string();
@@ -72,7 +72,6 @@ ParticleCheckpoint make_checkpoint(const MpmSolver& solver, const RunReferences&
   c.header.step = solver.clock().step;
   c.header.case_name = case_name;
   c.header.pe0 = references.pe0;
-  c.particles = solver.particles();
   c.materials = solver.materials();
   c.transfer = transfer;
   c.solver = settings_record(solver.settings(), references.time_step);
@@ -84,7 +83,15 @@ ParticleCheckpoint make_checkpoint(const MpmSolver& solver, const RunReferences&
   c.solver["initial_energy"] = references.initial_energy;
   c.solver["energy_scale"] = references.energy_scale;
   c.solver["rest_timer"] = references.rest_timer;
-  return c;
+  // Borrow the arrays (moves, no copy) and give them back whatever the write does.
+  c.particles = solver.lend_particles();
+  try {
+    write_checkpoint(path, c);
+  } catch (...) {
+    solver.return_particles(std::move(c.particles));
+    throw;
+  }
+  solver.return_particles(std::move(c.particles));
 }
 
 void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string& source,

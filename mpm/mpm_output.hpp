@@ -28,9 +28,12 @@ struct RunReferences {
   double time_step = 0.0;         ///< the base step Δt, s
 };
 
-/// The solver's state as a kind "mpm" checkpoint.
-ParticleCheckpoint make_checkpoint(const MpmSolver& solver, const RunReferences& references,
-                                   const std::string& case_name, const TransferSettings& transfer);
+/// Writes the solver's state as a kind "mpm" checkpoint (atomically, common/checkpoint.hpp)
+/// straight from the solver's particle arrays, which it borrows for the write instead of
+/// copying them (a copy would double the particle memory at every checkpoint).
+void write_mpm_checkpoint(const std::filesystem::path& path, MpmSolver& solver,
+                          const RunReferences& references, const std::string& case_name,
+                          const TransferSettings& transfer);
 
 /// Restores the counters and references of a kind "mpm" checkpoint; throws Error naming
 /// `source` when a setting is missing.

@@ -305,7 +305,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
     }
     if (checkpoint) {
       last_checkpoint = checkpoint_path(options.output_dir, solver.clock().time);
-      write_checkpoint(last_checkpoint, make_checkpoint(solver, refs, c.name, start.transfer));
+      write_mpm_checkpoint(last_checkpoint, solver, refs, c.name, start.transfer);
     }
   };
   if (start.fresh) write_outputs(schedule.is_checkpoint(solver.clock().time));
@@ -352,8 +352,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   write_outputs(false);
-  write_checkpoint(options.output_dir / "mpm_final.h5",
-                   make_checkpoint(solver, refs, c.name, start.transfer));
+  write_mpm_checkpoint(options.output_dir / "mpm_final.h5", solver, refs, c.name, start.transfer);
 
   RunSummary summary;
   summary.steps = steps;
@@ -362,13 +361,16 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   summary.particle_steps_per_second = wall > 0.0 ? particle_steps / wall : 0.0;
   summary.end_time = solver.clock().time;
   const auto memory = solver.memory();
+  const auto per_particle = [&](std::size_t bytes) {
+    return static_cast<double>(bytes) /
+           static_cast<double>(std::max<std::size_t>(summary.particles, 1));
+  };
   log.info(
-      "memory: {:.0f} B/particle in particle arrays, {:.0f} B/particle per-step scratch, "
-      "{:.0f} B/particle sort peak, grid and windows {:.2f} MB",
-      static_cast<double>(memory.particle_arrays) / static_cast<double>(summary.particles),
-      static_cast<double>(memory.particle_scratch) / static_cast<double>(summary.particles),
-      static_cast<double>(memory.sort_peak) / static_cast<double>(summary.particles),
-      static_cast<double>(memory.grid) / 1e6);
+      "memory: {:.0f} B/particle in particle arrays + {:.0f} B/particle sort peak + grid and "
+      "windows {:.2f} MB ({:.0f} B/particle) = {:.0f} B/particle",
+      per_particle(memory.particle_arrays), per_particle(memory.sort_peak),
+      static_cast<double>(memory.grid) / 1e6, per_particle(memory.grid),
+      per_particle(memory.total()));
   return summary;
 }
 

@@ -43,6 +43,9 @@ MpmSolver::MpmSolver(MpmSettings settings, MaterialTable materials, Particles pa
       particles_(std::move(particles)),
       clock_(clock) {
   particles_.check_consistent_sizes();
+  // The arrays are permuted in place from now on: drop the slack a generator may have
+  // left (push_back growth), which would otherwise stay for the whole run.
+  particles_.shrink_to_fit();
   use_elastic_models(false);
   grid_state_.resize(settings_.grid);
   double smallest_mass = std::numeric_limits<double>::infinity();
@@ -50,7 +53,6 @@ MpmSolver::MpmSolver(MpmSettings settings, MaterialTable materials, Particles pa
   // Nodes lighter than this are empty: 1e-14 of a particle is far below any weight a
   // particle gives a node it actually moves, and keeps p/m and F/m finite.
   mass_floor_ = particles_.count() > 0 ? 1e-14 * smallest_mass : 0.0;
-  velocity_gradient_.resize(particles_.count());
 }
 
 void MpmSolver::use_elastic_models(bool elastic) {
@@ -88,18 +90,15 @@ void MpmSolver::locate() {
   // Particles that left the grid: frozen behind the active ones, or removed. The order of
   // the others is kept, so the run stays deterministic.
   exited_this_step_ += located.outside.size();
-  const std::size_t before = particles_.count();
   const std::size_t active =
       retire_particles(particles_, active_count(), located.outside, settings_.particle_exit);
   clock_.frozen = particles_.count() - active;
-  if (particles_.count() != before) velocity_gradient_.resize(particles_.count());
   blocks_.partition(active);
   located = locate_particles(particles_, active, settings_.grid, settings_.shape_function, blocks_);
 }
 
 void MpmSolver::sort() {
-  sort_particles_by_cell(particles_, active_count(), settings_.grid, velocity_gradient_);
-  velocity_gradient_.resize(particles_.count());
+  sort_particles_by_cell(particles_, active_count(), settings_.grid);
   clock_.steps_since_sort = 0;
   clock_.sorted_once = true;
   locate_particles(particles_, active_count(), settings_.grid, settings_.shape_function, blocks_);
@@ -123,7 +122,7 @@ StepReport MpmSolver::step(double dt) {
                                          grid_state_);
   }
   pending_ = grid_to_particles(particles_, s.grid, s.shape_function, s.update_scheme, lengths,
-                               s.pic_fraction, models_, velocity_gradient_, blocks_, grid_state_);
+                               s.pic_fraction, models_, blocks_, grid_state_);
   located_ = true;
 
   clock_.time += dt;
@@ -205,11 +204,9 @@ MpmSolver::Memory MpmSolver::memory() const {
                       bytes_of(p.pore_pressure) + bytes_of(p.volume) + bytes_of(p.mass) +
                       bytes_of(p.size) + bytes_of(p.material_id) + bytes_of(p.element) +
                       bytes_of(p.id) + bytes_of(p.state);
-  m.particle_scratch = bytes_of(velocity_gradient_);
-  // The sort: the permutation (4 B) and one temporary field of at most 16 B per particle
-  // (the 32-byte fields go through the velocity-gradient scratch), plus the bucket table.
-  m.sort_peak = p.count() * (sizeof(std::uint32_t) + sizeof(Vec2)) +
-                (settings_.grid.cell_count() + 2) * sizeof(std::uint32_t);
+  // The sort (in place): the permutation, 4 B per particle, and the bucket table.
+  m.sort_peak =
+      p.count() * sizeof(std::uint32_t) + (settings_.grid.cell_count() + 2) * sizeof(std::uint32_t);
   m.grid = grid_state_.bytes() + blocks_.bytes();
   return m;
 }

@@ -8,9 +8,9 @@
 //   3. P2G          m_i, p_i and f_i = Σ N m g − Σ V σ·∇N
 //   4. grid         v_i^L = v_i + Δt_v F_i/m_i with damping and the edge constraints
 //   5. G2P          (MUSL: velocities, then momenta re-projected to the grid)
-//   6. G2P          positions x += Δt Σ N v^L, velocity gradients L_p, and block by
-//   7. stresses     block (in cache): Jaumann rotation, constitutive update, strain, εq,
-//                   volume; the particles' location for the next step
+//   6. G2P          positions x += Δt Σ N v^L, velocity gradients L_p, and particle by
+//   7. stresses     particle: Jaumann rotation, constitutive update, strain, εq, volume;
+//                   block by block (in cache) the particles' location for the next step
 #pragma once
 
 #include <cstdint>
@@ -126,9 +126,17 @@ class MpmSolver {
   /// Stable Courant step C h / max c_p over the materials that particles use.
   double courant_time_step(double courant) const;
 
-  /// Memory held per particle (particle arrays and per-step scratch) and in the grid.
+  /// Moves the particle arrays out of the solver and back (no copy), for a writer that
+  /// takes a Particles value (the checkpoint); the solver must not step in between, and
+  /// the same particles must come back.
+  Particles lend_particles() { return std::move(particles_); }
+  void return_particles(Particles particles) { particles_ = std::move(particles); }
+
+  /// Memory held in the particle arrays, the sort's temporary peak (the step itself
+  /// allocates nothing per particle) and the grid with its scatter windows.
   struct Memory {
-    std::size_t particle_arrays = 0, particle_scratch = 0, sort_peak = 0, grid = 0;
+    std::size_t particle_arrays = 0, sort_peak = 0, grid = 0;
+    std::size_t total() const { return particle_arrays + sort_peak + grid; }
   };
   Memory memory() const;
 
@@ -143,9 +151,8 @@ class MpmSolver {
   SolverClock clock_;
   GridState grid_state_;
   ParticleBlocks blocks_;
-  std::vector<Vec4> velocity_gradient_;  ///< per-step scratch, also the sort's buffer
-  LocateResult pending_;                 ///< where the last step's final pass found the particles
-  bool located_ = false;                 ///< pending_ matches the particles
+  LocateResult pending_;  ///< where the last step's final pass found the particles
+  bool located_ = false;  ///< pending_ matches the particles
   double mass_floor_ = 0.0;
   double last_kinetic_energy_ = 0.0;
   std::size_t exited_this_step_ = 0;
