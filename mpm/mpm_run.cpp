@@ -238,6 +238,54 @@ std::optional<std::string> check_stability(const MpmSolver& solver, const RunRef
   return std::nullopt;
 }
 
+/// Warnings about particles leaving the grid, rate-limited: the first exit at once, then
+/// one warning per checkpoint for the exits since the last warning (a body pouring over
+/// the grid's edge loses particles on hundreds of steps), and the run's total at its end.
+class ExitLog {
+ public:
+  ExitLog(const Logger& log, ParticleExit mode)
+      : log_(log), fate_(mode == ParticleExit::freeze ? "were frozen" : "were removed") {}
+
+  /// `count` particles left the grid in the step that ended at `time`.
+  void add(std::size_t count, double time) {
+    if (count == 0) return;
+    total_ += count;
+    if (total_ == count) {
+      first_exit_ = time;
+      log_.warning(
+          "{} particle{} left the grid at t = {:.4f} s and {}; further exits are reported at "
+          "the checkpoints",
+          count, plural(count), time, fate_);
+      return;
+    }
+    if (unreported_ == 0) first_unreported_ = time;
+    unreported_ += count;
+  }
+  /// At a checkpoint: the exits since the last warning.
+  void report(double time) {
+    if (unreported_ == 0) return;
+    log_.warning(
+        "{} more particle{} left the grid between t = {:.4f} and {:.4f} s and {} ({} in all)",
+        unreported_, plural(unreported_), first_unreported_, time, fate_, total_);
+    unreported_ = 0;
+  }
+  /// At the end of the run: the last exits not reported yet, and the total.
+  void finish(double time) {
+    if (total_ == 0) return;
+    report(time);
+    log_.warning("{} particle{} left the grid in this run (the first at t = {:.4f} s) and {}",
+                 total_, plural(total_), first_exit_, fate_);
+  }
+
+ private:
+  static const char* plural(std::size_t n) { return n == 1 ? "" : "s"; }
+
+  const Logger& log_;
+  const char* fate_;
+  std::size_t total_ = 0, unreported_ = 0;
+  double first_exit_ = 0.0, first_unreported_ = 0.0;
+};
+
 }  // namespace
 
 RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) {
@@ -316,7 +364,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   const auto wall_start = std::chrono::steady_clock::now();
   std::int64_t steps = 0;
   double particle_steps = 0.0;
-  std::size_t exited_total = 0;
+  ExitLog exits(log, settings.particle_exit);
   bool at_rest = false;
   while (solver.clock().time < end_time - 1e-9 * std::max(1.0, end_time)) {
     const double time = solver.clock().time;
@@ -327,13 +375,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
     if (landing) solver.clock().time = event;  // exactly, so restarts line up
     ++steps;
 
-    if (report.exited > 0) {
-      exited_total += report.exited;
-      log.warning("{} particle{} left the grid at t = {:.4f} s and {} ({} in all)", report.exited,
-                  report.exited == 1 ? "" : "s", solver.clock().time,
-                  settings.particle_exit == ParticleExit::freeze ? "were frozen" : "were removed",
-                  exited_total);
-    }
+    exits.add(report.exited, solver.clock().time);
     const double ke_over_pe0 = solver.last_kinetic_energy() / refs.pe0;
     refs.rest_timer =
         ke_over_pe0 < c.mpm.rest_threshold ? refs.rest_timer + (solver.clock().time - time) : 0.0;
@@ -341,6 +383,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
 
     const double now = solver.clock().time;
     if (schedule.is_output(now) || at_rest) write_outputs(schedule.is_checkpoint(now));
+    if (schedule.is_checkpoint(now)) exits.report(now);
     progress.update(now, solver.clock().step, fmt::format("KE/PE0 {:.3g}", ke_over_pe0));
     if (at_rest) {
       log.info("at rest: KE/PE0 < {} for {} s, stopping at t = {:.4f} s", c.mpm.rest_threshold,
@@ -349,6 +392,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
     }
   }
   progress.finish();
+  exits.finish(solver.clock().time);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   write_outputs(false);

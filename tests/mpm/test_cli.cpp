@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -160,6 +162,58 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
             "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");
 }
 
+/// The small case scaled to a 40 m × 16 m column, 4 × 4 particles per cell (10,240
+/// particles) on an 80 m × 20 m grid: above the 8,192 particles from which the kernels
+/// run in parallel.
+std::string parallel_case(const std::string& mpm_extra = "", double end_time = 0.5) {
+  std::string text = small_case(mpm_extra, end_time);
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  };
+  replace("surface = [[0.0, 8.0], [10.0, 8.0]]", "surface = [[0.0, 16.0], [40.0, 16.0]]");
+  replace("domain = [[0.0, 0.0], [30.0, 10.0]]", "domain = [[0.0, 0.0], [80.0, 20.0]]");
+  replace("particles_per_cell = [2, 2]", "particles_per_cell = [4, 4]");
+  replace("initial_length = 10.0", "initial_length = 40.0");
+  replace("initial_height = 8.0", "initial_height = 16.0");
+  return text;
+}
+
+// The same above the parallel threshold on 2 threads: 0 → 0.25 → 0.5 equals 0 → 0.5 file
+// for file, byte for byte (the writer stores no time stamps), history included.
+TEST(MpmSolveCli, RestartContinuesBitForBitOnTheParallelPath) {
+  const fs::path folder = fresh_folder("restart_parallel");
+  const fs::path c = write_case(folder, parallel_case());
+  const Outcome straight =
+      run_solver(folder, fmt::format("{} -o {} --threads 2 --no-vtk --quiet", c.string(),
+                                     (folder / "straight").string()));
+  ASSERT_EQ(straight.status, 0) << straight.err;
+  EXPECT_NE(straight.out.find("particles=10240"), std::string::npos) << straight.out;
+  const fs::path split = folder / "split";
+  const Outcome first =
+      run_solver(folder, fmt::format("{} -o {} --until 0.25 --threads 2 --no-vtk --quiet",
+                                     c.string(), split.string()));
+  ASSERT_EQ(first.status, 0) << first.err;
+  const Outcome second = run_solver(
+      folder, fmt::format("{} -o {} --restart {} --threads 2 --no-vtk --quiet", c.string(),
+                          split.string(), (split / "mpm_t0.250.h5").string()));
+  ASSERT_EQ(second.status, 0) << second.err;
+
+  const fs::path a = folder / "straight" / "mpm_final.h5", b = split / "mpm_final.h5";
+  const ParticleCheckpoint state = read_particle_checkpoint(a);
+  ASSERT_GT(state.particles.count(), 8192u);
+  EXPECT_EQ(state.header.time, 0.5);
+  // It moved across cells (the sort reordered it), not a body at rest.
+  double largest = 0.0;
+  for (const Vec2& u : state.particles.displacement) largest = std::max(largest, u.norm());
+  EXPECT_GT(largest, 0.5);
+  EXPECT_EQ(read_text(a), read_text(b));
+  EXPECT_EQ(read_text(folder / "straight" / "mpm_t0.500.h5"), read_text(split / "mpm_t0.500.h5"));
+  EXPECT_EQ(read_text(folder / "straight" / "mpm_history.csv"),
+            read_text(split / "mpm_history.csv"));
+}
+
 /// Overwrites one value of a dataset, as a foreign tool could (our writer refuses).
 void patch_value(const fs::path& file, const char* dataset, hsize_t row, hsize_t column,
                  double value) {
@@ -235,8 +289,20 @@ TEST(MpmSolveCli, BadParticleFilesAreOneLineErrorsNamingTheParticle) {
   expect_rejected(zero_mass, "mass", "particle 4");
 }
 
-/// Particles thrown upwards out of the grid's free top: a warning with the count, then
-/// frozen (kept, velocity 0, at the end of the arrays) or removed.
+/// The warnings of mpm-solve's stderr that mention particles leaving the grid.
+std::vector<std::string> exit_warnings(const std::string& err) {
+  std::vector<std::string> lines;
+  std::istringstream in(err);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("left the grid") != std::string::npos) lines.push_back(line);
+  }
+  return lines;
+}
+
+/// Particles thrown upwards out of the grid's free top: frozen (kept, velocity 0, at the
+/// end of the arrays) or removed. They are thrown at speeds from 30 to 50 m/s, so they
+/// leave on many different steps; the warnings are rate-limited (the first exit, then one
+/// per checkpoint, checkpoints every 0.25 s here) and the last one gives the run's total.
 TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
   for (const std::string mode : {"freeze", "remove"}) {
     const fs::path folder = fresh_folder("exit_" + mode);
@@ -252,7 +318,7 @@ TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
     std::size_t thrown = 0;
     for (std::size_t k = 0; k < file.particles.count(); ++k) {
       if (file.particles.coordinates[k].y() > 7.0 && file.particles.coordinates[k].x() < 2.0) {
-        file.particles.velocity[k] = Vec2(0.0, 40.0);
+        file.particles.velocity[k] = Vec2(0.0, 30.0 + 5.0 * static_cast<double>(thrown % 5));
         ++thrown;
       }
     }
@@ -262,13 +328,14 @@ TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
         run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk --quiet", c.string(),
                                        (folder / "out").string(), (folder / "thrown.h5").string()));
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.err.find("left the grid"), std::string::npos) << r.err;
     const ParticleCheckpoint final_state =
         read_particle_checkpoint(folder / "out" / "mpm_final.h5");
     const auto frozen = std::get<std::int64_t>(final_state.solver.at("frozen_particles"));
+    std::size_t left = 0;
     if (mode == "freeze") {
       EXPECT_EQ(final_state.particles.count(), file.particles.count());
       EXPECT_GT(frozen, 0);
+      left = static_cast<std::size_t>(frozen);
       for (std::size_t k = final_state.particles.count() - static_cast<std::size_t>(frozen);
            k < final_state.particles.count(); ++k) {
         EXPECT_EQ(final_state.particles.velocity[k], Vec2::Zero());
@@ -277,7 +344,20 @@ TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
     } else {
       EXPECT_LT(final_state.particles.count(), file.particles.count());
       EXPECT_EQ(frozen, 0);
+      left = file.particles.count() - final_state.particles.count();
     }
+    // The first exit at once; at most one more per checkpoint (0.25 s) and the end; the
+    // total last.
+    const std::vector<std::string> warnings = exit_warnings(r.err);
+    ASSERT_GE(warnings.size(), 2u) << r.err;
+    EXPECT_LE(warnings.size(), 4u) << r.err;
+    EXPECT_NE(warnings.front().find("left the grid at t = "), std::string::npos) << r.err;
+    const std::string fate = mode == "freeze" ? "were frozen" : "were removed";
+    EXPECT_NE(warnings.front().find(fate), std::string::npos) << r.err;
+    EXPECT_NE(
+        warnings.back().find(fmt::format("warning: {} particles left the grid in this run", left)),
+        std::string::npos)
+        << r.err;
   }
 }
 
@@ -354,6 +434,132 @@ TEST(MpmSolveCli, StopsWhenAtRest) {
   const ParticleCheckpoint last = read_particle_checkpoint(folder / "out" / "mpm_final.h5");
   EXPECT_GE(last.header.time, 0.1 - 1e-12);
   EXPECT_LT(last.header.time, 0.1 + 0.005);
+}
+
+/// An elastic layer 25 m × 1 m on a roller base, fixed at x = 0, free at x = 25 m and on
+/// top, vibrating in its first mode v = v0 sin(πx/2L): a bar in plane strain whose top is
+/// free, ω = (π/2L) sqrt(E/((1 − ν²)ρ)) (the layer is thin against the wavelength). Its
+/// kinetic energy KE_max cos²(ωt) dips to zero twice per period; with the particle file's
+/// pe0 set to KE_max, KE/PE0 falls below θ for windows of 2 arcsin(√θ)/ω and rises above
+/// it again in between. Writes the particle file; returns the window length.
+double vibrating_layer_file(const fs::path& folder, const fs::path& c, double threshold) {
+  const Outcome t0 = run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk",
+                                                    c.string(), (folder / "t0").string()));
+  EXPECT_EQ(t0.status, 0) << t0.err;
+  ParticleCheckpoint file = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
+  file.header.kind = CheckpointKind::particles;
+  file.solver.clear();
+  const double length = 25.0, v0 = 0.5;
+  double kinetic = 0.0;
+  for (std::size_t k = 0; k < file.particles.count(); ++k) {
+    const double x = file.particles.coordinates[k].x();
+    const double v = v0 * std::sin(std::numbers::pi * x / (2 * length));
+    file.particles.velocity[k] = Vec2(v, 0.0);
+    kinetic += 0.5 * file.particles.mass[k] * v * v;
+  }
+  file.header.pe0 = kinetic;
+  write_checkpoint(folder / "layer.h5", file);
+  const Material& m = file.materials.at(0);
+  const double omega =
+      std::numbers::pi / (2 * length) *
+      std::sqrt(m.youngs_modulus / ((1 - m.poisson_ratio * m.poisson_ratio) * m.density));
+  return 2 * std::asin(std::sqrt(threshold)) / omega;
+}
+
+std::string vibrating_layer_case(double threshold, double duration) {
+  std::string text =
+      small_case(fmt::format("rest_threshold = {}\nrest_duration = {}\noutput_every = 0.01",
+                             threshold, duration),
+                 1.0);
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  };
+  replace("mohr-coulomb", "linear-elastic");
+  replace("friction_angle = 22.2\n", "");
+  replace("cohesion = 1000.0\n", "");
+  replace("surface = [[0.0, 8.0], [10.0, 8.0]]", "surface = [[0.0, 1.0], [25.0, 1.0]]");
+  replace("domain = [[0.0, 0.0], [30.0, 10.0]]", "domain = [[0.0, 0.0], [32.0, 4.0]]");
+  replace("output_every = 0.05\n", "");
+  replace("left = \"roller\"\nright = \"roller\"\nbase = \"friction\"\ntop = \"free\"",
+          "left = \"fixed\"\nright = \"free\"\nbase = \"roller\"\ntop = \"free\"");
+  return text;
+}
+
+/// Windows of KE/PE0 < θ in mpm_history.csv: their count, their total length (from the
+/// rows, 0.01 s apart), and the first one's start and end (interpolated between rows).
+struct BelowWindows {
+  int count = 0;
+  double total = 0.0;
+  double first_start = -1.0, first_end = -1.0;
+};
+
+BelowWindows windows_below(const fs::path& history_file, double threshold) {
+  BelowWindows w;
+  std::istringstream history(read_text(history_file));
+  std::string line;
+  std::getline(history, line);  // header
+  double t_previous = -1.0, ratio_previous = 0.0;
+  bool below_previous = false;
+  while (std::getline(history, line)) {
+    std::vector<double> row;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
+    const double t = row.at(0), ratio = row.at(3);
+    const bool below = ratio < threshold;
+    const double crossing =
+        t_previous + (t - t_previous) * (ratio_previous - threshold) / (ratio_previous - ratio);
+    if (below && !below_previous && t_previous >= 0.0) {
+      ++w.count;
+      if (w.count == 1) w.first_start = crossing;
+    }
+    if (!below && below_previous && w.count == 1 && w.first_end < 0.0) w.first_end = crossing;
+    if (below && below_previous) w.total += t - t_previous;
+    t_previous = t;
+    ratio_previous = ratio;
+    below_previous = below;
+  }
+  return w;
+}
+
+// The rest timer counts only uninterrupted time below the threshold. A rest duration of
+// 1.5 windows is never reached within one window, so the run goes on to its end although
+// its windows add up to more than that (a timer that did not restart when KE/PE0 rose
+// again would have stopped it); one of half a window stops the run half a window after
+// the first one began.
+TEST(MpmSolveCli, RestTimerRestartsWhenTheKineticEnergyRisesAgain) {
+  const double threshold = 0.1;
+  const fs::path folder = fresh_folder("rest_timer");
+  const double window = vibrating_layer_file(
+      folder, write_case(folder, vibrating_layer_case(threshold, 0)), threshold);
+  auto run = [&](double duration, const std::string& name) {
+    const fs::path c = write_case(folder, vibrating_layer_case(threshold, duration));
+    return run_solver(folder,
+                      fmt::format("{} -o {} --particles {} --no-vtk", c.string(),
+                                  (folder / name).string(), (folder / "layer.h5").string()));
+  };
+
+  const double long_duration = 1.5 * window;
+  const Outcome reset = run(long_duration, "long");
+  ASSERT_EQ(reset.status, 0) << reset.err;
+  EXPECT_EQ(reset.out.find("at rest"), std::string::npos) << reset.out;
+  EXPECT_EQ(read_particle_checkpoint(folder / "long" / "mpm_final.h5").header.time, 1.0);
+  const BelowWindows w = windows_below(folder / "long" / "mpm_history.csv", threshold);
+  EXPECT_GE(w.count, 2);
+  EXPECT_GT(w.total, long_duration);
+  // The windows are the layer's: the first one as long as 2 arcsin(√θ)/ω (to 3 %).
+  EXPECT_NEAR((w.first_end - w.first_start) / window, 1.0, 0.03);
+
+  const double short_duration = 0.5 * window;
+  const Outcome rest = run(short_duration, "short");
+  ASSERT_EQ(rest.status, 0) << rest.err;
+  EXPECT_NE(rest.out.find("at rest"), std::string::npos) << rest.out;
+  // The same motion up to there: it stops in the first window, `short_duration` after
+  // its start, to the step (3.9 ms) and the interpolation between history rows.
+  const double stop = read_particle_checkpoint(folder / "short" / "mpm_final.h5").header.time;
+  EXPECT_GT(stop, w.first_start + short_duration - 0.002);
+  EXPECT_LT(stop, w.first_start + short_duration + 0.006);
 }
 
 }  // namespace
