@@ -25,6 +25,7 @@
 # so that two runs do not oversubscribe two cores), VTK_EVERY (s between MPM VTK
 # frames, default 1; 0 for every output step), MPM_FLAGS, FEM_FLAGS, TRANSFER_FLAGS.
 
+PIPELINE_MK := $(lastword $(MAKEFILE_LIST))
 ROOT    := $(abspath $(CASE_DIR)/../..)
 BUILD   ?= $(ROOT)/build
 BIN     ?= $(BUILD)/bin
@@ -81,7 +82,7 @@ MAIN_RUNS := $(call run_file,0) $(call run_file,$(MAIN_TT)) $(PURE_RUNS)
 all: main
 
 help:
-	@sed -n '/^#   make/,/^#$$/p' $(lastword $(MAKEFILE_LIST)) | sed 's/^# //'
+	@sed -n '/^#   make/,/^#$$/{/^#$$/d;s/^# //;p;}' $(PIPELINE_MK)
 
 # --------------------------------------------------------------------------- stages
 # --checkpoint-at-zone-exit: the state at the last output inside the recommended
