@@ -129,10 +129,10 @@ $(PURE_FEM): $(CASE) $(FEM_SOLVE) $(FEM2MPM)
 # --------------------------------------------------------------------------- sweep
 # The valid transfer times are known only once the FE phase has run (the mesh must
 # not have entangled), so `sweep` runs the FE phase, then a second make with them as
-# TTS, whose sweep.csv depends on those runs.
+# TTS, whose sweep.csv depends on those runs and the pure runs.
 sweep_times = $$($(METRICS) transfer-times $(CASE) $(OUT)/fem/fem_history.csv)
 sweep: fem
-	+$(MAKE) -f $(firstword $(MAKEFILE_LIST)) $(OUT)/sweep.csv TTS="$(sweep_times)"
+	+$(MAKE) -f $(firstword $(MAKEFILE_LIST)) $(OUT)/sweep.csv SWEEPING=yes TTS="$(sweep_times)"
 
 sweep-plan: fem
 	@for t in $(sweep_times); do printf 'tt%s ' $$t; done; \
@@ -148,7 +148,7 @@ WANTED_RUNS :=
 ifneq ($(filter main all,$(goals)),)
   WANTED_RUNS += $(MAIN_RUNS)
 endif
-ifneq ($(TTS),)
+ifeq ($(SWEEPING),yes)
   WANTED_RUNS += $(foreach t,$(TTS),$(call run_file,$(t))) $(PURE_RUNS)
 endif
 # `make mpm TT=1.3 report` and the like: the run asked for is measured too.
