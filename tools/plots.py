@@ -99,6 +99,25 @@ def save(fig, path):
     print(f"plots: {path}")
 
 
+def initial_outline(case, out):
+    """The top of the initial body where the case gives no surface polyline (a blocks
+    mesh): in every 1 m wide strip the highest FE node of the t = 0 checkpoint, then
+    down to the base at the last one."""
+    path = out / "fem" / "fem_t0.000.h5"
+    if not path.exists():
+        return [], []
+    with h5py.File(path, "r") as f:
+        nodes = f["nodes/reference_coordinates"][:]
+    strip = np.floor(nodes[:, 0] / 1.0 + 1e-9)
+    xs, ys = [], []
+    for s in np.unique(strip):
+        top = nodes[strip == s]
+        x, y = top[np.argmax(top[:, 1])]
+        xs.append(x)
+        ys.append(y)
+    return xs + [xs[-1]], ys + [0.0]
+
+
 def plot_profiles(case, out, figures):
     path = out / "profiles.csv"
     if not path.exists():
@@ -111,9 +130,9 @@ def plot_profiles(case, out, figures):
         xs = [p[0] for p in surface] + [surface[-1][0]]
         ys = [p[1] for p in surface] + [0.0]
     else:
-        length, height = case["metrics"]["initial_length"], case["metrics"]["initial_height"]
-        xs, ys = [0, length, length], [height, height, 0]
-    ax.plot(xs, ys, color="0.4", ls=":", lw=1, label="initial body", zorder=1)
+        xs, ys = initial_outline(case, out)
+    if xs:
+        ax.plot(xs, ys, color="0.4", ls=":", lw=1, label="initial body", zorder=1)
     points = max(sum(1 for r in rows if r["run"] == run) for run in runs)
     styles = run_styles(runs, points)
     for run in runs:
