@@ -39,6 +39,12 @@ def inside_zone(row):
         math.isnan(e_avg) or e_avg <= ZONE_EPS_Q_AVG)
 
 
+def signed_percent(value):
+    """+4.6%, and +0.0% rather than -0.0% for a value that rounds to zero."""
+    text = f"{value:+.1%}"
+    return "+0.0%" if text == "-0.0%" else text
+
+
 def time_text(t):
     """A history time as make's TT wants it: 1.3, not 1.30 or 1.3000000000000003."""
     return f"{round(t, 6):g}"
@@ -146,7 +152,7 @@ def reading(case, sweep, last_inside, tau_c):
             text.append(
                 f"Later transfers inherit more FE mesh distortion: at t_T = "
                 f"{number(worst['tt']):g} s the R_N error reaches "
-                f"{number(worst['runout_normalised_error']):+.1%}.")
+                f"{signed_percent(number(worst['runout_normalised_error']))}.")
         text.append(
             f"**Recommended transfer time for this case: t_T ≈ {time_text(last_inside)} s "
             f"(t_T/τc = {last_inside / tau_c:.2f})**, the last FE output inside the zone: "
@@ -155,7 +161,7 @@ def reading(case, sweep, last_inside, tau_c):
     for name, label in (("pure-mpm", "Pure MPM"), ("pure-fem", "Pure FE (small strain)")):
         if name in runs and runs[name]["runout_normalised_error"] != "":
             text.append(f"{label} differs from it by "
-                        f"{number(runs[name]['runout_normalised_error']):+.1%} in R_N.")
+                        f"{signed_percent(number(runs[name]['runout_normalised_error']))} in R_N.")
     return " ".join(text)
 
 
