@@ -21,6 +21,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.transforms  # noqa: E402
 import numpy as np  # noqa: E402
 
 G = 9.81
@@ -148,7 +149,11 @@ def plot_profiles(case, out, figures):
     ax.set_ylim(bottom=0)
     ax.set_aspect("equal", adjustable="box")
     ax.grid(True, lw=0.3, alpha=0.5)
-    ax.legend(fontsize=7, ncol=2, loc="upper right")
+    # Below the x label (32 points under the axes): inside, on a flat runout, it hides
+    # a curve wherever it goes.
+    below = matplotlib.transforms.offset_copy(ax.transAxes, fig=fig, y=-32, units="points")
+    ax.legend(fontsize=7, ncol=min(len(runs) + 1, 6), loc="upper center", bbox_to_anchor=(0.5, 0),
+              bbox_transform=below, frameon=False)
     save(fig, figures / "profiles.png")
 
 
