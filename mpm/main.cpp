@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   app.add_option("--until", until, "stop at this time (s) instead of the case's end time");
   app.add_option("--restart", restart, "continue from an mpm checkpoint (mpm_t<T>.h5)");
   app.add_option("--threads", threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   app.add_option("--shape-function", shape, "override the case: gimp or linear")
       ->check(CLI::IsMember({"gimp", "linear"}));
   app.add_option("--update-scheme", scheme, "override the case: musl or usl")
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-vtk", no_vtk, "write no VTK files");
   app.add_option("--vtk-every", vtk_every,
                  "VTK frames every this many seconds (default: every output step)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   app.add_flag("-q,--quiet", quiet, "print warnings, errors and the summary line only");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 

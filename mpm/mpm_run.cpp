@@ -290,6 +290,9 @@ class ExitLog {
 
 RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) {
   // ---- settings: the case file, with the command line's overrides
+  if (options.until && !std::isfinite(*options.until)) {
+    throw Error("--until {} is not admissible (expected a finite end time in s)", *options.until);
+  }
   MpmSettings settings = MpmSettings::from(c.mpm);
   if (options.shape_function) settings.shape_function = *options.shape_function;
   if (options.update_scheme) settings.update_scheme = *options.update_scheme;
@@ -327,6 +330,10 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
 
   // ---- outputs
   const double end_time = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
+  if (end_time < solver.clock().time) {
+    throw Error("{}: the run would end at t = {} s, before its start at t = {} s{}", source,
+                end_time, solver.clock().time, options.until ? " (--until)" : " (mpm.end_time)");
+  }
   const Schedule schedule(c.mpm, end_time);
   fs::create_directories(options.output_dir);
   const std::optional<double> resume =

@@ -79,6 +79,20 @@ for program in fem-solve mpm-solve; do
   [[ ! -e $out ]] || fail "$program unknown option: created $out"
 done
 
+for until in nan -2; do
+  for program in fem-solve mpm-solve; do
+    out="$work/out-until-$program"
+    run "$program --until $until" nonzero "$bin/$program" "$src/cases/column-short/case.toml" \
+      -o "$out" --until "$until" --no-vtk
+    one_error_line "$program --until $until" "--until"
+    [[ ! -e $out ]] || fail "$program --until $until: created $out"
+  done
+done
+
+run "mpm-solve --threads 0" 2 "$bin/mpm-solve" "$src/cases/column-short/case.toml" -o "$work/t0" \
+  --threads 0
+one_error_line "mpm-solve --threads 0" "must be > 0"
+
 run "fem2mpm missing checkpoint" nonzero "$bin/fem2mpm" "$work/missing.h5" -o "$work/p.h5"
 one_error_line "fem2mpm missing checkpoint" "missing.h5"
 [[ ! -e $work/p.h5 ]] || fail "fem2mpm missing checkpoint: created the particle file"
