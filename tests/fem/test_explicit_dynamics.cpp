@@ -62,34 +62,57 @@ double bar_energy(ExplicitSolver& solver, const FemModel& model, const FemState&
   return e.kinetic + e.elastic + e.hourglass;
 }
 
+/// The vibrating bar of the tests below: 0 ≤ x ≤ L = 10 m, 40 × 1 elements of 0.25 m,
+/// fixed in x at x = 0 (roller), free at x = L, between rollers on the base and the top
+/// (uniaxial strain), at rest in position and moving with the first mode's velocity
+/// field 0.01 sin(πx/2L) m/s; ω1 = (π/2L) sqrt(M/ρ).
+struct VibratingBar {
+  static constexpr double length = 10.0;
+  Material material = soil();
+  double omega = std::numbers::pi / (2.0 * length) * material.p_wave_speed();
+  FemModel model;
+  ExplicitSolver solver;
+  FemState state;
+
+  VibratingBar(ElementType type, const NodalDamping& damping)
+      : model(make_model(rectangle_mesh(type, 40, 1, length, 0.25), {material},
+                         Kinematics::small_strain, 1.0)),
+        solver(model,
+               make_constraints(model.mesh,
+                                BoundaryTable{{"left", BoundaryCondition::roller},
+                                              {"base", BoundaryCondition::roller},
+                                              {"top", BoundaryCondition::roller}},
+                                "test"),
+               0.0, damping, models_of(model)),
+        state(make_rest_state(model)) {
+    for (std::size_t n = 0; n < state.velocity.size(); ++n) {
+      state.velocity[n] =
+          Vec2(0.01 * std::sin(std::numbers::pi * model.mesh.nodes[n].x() / (2.0 * length)), 0.0);
+    }
+  }
+  /// The free end's node.
+  std::size_t tip() const {
+    return static_cast<std::size_t>(model.mesh.find_node_set("right")->nodes.front());
+  }
+};
+
 TEST(ExplicitDynamics, ElasticBarVibratesAtItsFirstModeAndConservesEnergy) {
   // A bar 0 ≤ x ≤ L fixed in x at x = 0 (roller), free at x = L, between rollers on the
   // base and the top: uniaxial strain (εyy = εzz = 0), so axial waves travel at
   // c_p = sqrt(M/ρ) and the first mode u = U sin(πx/2L) sin(ω1 t) has
   // ω1 = (π/2L) sqrt(M/ρ). Released from that mode's velocity field, no damping.
-  const double length = 10.0;
-  const Material material = soil();
-  const double omega = std::numbers::pi / (2.0 * length) * material.p_wave_speed();
-  const double period = 2.0 * std::numbers::pi / omega;
   for (const auto type : all_types) {
     SCOPED_TRACE(to_string(type));
-    const FemModel model = make_model(rectangle_mesh(type, 40, 1, length, 0.25), {material},
-                                      Kinematics::small_strain, 1.0);
-    const BoundaryTable table{{"left", BoundaryCondition::roller},
-                              {"base", BoundaryCondition::roller},
-                              {"top", BoundaryCondition::roller}};
-    ExplicitSolver solver(model, make_constraints(model.mesh, table, "test"), 0.0, {},
-                          models_of(model));
-    FemState state = make_rest_state(model);
-    for (std::size_t n = 0; n < state.velocity.size(); ++n) {
-      state.velocity[n] =
-          Vec2(0.01 * std::sin(std::numbers::pi * model.mesh.nodes[n].x() / (2.0 * length)), 0.0);
-    }
+    VibratingBar bar(type, {});
+    const double period = 2.0 * std::numbers::pi / bar.omega;
+    const FemModel& model = bar.model;
+    ExplicitSolver& solver = bar.solver;
+    FemState& state = bar.state;
     const double dt = solver.stable_time_step(state, 0.5);
     std::vector<Vec2> velocity;
     const double initial_energy = bar_energy(solver, model, state, 0.0, velocity);
     // The free end: its displacement crosses zero every half period.
-    const auto tip = static_cast<std::size_t>(model.mesh.find_node_set("right")->nodes.front());
+    const std::size_t tip = bar.tip();
     std::vector<double> crossings;
     double drift = 0.0;
     double previous_u = 0.0, previous_t = 0.0;
@@ -128,29 +151,18 @@ struct BarExtremes {
   double dt = 0.0;
 };
 BarExtremes damped_bar(ElementType type, const NodalDamping& damping, double periods) {
-  const double length = 10.0;
-  const Material material = soil();
-  const double omega = std::numbers::pi / (2.0 * length) * material.p_wave_speed();
-  const FemModel model = make_model(rectangle_mesh(type, 40, 1, length, 0.25), {material},
-                                    Kinematics::small_strain, 1.0);
-  const BoundaryTable table{{"left", BoundaryCondition::roller},
-                            {"base", BoundaryCondition::roller},
-                            {"top", BoundaryCondition::roller}};
-  ExplicitSolver solver(model, make_constraints(model.mesh, table, "test"), 0.0, damping,
-                        models_of(model));
-  FemState state = make_rest_state(model);
-  for (std::size_t n = 0; n < state.velocity.size(); ++n) {
-    state.velocity[n] =
-        Vec2(0.01 * std::sin(std::numbers::pi * model.mesh.nodes[n].x() / (2.0 * length)), 0.0);
-  }
+  VibratingBar vibrating(type, damping);
+  const FemModel& model = vibrating.model;
+  ExplicitSolver& solver = vibrating.solver;
+  FemState& state = vibrating.state;
   const double dt = solver.stable_time_step(state, 0.5);
   std::vector<Vec2> velocity;
   BarExtremes bar;
   bar.dt = dt;
   bar.initial_energy = bar_energy(solver, model, state, 0.0, velocity);
-  const auto tip = static_cast<std::size_t>(model.mesh.find_node_set("right")->nodes.front());
+  const std::size_t tip = vibrating.tip();
   double u_before = 0.0, u_now = 0.0, t_now = 0.0, energy_now = bar.initial_energy;
-  while (state.time < periods * 2.0 * std::numbers::pi / omega) {
+  while (state.time < periods * 2.0 * std::numbers::pi / vibrating.omega) {
     solver.step(state, dt);
     const double u_next = state.displacement[tip].x();
     const double energy_next = bar_energy(solver, model, state, dt, velocity);
