@@ -1,5 +1,6 @@
 #include "common/element.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -178,6 +179,23 @@ ShapeGradients physical_gradients(ElementShape shape, const ElementNodes& nodes,
   // ∂N/∂x = ∂N/∂ξ · J⁻¹
   const Mat2 j_inverse = Mat2{{j(1, 1), -j(0, 1)}, {-j(1, 0), j(0, 0)}} / det;
   return d * j_inverse;
+}
+
+std::span<const Vec2> reference_corners(ElementShape shape) {
+  static const std::array<Vec2, 4> quad4{Vec2(-1.0, -1.0), Vec2(1.0, -1.0), Vec2(1.0, 1.0),
+                                         Vec2(-1.0, 1.0)};
+  static const std::array<Vec2, 3> tri3{Vec2(0.0, 0.0), Vec2(1.0, 0.0), Vec2(0.0, 1.0)};
+  if (shape == ElementShape::quad4) return quad4;
+  return tri3;
+}
+
+double longest_edge_squared(ElementShape shape, const ElementNodes& nodes) {
+  const int n = nodes_per_element(shape);
+  double longest2 = 0.0;
+  for (int k = 0; k < n; ++k) {
+    longest2 = std::max(longest2, (nodes.row((k + 1) % n) - nodes.row(k)).squaredNorm());
+  }
+  return longest2;
 }
 
 double element_area(ElementShape shape, const ElementNodes& nodes) {

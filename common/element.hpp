@@ -81,4 +81,13 @@ ShapeGradients physical_gradients(ElementShape shape, const ElementNodes& nodes,
 /// straight-sided elements.
 double element_area(ElementShape shape, const ElementNodes& nodes);
 
+/// The reference coordinates (ξ, η) of the element's corner nodes, in node order.
+std::span<const Vec2> reference_corners(ElementShape shape);
+/// The square of the element's longest edge: the scale its det J is measured against.
+double longest_edge_squared(ElementShape shape, const ElementNodes& nodes);
+/// The mesh checks' zero: an element whose det J (or signed area) is at most this fraction
+/// of its longest edge squared is inverted or degenerate. Exact zeros come out as zeros;
+/// round-off does not hide a collapsed element.
+inline constexpr double degenerate_jacobian_fraction = 1e-14;
+
 }  // namespace slide

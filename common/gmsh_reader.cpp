@@ -58,9 +58,6 @@ namespace {
 // length from its line, and every line's normal is within ~1e-3 rad of the group's.
 constexpr double straightness_tolerance = 1e-6;
 constexpr double normal_tolerance = 1e-6;  // 1 − cos(angle)
-// det J at a corner of at most this fraction of the longest edge squared counts as zero
-// (the order of validate_mesh's threshold).
-constexpr double degenerate_fraction = 1e-14;
 
 constexpr int gmsh_line = 1;
 constexpr int gmsh_triangle = 2;
@@ -556,20 +553,13 @@ class GmshReader {
     const ElementShape shape = e.type == gmsh_triangle ? ElementShape::tri3 : ElementShape::quad4;
     const ElementNodes x = raw_coordinates(e);
     const double sign = element_area(shape, x) < 0.0 ? -1.0 : 1.0;
-    double longest2 = 0.0;
-    for (int k = 0; k < e.node_count; ++k) {
-      longest2 = std::max(longest2, (x.row((k + 1) % e.node_count) - x.row(k)).squaredNorm());
-    }
-    static const std::array<Vec2, 4> quad_corners{Vec2(-1.0, -1.0), Vec2(1.0, -1.0), Vec2(1.0, 1.0),
-                                                  Vec2(-1.0, 1.0)};
-    static const std::array<Vec2, 4> tri_corners{Vec2(0.0, 0.0), Vec2(1.0, 0.0), Vec2(0.0, 1.0),
-                                                 Vec2(0.0, 0.0)};
-    const auto& corners = shape == ElementShape::quad4 ? quad_corners : tri_corners;
+    const double zero = degenerate_jacobian_fraction * longest_edge_squared(shape, x);
+    const auto corners = reference_corners(shape);
     for (int k = 0; k < e.node_count; ++k) {
       // det J of the element turned counter-clockwise, at the node listed k-th.
       const double det =
           sign * jacobian(shape, x, corners[static_cast<std::size_t>(k)]).determinant();
-      if (det <= degenerate_fraction * longest2) {
+      if (det <= zero) {
         const Vec2 centre = x.topRows(e.node_count).colwise().mean().transpose();
         in_.fail(e.line,
                  "element {} at ({:.6g}, {:.6g}) is inverted or has zero area: det J = {:.6g} "

@@ -33,10 +33,6 @@ namespace {
 // Two points closer than this fraction of the smallest element edge are the same point;
 // a node this close to x_min, x_max or y_min belongs to "left", "right" or "base".
 constexpr double relative_tolerance = 1e-6;
-// An element whose det J (or signed area) is below this fraction of its longest edge
-// squared counts as degenerate: exact zeros come out as zeros, round-off does not hide
-// a collapsed element.
-constexpr double degenerate_fraction = 1e-14;
 
 std::string material_names(const MaterialTable& materials) {
   std::string names;
@@ -398,11 +394,7 @@ void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t materi
     }
     const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
     Vec2 centre = Vec2::Zero();
-    double longest2 = 0.0;
-    for (int k = 0; k < n; ++k) {
-      centre += x.row(k).transpose() / n;
-      longest2 = std::max(longest2, (x.row((k + 1) % n) - x.row(k)).squaredNorm());
-    }
+    for (int k = 0; k < n; ++k) centre += x.row(k).transpose() / n;
     const auto material = mesh.material_id[static_cast<std::size_t>(e)];
     if (material < 0 || static_cast<std::size_t>(material) >= material_count) {
       throw Error(
@@ -410,7 +402,7 @@ void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t materi
           "materials)",
           source, e, centre.x(), centre.y(), material, material_count);
     }
-    const double threshold = degenerate_fraction * longest2;
+    const double threshold = degenerate_jacobian_fraction * longest_edge_squared(shape, x);
     if (shape == ElementShape::tri3) {
       const double area = element_area(shape, x);
       if (area <= threshold) {
@@ -421,8 +413,7 @@ void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t materi
       }
       continue;
     }
-    static const std::array<Vec2, 4> corners{Vec2(-1.0, -1.0), Vec2(1.0, -1.0), Vec2(1.0, 1.0),
-                                             Vec2(-1.0, 1.0)};
+    const auto corners = reference_corners(shape);
     for (std::size_t k = 0; k < corners.size(); ++k) {
       const double det = jacobian(shape, x, corners[k]).determinant();
       if (det <= 0.25 * threshold) {
