@@ -510,17 +510,28 @@ void validate_material(const Material& material, const Section& s) {
   }
 }
 
+MaterialModel read_model(const Section& s, std::string_view key) {
+  return parse_material_model(s.string(key), fmt::format("{}: {}", s.where(key), s.dotted(key)));
+}
+
 Material read_material(const Section& s) {
   Material m;
   m.name = s.string("name");
   if (m.name.empty()) s.fail("name", "a material needs a non-empty name");
-  m.model = parse_material_model(s.string("model"),
-                                 fmt::format("{}: {}", s.where("model"), s.dotted("model")));
+  // `model` serves both phases; `fem_model` and `mpm_model` name a phase's own model
+  // (the reference workflow: pressure-independent multi-yield in FE, Mohr–Coulomb in MPM).
+  if (s.has("model") && s.has("fem_model")) {
+    s.fail("fem_model", "give either model (both phases) or fem_model, not both");
+  }
+  m.model = read_model(s, s.has("fem_model") ? "fem_model" : "model");
+  if (s.has("mpm_model")) m.mpm_model = read_model(s, "mpm_model");
   // Only finiteness here: the ranges are Material::validate's.
   m.density = s.number("density", any_number());
   m.youngs_modulus = s.number("youngs_modulus", any_number());
   m.poisson_ratio = s.number("poisson_ratio", any_number());
-  if (m.model == MaterialModel::linear_elastic) {
+  const bool mohr_coulomb = m.uses(MaterialModel::mohr_coulomb);
+  const bool multi_yield = m.uses(MaterialModel::pressure_independent_multi_yield);
+  if (!mohr_coulomb && !multi_yield) {
     for (std::string_view key :
          {"friction_angle", "cohesion", "dilation_angle", "tension_cutoff"}) {
       s.reject(key, "not used by model \"linear-elastic\" (remove it, or use \"mohr-coulomb\")");
@@ -528,7 +539,23 @@ Material read_material(const Section& s) {
   } else {
     m.friction_angle = s.number("friction_angle", any_number());
     m.cohesion = s.number("cohesion", any_number());
+  }
+  if (mohr_coulomb) {
     m.dilation_angle = s.number("dilation_angle", any_number(), 0.0);
+  } else if (multi_yield) {
+    for (std::string_view key : {"dilation_angle", "tension_cutoff"}) {
+      s.reject(key,
+               "not used by model \"pressure-independent-multi-yield\" (no dilation, no tension "
+               "cut-off)");
+    }
+  }
+  if (multi_yield) {
+    m.peak_shear_strain = s.number("peak_shear_strain", any_number(), m.peak_shear_strain);
+    m.yield_surfaces = s.integer("yield_surfaces", 1, max_yield_surfaces, m.yield_surfaces);
+  } else {
+    for (std::string_view key : {"peak_shear_strain", "yield_surfaces"}) {
+      s.reject(key, "used only by model \"pressure-independent-multi-yield\"");
+    }
   }
   // The default cut-off is the apex c·cot φ (infinite for φ = 0); +inf may be written.
   const Range cutoff{.min = -infinity, .max = infinity, .max_closed = true};
@@ -542,9 +569,10 @@ MaterialTable read_materials(const Section& root) {
   if (root.node("materials").is_table()) {
     root.fail("materials", "expected an array of tables ([[materials]]), found a table");
   }
-  const Section::Keys keys{"name",           "model",          "density",
-                           "youngs_modulus", "poisson_ratio",  "friction_angle",
-                           "cohesion",       "dilation_angle", "tension_cutoff"};
+  const Section::Keys keys{"name",          "model",          "fem_model",      "mpm_model",
+                           "density",       "youngs_modulus", "poisson_ratio",  "friction_angle",
+                           "cohesion",      "dilation_angle", "tension_cutoff", "peak_shear_strain",
+                           "yield_surfaces"};
   MaterialTable materials;
   for (const Section& s : root.tables("materials", keys)) {
     Material material = read_material(s);

@@ -216,11 +216,24 @@ class Writer {
         .write_string_attribute(units_attribute, "1");
   }
 
-  void state(hdf5::Group& parent, const std::vector<MaterialState>& state, const Rows& rows) {
+  void state(hdf5::Group& parent, const std::vector<MaterialState>& state,
+             const SurfaceStresses& surfaces, const Rows& rows) {
     require_count(where(parent, "state"), state.size(), 0, rows);
     hdf5::Group group = parent.create_group("state");
     doubles(group, "plastic_shear_strain", plastic_shear_strain(state), 0, rows, "1");
     doubles(group, "plastic_volumetric_strain", plastic_volumetric_strain(state), 0, rows, "1");
+    if (surfaces.per_point == 0) return;
+    // Multi-yield: the frozen peak strength (negative: not frozen yet) and the
+    // deviatoric stress each surface carries, [sxx, syy, szz, sxy] per surface.
+    std::vector<double> peak(state.size());
+    for (std::size_t i = 0; i < state.size(); ++i) peak[i] = state[i].peak_strength;
+    doubles(group, "peak_strength", peak, 0, rows, "Pa");
+    const std::size_t width = 4 * surfaces.per_point;
+    std::vector<double> flat(surfaces.values.size() * 4);
+    for (std::size_t i = 0; i < surfaces.values.size(); ++i) {
+      for (int k = 0; k < 4; ++k) flat[4 * i + static_cast<std::size_t>(k)] = surfaces.values[i][k];
+    }
+    doubles(group, "surface_stress", flat, width, rows, "Pa");
   }
 
  private:
@@ -269,6 +282,11 @@ void write_materials(Writer& writer, const MaterialTable& materials) {
     hdf5::Group g = group.create_group(std::to_string(id));
     g.write_string_attribute("name", m.name);
     g.write_string_attribute("model", to_string(m.model));
+    g.write_string_attribute("mpm_model", to_string(m.model_of(Phase::mpm)));
+    if (m.uses(MaterialModel::pressure_independent_multi_yield)) {
+      g.write_double_attribute("peak_shear_strain", m.peak_shear_strain);
+      g.write_int_attribute("yield_surfaces", m.yield_surfaces);
+    }
     g.write_double_attribute("density", m.density);
     g.write_double_attribute("youngs_modulus", m.youngs_modulus);
     g.write_double_attribute("poisson_ratio", m.poisson_ratio);
@@ -370,7 +388,7 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
   writer.vectors<4>(g, "stress", c.stress, gauss, "Pa");
   writer.vectors<4>(g, "strain", c.strain, gauss, "1");
   writer.doubles(g, "eps_q", c.eps_q, 0, gauss, "1");
-  writer.state(g, c.state, gauss);
+  writer.state(g, c.state, c.surface_stress, gauss);
 
   write_boundary(writer, c, nodes);
   write_solver(writer, c.solver);
@@ -420,7 +438,7 @@ void write_particles(Writer& writer, const ParticleCheckpoint& c) {
   writer.material_ids(g, p.material_id, particles, c.materials.size());
   writer.indices(g, "element", p.element, 0, particles, source_element_range);
   writer.indices(g, "id", p.id, 0, particles, std::nullopt);
-  writer.state(g, p.state, particles);
+  writer.state(g, p.state, p.surface_stress, particles);
 
   if (c.header.kind == CheckpointKind::particles || !is_default(c.transfer)) {
     write_transfer(writer, c.transfer);
@@ -483,8 +501,32 @@ class Reader {
   }
 
   std::vector<MaterialState> state(std::string_view group, const Rows& rows) const {
-    return material_state(doubles(fmt::format("{}/plastic_shear_strain", group), 0, rows),
-                          doubles(fmt::format("{}/plastic_volumetric_strain", group), 0, rows));
+    std::vector<MaterialState> state =
+        material_state(doubles(fmt::format("{}/plastic_shear_strain", group), 0, rows),
+                       doubles(fmt::format("{}/plastic_volumetric_strain", group), 0, rows));
+    const std::string peak = fmt::format("{}/peak_strength", group);
+    if (file_.contains(relative(peak))) {
+      const std::vector<double> values = doubles(peak, 0, rows);
+      for (std::size_t i = 0; i < state.size(); ++i) state[i].peak_strength = values[i];
+    }
+    return state;
+  }
+
+  /// The multi-yield surface stresses, if the file has them (n × 4·surfaces).
+  SurfaceStresses surface_stress(std::string_view group, const Rows& rows) const {
+    SurfaceStresses surfaces;
+    const std::string path = fmt::format("{}/surface_stress", group);
+    if (!file_.contains(relative(path))) return surfaces;
+    const hdf5::Shape shape = file_.open_dataset(relative(path)).shape();
+    const std::size_t width = shape.size() == 2 ? shape[1] : 0;
+    if (width == 0 || width % 4 != 0 || width > 4 * max_yield_surfaces) {
+      throw Error("{}: shape {}, expected {} × 4·k (k ≤ {} surfaces)", where(path),
+                  hdf5::format_shape(shape), rows.count, max_yield_surfaces);
+    }
+    const std::vector<double> flat = doubles(path, width, rows);
+    surfaces.per_point = width / 4;
+    surfaces.values = unflatten<4>(flat);
+    return surfaces;
   }
 
  private:
@@ -590,6 +632,21 @@ MaterialTable read_materials(const Reader& reader) {
     m.cohesion = g.read_double_attribute("cohesion");
     m.dilation_angle = g.read_double_attribute("dilation_angle");
     m.tension_cutoff = g.read_double_attribute("tension_cutoff");
+    // Files of schema version 1 name one model for both phases.
+    if (g.has_attribute("mpm_model")) {
+      const MaterialModel mpm = parse_material_model(
+          g.read_string_attribute("mpm_model"), fmt::format("{}: attribute mpm_model", g.where()));
+      if (mpm != m.model) m.mpm_model = mpm;
+    }
+    if (m.uses(MaterialModel::pressure_independent_multi_yield)) {
+      m.peak_shear_strain = g.read_double_attribute("peak_shear_strain");
+      const std::int64_t surfaces = g.read_int_attribute("yield_surfaces");
+      if (surfaces < 1 || surfaces > max_yield_surfaces) {
+        throw Error("{}: attribute yield_surfaces = {} (expected 1 to {})", g.where(), surfaces,
+                    max_yield_surfaces);
+      }
+      m.yield_surfaces = static_cast<int>(surfaces);
+    }
     m.validate(g.where());
   }
   return materials;
@@ -771,6 +828,7 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   c.strain = reader.vectors<4>("/gauss_points/strain", gauss);
   c.eps_q = reader.doubles("/gauss_points/eps_q", 0, gauss);
   c.state = reader.state("/gauss_points/state", gauss);
+  c.surface_stress = reader.surface_stress("/gauss_points/state", gauss);
 
   read_boundary(reader, c, nodes);
   c.solver = read_solver(reader);
@@ -804,6 +862,7 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
   p.element = reader.indices("/particles/element", 0, particles, source_element_range);
   p.id = reader.indices("/particles/id", 0, particles, std::nullopt);
   p.state = reader.state("/particles/state", particles);
+  p.surface_stress = reader.surface_stress("/particles/state", particles);
 
   // A particle file always records its transfer; an mpm checkpoint when it came from one.
   if (c.header.kind == CheckpointKind::particles || reader.file().contains("transfer")) {

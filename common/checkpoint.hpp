@@ -79,6 +79,9 @@ struct FemCheckpoint {
   std::vector<Vec4> strain;
   std::vector<double> eps_q;
   std::vector<MaterialState> state;
+  /// Multi-yield surface stresses, `surfaces` per Gauss point (empty when no material
+  /// uses the model).
+  SurfaceStresses surface_stress;
 
   MaterialTable materials;
   SolverSettings solver;

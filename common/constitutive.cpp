@@ -23,6 +23,7 @@
 #include <numbers>
 
 #include "common/error.hpp"
+#include "common/multi_yield.hpp"
 
 namespace slide {
 namespace {
@@ -283,16 +284,26 @@ ConstitutiveModel ConstitutiveModel::elastic(const Material& material) {
   return model;
 }
 
-ConstitutiveModel ConstitutiveModel::from(const Material& material) {
+ConstitutiveModel ConstitutiveModel::from(const Material& material, Phase phase) {
   ConstitutiveModel model = elastic(material);
-  switch (material.model) {
+  constexpr double degree = std::numbers::pi / 180.0;
+  const double sin_phi = std::sin(material.friction_angle * degree);
+  switch (material.model_of(phase)) {
     case MaterialModel::linear_elastic:
+      return model;
+    case MaterialModel::pressure_independent_multi_yield:
+      // OpenSees's calibration to Mohr–Coulomb (multi_yield.hpp): the failure surface
+      // q_f = M (p′₀ + p_r), p_r = 3c/(√2 M), i.e. M p′₀ + 3c/√2; q_f = 2c for φ = 0.
+      model.model_ = MaterialModel::pressure_independent_multi_yield;
+      model.surfaces_ = material.yield_surfaces;
+      model.peak_shear_strain_ = material.peak_shear_strain;
+      model.strength_slope_ = 6.0 * sin_phi / (3.0 - sin_phi);
+      model.strength_intercept_ =
+          sin_phi > 0.0 ? 3.0 * material.cohesion / std::numbers::sqrt2 : 2.0 * material.cohesion;
       return model;
     case MaterialModel::mohr_coulomb:
       break;
   }
-  constexpr double degree = std::numbers::pi / 180.0;
-  const double sin_phi = std::sin(material.friction_angle * degree);
   const double sin_psi = std::sin(material.dilation_angle * degree);
   model.model_ = MaterialModel::mohr_coulomb;
   model.n_phi_ = (1.0 + sin_phi) / (1.0 - sin_phi);
@@ -316,8 +327,19 @@ Vec4 ConstitutiveModel::elastic_stress_increment(const Vec4& strain_increment) c
           volumetric + two_g * strain_increment[2], shear_ * strain_increment[3]};
 }
 
-bool ConstitutiveModel::update(Vec4& stress, MaterialState& state,
-                               const Vec4& strain_increment) const {
+double ConstitutiveModel::frozen_peak_strength(const Vec4& stress) const {
+  return strength_slope_ * std::max(mean_stress(stress), 0.0) + strength_intercept_;
+}
+
+bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
+                               std::span<Vec4> surfaces) const {
+  if (model_ == MaterialModel::pressure_independent_multi_yield) {
+    const auto c =
+        multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+    return multi_yield::update(c, lambda_ + 2.0 / 3.0 * shear_, shear_, stress, state,
+                               strain_increment,
+                               surfaces.first(static_cast<std::size_t>(surfaces_)));
+  }
   stress += elastic_stress_increment(strain_increment);
   if (model_ == MaterialModel::linear_elastic) return false;
   if (admissible(stress, n_phi_, two_c_sqrt_n_phi_, tension_cutoff_)) return false;
@@ -327,8 +349,32 @@ bool ConstitutiveModel::update(Vec4& stress, MaterialState& state,
   return true;
 }
 
-double ConstitutiveModel::yield_function(const Vec4& stress) const {
+bool ConstitutiveModel::start(Vec4& stress, MaterialState& state, std::span<Vec4> surfaces) const {
+  switch (model_) {
+    case MaterialModel::linear_elastic:
+      return false;
+    case MaterialModel::mohr_coulomb:
+      return update(stress, state, Vec4::Zero());
+    case MaterialModel::pressure_independent_multi_yield:
+      break;
+  }
+  const auto own = surfaces.first(static_cast<std::size_t>(surfaces_));
+  if (state.peak_strength >= 0.0) {
+    const auto c =
+        multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+    return multi_yield::reconcile(c, stress, own);
+  }
+  state.peak_strength = frozen_peak_strength(stress);
+  const auto c =
+      multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+  return multi_yield::load_monotonically(c, stress, own);
+}
+
+double ConstitutiveModel::yield_function(const Vec4& stress, const MaterialState& state) const {
   if (model_ == MaterialModel::linear_elastic) return -infinity;
+  if (model_ == MaterialModel::pressure_independent_multi_yield) {
+    return deviatoric_stress(stress) - state.peak_strength;
+  }
   const PrincipalBounds bounds = principal_bounds(stress);
   return yield_value(n_phi_, two_c_sqrt_n_phi_, tension_cutoff_, bounds.sigma_1, bounds.sigma_3);
 }
@@ -344,12 +390,15 @@ void rotate_jaumann(Vec4& stress, double spin_increment) {
 
 std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stress,
                             std::span<MaterialState> state, std::span<const Vec4> strain_increment,
-                            std::span<std::uint8_t> yielded) {
+                            std::span<std::uint8_t> yielded, std::span<Vec4> surfaces) {
   const std::size_t n = stress.size();
+  const auto per_point = static_cast<std::size_t>(model.surfaces());
   if (state.size() != n || strain_increment.size() != n ||
-      (!yielded.empty() && yielded.size() != n)) {
-    throw Error("update_stresses: {} stresses, {} states, {} strain increments, {} flags", n,
-                state.size(), strain_increment.size(), yielded.size());
+      (!yielded.empty() && yielded.size() != n) || surfaces.size() != n * per_point) {
+    throw Error(
+        "update_stresses: {} stresses, {} states, {} strain increments, {} flags, {} surface "
+        "stresses ({} per point)",
+        n, state.size(), strain_increment.size(), yielded.size(), surfaces.size(), per_point);
   }
   std::size_t count = 0;
   switch (model.model()) {
@@ -360,14 +409,31 @@ std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stre
       std::fill(yielded.begin(), yielded.end(), std::uint8_t{0});
       break;
     case MaterialModel::mohr_coulomb:
+    case MaterialModel::pressure_independent_multi_yield:
       for (std::size_t i = 0; i < n; ++i) {
-        const bool yield = model.update(stress[i], state[i], strain_increment[i]);
+        const auto own =
+            per_point > 0 ? surfaces.subspan(i * per_point, per_point) : std::span<Vec4>{};
+        const bool yield = model.update(stress[i], state[i], strain_increment[i], own);
         if (!yielded.empty()) yielded[i] = yield ? 1 : 0;
         count += yield ? 1 : 0;
       }
       break;
   }
   return count;
+}
+
+std::size_t surfaces_needed(const MaterialTable& materials, Phase phase) {
+  std::size_t n = 0;
+  for (const Material& m : materials) {
+    if (m.model_of(phase) == MaterialModel::pressure_independent_multi_yield) {
+      n = std::max(n, static_cast<std::size_t>(m.yield_surfaces));
+    }
+  }
+  return n;
+}
+
+std::size_t surfaces_needed(const MaterialTable& materials) {
+  return std::max(surfaces_needed(materials, Phase::fem), surfaces_needed(materials, Phase::mpm));
 }
 
 double mean_stress(const Vec4& stress) {

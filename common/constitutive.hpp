@@ -12,10 +12,16 @@
 // The return map works in principal stresses (the in-plane eigenvectors and the z axis
 // are kept) and returns to the plane, to either edge (σ1 = σ2 or σ2 = σ3), to the
 // tension cut-off and its edges, or to the apex.
+//
+// Pressure-independent multi-yield (common/multi_yield.hpp): von Mises surfaces whose
+// peak strength is frozen at the switch from the point's confinement; the deviatoric
+// stress each surface carries is per-point state passed as a span (`surfaces`), empty
+// for the other models.
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "common/material.hpp"
 #include "common/types.hpp"
@@ -28,32 +34,75 @@ struct MaterialState {
   double plastic_shear_strain = 0.0;
   /// Accumulated volumetric plastic strain, Σ tr Δε^p (–), dilation positive.
   double plastic_volumetric_strain = 0.0;
+  /// Pressure-independent multi-yield: the peak strength q_f (von Mises equivalent
+  /// stress, Pa) frozen at the switch to the model; negative until then.
+  double peak_strength = -1.0;
 };
+
+/// The surface state of a set of points: `per_point` deviatoric stresses
+/// [sxx, syy, szz, sxy] per point, point-major (per_point = 0: no point needs any).
+struct SurfaceStresses {
+  std::size_t per_point = 0;
+  std::vector<Vec4> values;
+
+  /// The surfaces of point i (empty when per_point = 0).
+  std::span<Vec4> of(std::size_t i) {
+    return per_point == 0 ? std::span<Vec4>{}
+                          : std::span<Vec4>(values).subspan(i * per_point, per_point);
+  }
+  std::span<const Vec4> of(std::size_t i) const {
+    return per_point == 0 ? std::span<const Vec4>{}
+                          : std::span<const Vec4>(values).subspan(i * per_point, per_point);
+  }
+  std::size_t points() const { return per_point == 0 ? 0 : values.size() / per_point; }
+  void resize(std::size_t points) { values.resize(points * per_point, Vec4::Zero()); }
+};
+
+/// The largest number of surfaces any model of `materials` needs in `phase`.
+std::size_t surfaces_needed(const MaterialTable& materials, Phase phase);
+/// The same over both phases (what a checkpoint or a transfer must carry).
+std::size_t surfaces_needed(const MaterialTable& materials);
 
 /// A model with its constants precomputed: a small value type that kernels copy.
 class ConstitutiveModel {
  public:
   /// Linear elastic with the material's E and ν (the FE geostatic stage).
   static ConstitutiveModel elastic(const Material& material);
-  /// The material's own model (failure stage, MPM phase).
-  static ConstitutiveModel from(const Material& material);
+  /// The material's own model of one phase (FE failure stage or MPM phase).
+  static ConstitutiveModel from(const Material& material, Phase phase = Phase::fem);
 
   MaterialModel model() const { return model_; }
   double shear_modulus() const { return shear_; }
   double lame_lambda() const { return lambda_; }
+  /// Per-point surface state the model needs (deviatoric stresses, one per yield
+  /// surface): the multi-yield model's number of surfaces, 0 for the others.
+  int surfaces() const { return surfaces_; }
+  /// Multi-yield: the peak strength q_f = M p′₀ + q₀ frozen from the mean effective
+  /// stress p′₀ = max(p, 0) at the switch (common/multi_yield.hpp).
+  double frozen_peak_strength(const Vec4& stress) const;
 
   /// Elastic stress increment D·Δε for plane strain (Δεzz = strain_increment[2]).
   Vec4 elastic_stress_increment(const Vec4& strain_increment) const;
 
   /// Advances one point by one strain increment: elastic predictor, then the return
-  /// map. With a zero increment it returns an inadmissible stress to the yield surface
-  /// (the switch from the elastic geostatic state, METHOD.md §3). Returns true when the
-  /// point yielded (plastic correction applied).
-  bool update(Vec4& stress, MaterialState& state, const Vec4& strain_increment) const;
+  /// map (Mohr–Coulomb), or the update of every yield surface (multi-yield, whose
+  /// `surfaces` span holds surfaces() entries). Returns true when the point yielded:
+  /// a plastic correction (Mohr–Coulomb), the peak strength reached (multi-yield).
+  bool update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
+              std::span<Vec4> surfaces = {}) const;
 
-  /// Largest of the yield functions (Mohr–Coulomb and tension cut-off), in Pa.
-  /// ≤ 0 is admissible; always −∞ for linear elastic.
-  double yield_function(const Vec4& stress) const;
+  /// The switch to this model from the elastic geostatic state, from the initial K0
+  /// stresses of pure MPM or from the other phase's model (METHOD.md §3). Mohr–Coulomb
+  /// returns an inadmissible stress to its surface (an update with a zero increment);
+  /// multi-yield freezes the peak strength from the point's confinement (unless the
+  /// state already holds one) and sets its surfaces as after a monotonic loading to the
+  /// current stress. Returns true when the stress had to be brought onto the surface.
+  bool start(Vec4& stress, MaterialState& state, std::span<Vec4> surfaces = {}) const;
+
+  /// Largest of the yield functions (Mohr–Coulomb and tension cut-off; multi-yield:
+  /// q − q_f of the state's frozen strength), in Pa. ≤ 0 is admissible; always −∞ for
+  /// linear elastic.
+  double yield_function(const Vec4& stress, const MaterialState& state = {}) const;
 
  private:
   MaterialModel model_ = MaterialModel::linear_elastic;
@@ -63,6 +112,11 @@ class ConstitutiveModel {
   double n_psi_ = 1.0;           // Nψ
   double two_c_sqrt_n_phi_ = 0;  // 2c sqrt(Nφ)
   double tension_cutoff_ = 0.0;  // T (already limited to the apex)
+  // Multi-yield: q_f = strength_slope_ · p′₀ + strength_intercept_, the backbone's γ_peak.
+  int surfaces_ = 0;
+  double strength_slope_ = 0.0;
+  double strength_intercept_ = 0.0;
+  double peak_shear_strain_ = 0.0;
 };
 
 /// Objective (Jaumann) rotation of the stress by the spin increment
@@ -71,10 +125,12 @@ class ConstitutiveModel {
 void rotate_jaumann(Vec4& stress, double spin_increment);
 
 /// Updates a range of points that share one model; `yielded[i]` (optional, may be
-/// empty) receives 1 where point i yielded. Returns the number of points that yielded.
+/// empty) receives 1 where point i yielded; `surfaces` holds model.surfaces() entries
+/// per point (empty for the models without surface state). Returns the number of
+/// points that yielded.
 std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stress,
                             std::span<MaterialState> state, std::span<const Vec4> strain_increment,
-                            std::span<std::uint8_t> yielded = {});
+                            std::span<std::uint8_t> yielded = {}, std::span<Vec4> surfaces = {});
 
 /// Mean stress p = −(σxx+σyy+σzz)/3 (compression positive) and q = sqrt(3/2 s:s).
 double mean_stress(const Vec4& stress);

@@ -14,15 +14,26 @@ std::string_view to_string(MaterialModel model) {
       return "linear-elastic";
     case MaterialModel::mohr_coulomb:
       return "mohr-coulomb";
+    case MaterialModel::pressure_independent_multi_yield:
+      return "pressure-independent-multi-yield";
   }
   return "unknown";
+}
+
+bool has_strength(MaterialModel model) {
+  return model != MaterialModel::linear_elastic;
 }
 
 MaterialModel parse_material_model(std::string_view text, std::string_view where) {
   if (text == "linear-elastic") return MaterialModel::linear_elastic;
   if (text == "mohr-coulomb") return MaterialModel::mohr_coulomb;
-  throw Error("{}: unknown material model \"{}\" (expected \"linear-elastic\" or \"mohr-coulomb\")",
-              where, text);
+  if (text == "pressure-independent-multi-yield") {
+    return MaterialModel::pressure_independent_multi_yield;
+  }
+  throw Error(
+      "{}: unknown material model \"{}\" (expected \"linear-elastic\", \"mohr-coulomb\" or "
+      "\"pressure-independent-multi-yield\")",
+      where, text);
 }
 
 double Material::lame_lambda() const {
@@ -53,7 +64,13 @@ void Material::validate(std::string_view where) const {
           "expected E > 0 Pa");
   require(finite(poisson_ratio) && poisson_ratio > -1.0 && poisson_ratio < 0.5, "poisson_ratio",
           poisson_ratio, "expected −1 < ν < 0.5");
-  if (model != MaterialModel::mohr_coulomb) return;
+  if (uses(MaterialModel::pressure_independent_multi_yield)) {
+    require(finite(peak_shear_strain) && peak_shear_strain > 0.0, "peak_shear_strain",
+            peak_shear_strain, "expected γ_peak > 0");
+    require(yield_surfaces >= 1 && yield_surfaces <= max_yield_surfaces, "yield_surfaces",
+            yield_surfaces, "expected 1 to 40 surfaces");
+  }
+  if (!has_strength(model) && !has_strength(model_of(Phase::mpm))) return;
   require(finite(friction_angle) && friction_angle >= 0.0 && friction_angle < 90.0,
           "friction_angle", friction_angle, "expected 0 ≤ φ < 90 degrees");
   require(finite(cohesion) && cohesion >= 0.0, "cohesion", cohesion, "expected c ≥ 0 Pa");

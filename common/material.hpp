@@ -4,24 +4,38 @@
 #pragma once
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace slide {
 
-/// A handful of models: an enum and a switch, no factory.
-enum class MaterialModel { linear_elastic, mohr_coulomb };
+/// A handful of models: an enum and a switch, no factory (common/constitutive.md).
+enum class MaterialModel { linear_elastic, mohr_coulomb, pressure_independent_multi_yield };
 
 std::string_view to_string(MaterialModel model);
-/// Parses "linear-elastic" or "mohr-coulomb"; throws Error naming `where` otherwise.
+/// Parses "linear-elastic", "mohr-coulomb" or "pressure-independent-multi-yield"; throws
+/// Error naming `where` otherwise.
 MaterialModel parse_material_model(std::string_view text, std::string_view where);
+/// True for the models that read φ and c (every model but linear elasticity).
+bool has_strength(MaterialModel model);
+
+/// The two phases that may run different models of one material (METHOD.md §3).
+enum class Phase { fem, mpm };
+
+/// Largest number of yield surfaces of the multi-yield model (OpenSees allows 40 too).
+inline constexpr int max_yield_surfaces = 40;
 
 struct Material {
   std::string name;
-  /// Model of the failure stage and of the MPM phase. The FE geostatic stage always
-  /// uses the linear elastic model with the same elastic constants (METHOD.md §3).
+  /// Model of the FE failure stage, and of the MPM phase unless `mpm_model` names
+  /// another. The FE geostatic stage always uses the linear elastic model with the same
+  /// elastic constants (METHOD.md §3).
   MaterialModel model = MaterialModel::mohr_coulomb;
+  /// Model of the MPM phase when it differs from the FE one (the reference workflow:
+  /// pressure-independent multi-yield in FE, Mohr–Coulomb in MPM).
+  std::optional<MaterialModel> mpm_model;
   double density = 0.0;         ///< ρ, kg/m³
   double youngs_modulus = 0.0;  ///< E, Pa
   double poisson_ratio = 0.0;   ///< ν, –
@@ -32,6 +46,18 @@ struct Material {
   /// T = 0 is a no-tension material; a value at or above the Mohr–Coulomb apex c·cot φ
   /// (the default, +∞) leaves only the apex.
   double tension_cutoff = std::numeric_limits<double>::infinity();
+  /// Pressure-independent multi-yield only: the octahedral shear strain γ_peak at which
+  /// the hyperbolic backbone reaches the peak strength, and the number of yield surfaces
+  /// (both OpenSees's defaults).
+  double peak_shear_strain = 0.1;
+  int yield_surfaces = 20;
+
+  /// The model of one phase.
+  MaterialModel model_of(Phase phase) const {
+    return phase == Phase::mpm ? mpm_model.value_or(model) : model;
+  }
+  /// True when either phase runs `m`.
+  bool uses(MaterialModel m) const { return model == m || model_of(Phase::mpm) == m; }
 
   double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   double bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }

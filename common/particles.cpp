@@ -19,6 +19,7 @@ void Particles::resize(std::size_t n) {
   element.resize(n, -1);
   id.resize(n, 0);
   state.resize(n, MaterialState{});
+  surface_stress.resize(n);
 }
 
 void Particles::shrink_to_fit() {
@@ -36,6 +37,7 @@ void Particles::shrink_to_fit() {
   element.shrink_to_fit();
   id.shrink_to_fit();
   state.shrink_to_fit();
+  surface_stress.values.shrink_to_fit();
 }
 
 void Particles::check_consistent_sizes() const {
@@ -57,6 +59,11 @@ void Particles::check_consistent_sizes() const {
   check(element.size(), "element");
   check(id.size(), "id");
   check(state.size(), "state");
+  if (surface_stress.values.size() != n * surface_stress.per_point) {
+    throw Error("particles: field surface_stress has {} entries, expected {} ({} per particle)",
+                surface_stress.values.size(), n * surface_stress.per_point,
+                surface_stress.per_point);
+  }
 }
 
 }  // namespace slide

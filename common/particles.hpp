@@ -26,6 +26,8 @@ struct Particles {
   std::vector<std::int64_t> element;  ///< source FE element, −1 for pure MPM
   std::vector<std::int64_t> id;       ///< stable identity (creation index), survives sorting
   std::vector<MaterialState> state;
+  /// Multi-yield surface stresses (per_point = 0 when no material uses the model).
+  SurfaceStresses surface_stress;
 
   std::size_t count() const { return coordinates.size(); }
   /// Resizes every field to n (new entries zero-initialised).

@@ -109,7 +109,11 @@ std::size_t stress_update_kernel(const FemModel& model, const ElementGeometry& g
       Vec4& stress = state.stress[gp];
       // Objective stress rate: rotate by the spin increment ω = ½ (∂v_x/∂y − ∂v_y/∂x) Δt.
       if constexpr (JAUMANN) rotate_jaumann(stress, 0.5 * dt * (lxy - lyx));
-      const bool yielded = material.update(stress, state.material_state[gp], increment);
+      const std::span<Vec4> surfaces = state.surface_stress.of(gp);
+      if constexpr (JAUMANN) {
+        for (Vec4& s : surfaces) rotate_jaumann(s, 0.5 * dt * (lxy - lyx));
+      }
+      const bool yielded = material.update(stress, state.material_state[gp], increment, surfaces);
       state.yielded[gp] = yielded ? 1 : 0;
       yielded_count += yielded ? 1 : 0;
       state.strain[gp] += increment;

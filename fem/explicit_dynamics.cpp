@@ -62,8 +62,18 @@ ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constrain
       element_force_(static_cast<std::size_t>(model.element_count() * model.nodes_per_element)) {}
 
 std::size_t ExplicitSolver::return_to_yield_surface(FemState& state) const {
-  // dt = 0: every strain increment is exactly zero, only the return map acts.
-  return update_stresses(model_, model_.reference, models_, 0.0, false, state);
+  std::size_t returned = 0;
+  const auto n_gauss = static_cast<std::size_t>(model_.gauss_per_element);
+  for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
+    const auto element = gp / n_gauss;
+    const ConstitutiveModel& m =
+        models_[static_cast<std::size_t>(model_.mesh.material_id[element])];
+    const bool moved =
+        m.start(state.stress[gp], state.material_state[gp], state.surface_stress.of(gp));
+    state.yielded[gp] = moved ? 1 : 0;
+    returned += moved ? 1 : 0;
+  }
+  return returned;
 }
 
 const ElementGeometry& ExplicitSolver::geometry_for(const FemState& state) {

@@ -36,9 +36,10 @@ class ExplicitSolver {
   ExplicitSolver(const FemModel& model, NodalConstraints constraints, double friction_coefficient,
                  NodalDamping damping, std::vector<ConstitutiveModel> models);
 
-  /// The switch from the elastic geostatic state to the failure-stage models: one
-  /// update with a zero strain increment on every Gauss point, which returns stresses
-  /// outside the yield surface to it. Returns how many points were returned.
+  /// The switch from the elastic geostatic state to the failure-stage models
+  /// (ConstitutiveModel::start on every Gauss point): Mohr–Coulomb returns stresses
+  /// outside its surface to it, multi-yield freezes each point's peak strength and sets
+  /// its surfaces. Returns how many points had to be brought onto the surface.
   std::size_t return_to_yield_surface(FemState& state) const;
 
   /// Courant step dt = C·min_e(l_e/c_p) of the reference (small strain) or current

@@ -139,6 +139,8 @@ FemState make_rest_state(const FemModel& model) {
   state.stress.assign(n_gauss, Vec4::Zero());
   state.strain.assign(n_gauss, Vec4::Zero());
   state.material_state.assign(n_gauss, MaterialState{});
+  state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
+  state.surface_stress.resize(n_gauss);
   state.yielded.assign(n_gauss, 0);
   if (model.hourglass) {
     state.hourglass_force.assign(static_cast<std::size_t>(model.element_count()), Vec2::Zero());

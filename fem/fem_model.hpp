@@ -99,6 +99,9 @@ struct FemState {
   std::vector<Vec4> stress;  ///< [σxx, σyy, σzz, σxy], Pa, tension positive
   std::vector<Vec4> strain;  ///< total strain since t = 0, [εxx, εyy, εzz, γxy]
   std::vector<MaterialState> material_state;
+  /// Multi-yield surface stresses of the failure-stage models (none when no material
+  /// uses the model in FE).
+  SurfaceStresses surface_stress;
   std::vector<std::uint8_t> yielded;  ///< 1 where the point yielded in the last update
 
   /// Per element (one-point quads): hourglass generalised force Q = ∫ K_q dq, N (per m).

@@ -62,6 +62,7 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
   checkpoint.strain = state.strain;
   checkpoint.eps_q = quality.gauss_eps_q;
   checkpoint.state = state.material_state;
+  checkpoint.surface_stress = state.surface_stress;
   checkpoint.materials = model.materials;
   checkpoint.solver = context.solver;
   return checkpoint;
@@ -94,6 +95,15 @@ FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& check
   state.stress = checkpoint.stress;
   state.strain = checkpoint.strain;
   state.material_state = checkpoint.state;
+  // The surfaces the case's failure-stage models need: those of the file when it has
+  // as many per point, else none yet (a geostatic checkpoint, or a model changed since:
+  // the switch then sets them up from the stress).
+  state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
+  if (checkpoint.surface_stress.per_point == state.surface_stress.per_point) {
+    state.surface_stress = checkpoint.surface_stress;
+  } else {
+    state.surface_stress.resize(state.stress.size());
+  }
   state.yielded.assign(state.stress.size(), 0);
   if (model.hourglass) state.hourglass_force = checkpoint.hourglass_force;
 

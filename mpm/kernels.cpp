@@ -1,6 +1,7 @@
 #include "mpm/kernels.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -177,8 +178,10 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   const double spin = 0.5 * dt * (l[1] - l[2]);
   Vec4& stress = particles.stress[p];
   rotate_jaumann(stress, spin);
+  const std::span<Vec4> surfaces = particles.surface_stress.of(p);
+  for (Vec4& s : surfaces) rotate_jaumann(s, spin);
   const auto material = static_cast<std::size_t>(particles.material_id[p]);
-  models[material].update(stress, particles.state[p], strain_increment);
+  models[material].update(stress, particles.state[p], strain_increment, surfaces);
   particles.strain[p] += strain_increment;
   particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
   // det(I + Δt L): the particle's own volume ratio over the step.
@@ -241,7 +244,7 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
 
 // Every field of Particles, so that a permutation moves whole particles. A new field
 // must be added to ParticleRow and move_particle below (this trips when Particles grows).
-static_assert(sizeof(Particles) == 14 * sizeof(std::vector<double>),
+static_assert(sizeof(Particles) == 14 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
               "a field was added to Particles: add it to ParticleRow and move_particle");
 
 /// One particle, all fields: the one-particle buffer of the in-place permutation.
@@ -253,11 +256,15 @@ struct ParticleRow {
   std::int32_t material_id;
   std::int64_t element, id;
   MaterialState state;
+  std::array<Vec4, max_yield_surfaces> surfaces;
 
   static ParticleRow of(const Particles& p, std::size_t k) {
-    return {p.coordinates[k], p.displacement[k],  p.velocity[k], p.stress[k], p.strain[k],
-            p.eps_q[k],       p.pore_pressure[k], p.volume[k],   p.mass[k],   p.size[k],
-            p.material_id[k], p.element[k],       p.id[k],       p.state[k]};
+    ParticleRow row{p.coordinates[k], p.displacement[k],  p.velocity[k], p.stress[k], p.strain[k],
+                    p.eps_q[k],       p.pore_pressure[k], p.volume[k],   p.mass[k],   p.size[k],
+                    p.material_id[k], p.element[k],       p.id[k],       p.state[k],  {}};
+    const auto own = p.surface_stress.of(k);
+    std::copy(own.begin(), own.end(), row.surfaces.begin());
+    return row;
   }
   void store(Particles& p, std::size_t k) const {
     p.coordinates[k] = coordinates;
@@ -274,6 +281,9 @@ struct ParticleRow {
     p.element[k] = element;
     p.id[k] = id;
     p.state[k] = state;
+    const auto own = p.surface_stress.of(k);
+    std::copy(surfaces.begin(), surfaces.begin() + static_cast<std::ptrdiff_t>(own.size()),
+              own.begin());
   }
 };
 
@@ -292,6 +302,8 @@ void move_particle(Particles& p, std::size_t to, std::size_t from) {
   p.element[to] = p.element[from];
   p.id[to] = p.id[from];
   p.state[to] = p.state[from];
+  const auto source = p.surface_stress.of(from);
+  std::copy(source.begin(), source.end(), p.surface_stress.of(to).begin());
 }
 
 /// Particle k takes the place of old particle order[k] (`order` is a permutation of

@@ -326,6 +326,14 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
            c.mpm.time_step > 0.0 ? " (case)" : fmt::format(" (Courant C = {})", c.mpm.courant));
 
   if (start.pure_mpm) initialise_pure_mpm(c, start.body, solver, dt, log);
+  if (start.fresh && !start.pure_mpm) {
+    // The switch from the FE models to the MPM ones (METHOD.md §3): Mohr–Coulomb takes the
+    // transferred stresses and returns those outside its surface once; multi-yield
+    // continues the FE surfaces or freezes its strength from the transferred stress.
+    const std::size_t returned = solver.return_to_yield_surface();
+    log.info("switch to the MPM models: {} of {} particles returned to the yield surface", returned,
+             solver.particles().count());
+  }
   if (start.fresh) set_references(c, solver, refs, start.pure_mpm, log);
 
   // ---- outputs

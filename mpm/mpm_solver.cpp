@@ -42,6 +42,13 @@ MpmSolver::MpmSolver(MpmSettings settings, MaterialTable materials, Particles pa
       materials_(std::move(materials)),
       particles_(std::move(particles)),
       clock_(clock) {
+  // The surfaces the MPM models need: a particle file of the same models brings them,
+  // anything else (pure MPM, other FE models) starts without (the switch sets them).
+  const std::size_t surfaces = surfaces_needed(materials_, Phase::mpm);
+  if (particles_.surface_stress.per_point != surfaces) {
+    particles_.surface_stress = SurfaceStresses{surfaces, {}};
+    particles_.surface_stress.resize(particles_.count());
+  }
   particles_.check_consistent_sizes();
   // The arrays are permuted in place from now on: drop the slack a generator may have
   // left (push_back growth), which would otherwise stay for the whole run.
@@ -58,17 +65,19 @@ MpmSolver::MpmSolver(MpmSettings settings, MaterialTable materials, Particles pa
 void MpmSolver::use_elastic_models(bool elastic) {
   models_.clear();
   for (const Material& m : materials_) {
-    models_.push_back(elastic ? ConstitutiveModel::elastic(m) : ConstitutiveModel::from(m));
+    models_.push_back(elastic ? ConstitutiveModel::elastic(m)
+                              : ConstitutiveModel::from(m, Phase::mpm));
   }
 }
 
 std::size_t MpmSolver::return_to_yield_surface() {
   std::size_t returned = 0;
-  const Vec4 zero = Vec4::Zero();
   located_ = false;
   for (std::size_t p = 0; p < active_count(); ++p) {
     const auto& model = models_[static_cast<std::size_t>(particles_.material_id[p])];
-    if (model.update(particles_.stress[p], particles_.state[p], zero)) ++returned;
+    if (model.start(particles_.stress[p], particles_.state[p], particles_.surface_stress.of(p))) {
+      ++returned;
+    }
   }
   return returned;
 }

@@ -40,15 +40,17 @@ class CompensatedSum {
 // ---------------------------------------------------------------- Gauss-point fields
 //
 // Every Gauss-point field is interpolated as one block of columns, so a single RBF
-// factorisation serves all of them: [σxx σyy σzz σxy | εxx εyy εzz γxy | state…].
-// εq is not a column: it is recomputed from the transferred strain, which keeps it
-// consistent with that strain and non-negative (an interpolated εq can undershoot).
+// factorisation serves all of them: [σxx σyy σzz σxy | εxx εyy εzz γxy | plastic
+// strains | and, when the FE models have surface state, the frozen peak strength and the
+// multi-yield surface stresses, 4 per surface]. εq is not a column: it is recomputed
+// from the transferred strain, which keeps it consistent with that strain and
+// non-negative (an interpolated εq can undershoot).
 constexpr Eigen::Index stress_column = 0;
 constexpr Eigen::Index strain_column = 4;
 constexpr Eigen::Index state_column = 8;
-constexpr Eigen::Index state_columns = 2;
-constexpr Eigen::Index field_columns = state_column + state_columns;
-static_assert(sizeof(MaterialState) == state_columns * sizeof(double),
+constexpr Eigen::Index peak_strength_column = state_column + 2;
+constexpr Eigen::Index surface_column = peak_strength_column + 1;
+static_assert(sizeof(MaterialState) == 3 * sizeof(double),
               "a new MaterialState field needs its column in pack_gauss_fields/unpack");
 
 MaterialState default_state() {
@@ -57,7 +59,8 @@ MaterialState default_state() {
 
 FieldValues pack_gauss_fields(const FemCheckpoint& fem) {
   const auto n = static_cast<Eigen::Index>(fem.stress.size());
-  FieldValues values(n, field_columns);
+  const auto surfaces = static_cast<Eigen::Index>(fem.surface_stress.per_point);
+  FieldValues values(n, surfaces > 0 ? surface_column + 4 * surfaces : peak_strength_column);
   for (Eigen::Index g = 0; g < n; ++g) {
     const auto i = static_cast<std::size_t>(g);
     values.row(g).segment<4>(stress_column) = fem.stress[i].transpose();
@@ -65,6 +68,13 @@ FieldValues pack_gauss_fields(const FemCheckpoint& fem) {
     const MaterialState state = fem.state.empty() ? default_state() : fem.state[i];
     values(g, state_column + 0) = state.plastic_shear_strain;
     values(g, state_column + 1) = state.plastic_volumetric_strain;
+    if (surfaces == 0) continue;
+    values(g, peak_strength_column) = state.peak_strength;
+    const auto own = fem.surface_stress.of(i);
+    for (Eigen::Index k = 0; k < surfaces; ++k) {
+      values.row(g).segment<4>(surface_column + 4 * k) =
+          own[static_cast<std::size_t>(k)].transpose();
+    }
   }
   return values;
 }
@@ -86,7 +96,8 @@ bool is_finite(const Eigen::MatrixBase<Derived>& v) {
   return v.allFinite();
 }
 bool is_finite(const MaterialState& s) {
-  return std::isfinite(s.plastic_shear_strain) && std::isfinite(s.plastic_volumetric_strain);
+  return std::isfinite(s.plastic_shear_strain) && std::isfinite(s.plastic_volumetric_strain) &&
+         std::isfinite(s.peak_strength);
 }
 
 template <typename T>
@@ -655,6 +666,27 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
     if (state.plastic_shear_strain < 0.0) {
       state.plastic_shear_strain = 0.0;
       ++report.clamped_plastic_strain;
+    }
+  }
+
+  // ---- the multi-yield state, when both phases of a material run the model: its frozen
+  // peak strength and its surfaces continue (mpm-solve's switch to its models brings
+  // them back onto their limits); any other MPM model starts from the stress alone.
+  particles.surface_stress.per_point = surfaces_needed(fem.materials, Phase::mpm);
+  particles.surface_stress.resize(count);
+  const auto surfaces = static_cast<Eigen::Index>(fem.surface_stress.per_point);
+  if (surfaces > 0 && particles.surface_stress.per_point == fem.surface_stress.per_point) {
+    for (std::size_t p = 0; p < count; ++p) {
+      const Material& m = fem.materials[static_cast<std::size_t>(particles.material_id[p])];
+      if (m.model_of(Phase::mpm) != m.model) continue;
+      const auto row = static_cast<Eigen::Index>(p);
+      // A point whose FE model froze no strength stays unfrozen (negative).
+      particles.state[p].peak_strength = std::max(at(row, peak_strength_column), -1.0);
+      const auto own = particles.surface_stress.of(p);
+      for (Eigen::Index k = 0; k < surfaces; ++k) {
+        own[static_cast<std::size_t>(k)] =
+            at.row(row).segment<4>(surface_column + 4 * k).transpose();
+      }
     }
   }
 
