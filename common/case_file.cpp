@@ -15,6 +15,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <utility>
 
@@ -815,6 +816,40 @@ std::optional<std::pair<Vec2, Vec2>> body_box(const MeshSpec& mesh) {
 
 // ----------------------------------------------------------------------------- [fem]
 
+/// [fem.damping]: Rayleigh damping either as α_M, β_K or as a ratio ξ at two frequencies
+/// (then α_M, β_K are derived), never both; Cundall's local α with either.
+DampingSpec read_damping(const Section& s) {
+  DampingSpec damping;
+  damping.local = s.number("local", unit_interval_open_above(), 0.0);
+  if (!s.has("ratio")) {
+    s.reject("frequencies", fmt::format("only used with {}", s.dotted("ratio")));
+    damping.rayleigh_mass = s.number("rayleigh_mass", non_negative("1/s"), 0.0);
+    damping.rayleigh_stiffness = s.number("rayleigh_stiffness", non_negative("s"), 0.0);
+    return damping;
+  }
+  for (std::string_view key : {"rayleigh_mass", "rayleigh_stiffness"}) {
+    if (s.has(key)) {
+      throw Error(
+          "{}: {} and {}: two forms of the Rayleigh damping (give either ratio and frequencies "
+          "or rayleigh_mass and rayleigh_stiffness)",
+          s.where(key), s.dotted("ratio"), s.dotted(key));
+    }
+  }
+  DampingRatio ratio;
+  ratio.ratio = s.number("ratio", unit_interval_open_above());
+  if (!s.has("frequencies")) s.missing("frequencies");
+  const std::vector<double> f = s.numbers("frequencies", positive("Hz"), true);
+  if (f.size() != 2) {
+    s.fail("frequencies", fmt::format("expected [f1, f2] in Hz, found {} numbers", f.size()));
+  }
+  ratio.frequencies = {f[0], f[1]};
+  const RayleighCoefficients coefficients = rayleigh_coefficients(ratio);
+  damping.rayleigh_mass = coefficients.mass;
+  damping.rayleigh_stiffness = coefficients.stiffness;
+  damping.ratio = ratio;
+  return damping;
+}
+
 FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
   const Section s =
       root.table("fem", Section::Keys{"failure_stage", "kinematics", "end_time", "checkpoint_times",
@@ -846,9 +881,10 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
       s.number("hourglass_coefficient", non_negative(), fem.hourglass_coefficient);
   fem.friction_coefficient = s.number("friction_coefficient", non_negative(), 0.0);
   fem.speed_limit_factor = s.number("speed_limit_factor", positive(), fem.speed_limit_factor);
-  if (auto damping = s.optional_table("damping", Section::Keys{"rayleigh_mass", "local"})) {
-    fem.damping.rayleigh_mass = damping->number("rayleigh_mass", non_negative("1/s"), 0.0);
-    fem.damping.local = damping->number("local", unit_interval_open_above(), 0.0);
+  if (auto damping = s.optional_table(
+          "damping",
+          Section::Keys{"rayleigh_mass", "rayleigh_stiffness", "ratio", "frequencies", "local"})) {
+    fem.damping = read_damping(*damping);
   }
 
   // Generated meshes know left, right and base; Gmsh meshes name their own boundaries
@@ -1044,6 +1080,14 @@ MetricsSpec read_metrics(const Section& root) {
 }  // namespace
 
 // ----------------------------------------------------------------------------- API
+
+RayleighCoefficients rayleigh_coefficients(const DampingRatio& ratio) {
+  // ξ(ω) = α_M/(2ω) + β_K ω/2 = ξ at ω1 and ω2: two linear equations in α_M, β_K.
+  const double omega1 = 2.0 * std::numbers::pi * ratio.frequencies[0];
+  const double omega2 = 2.0 * std::numbers::pi * ratio.frequencies[1];
+  return {.mass = 2.0 * ratio.ratio * omega1 * omega2 / (omega1 + omega2),
+          .stiffness = 2.0 * ratio.ratio / (omega1 + omega2)};
+}
 
 std::int32_t Case::material_index(std::string_view material_name) const {
   for (std::size_t i = 0; i < materials.size(); ++i) {

@@ -57,10 +57,30 @@ struct MeshSpec {
 
 enum class Kinematics { small_strain, updated_lagrangian };
 
-struct DampingSpec {
-  double rayleigh_mass = 0.0;  ///< α_M of the mass-proportional Rayleigh damping, 1/s
-  double local = 0.0;          ///< Cundall local damping coefficient α, –
+/// Rayleigh damping given as a damping ratio ξ at two frequencies f1 < f2 (the usual
+/// OpenSees input).
+struct DampingRatio {
+  double ratio = 0.0;                   ///< ξ, –
+  std::array<double, 2> frequencies{};  ///< f1, f2, Hz
 };
+
+struct DampingSpec {
+  double rayleigh_mass = 0.0;       ///< α_M of the mass-proportional Rayleigh damping, 1/s
+  double rayleigh_stiffness = 0.0;  ///< β_K of the stiffness-proportional Rayleigh damping, s
+  double local = 0.0;               ///< Cundall local damping coefficient α, –
+  /// Set when the case gave the ratio form; rayleigh_mass and rayleigh_stiffness are then
+  /// derived from it (rayleigh_coefficients).
+  std::optional<DampingRatio> ratio;
+};
+
+/// The Rayleigh coefficients whose damping ratio ξ(ω) = α_M/(2ω) + β_K ω/2 equals ξ at
+/// ω1 = 2π f1 and ω2 = 2π f2: α_M = 2ξ ω1 ω2/(ω1 + ω2) (1/s), β_K = 2ξ/(ω1 + ω2) (s).
+/// Between the two frequencies ξ(ω) is below ξ, outside them above.
+struct RayleighCoefficients {
+  double mass = 0.0;       ///< α_M, 1/s
+  double stiffness = 0.0;  ///< β_K, s
+};
+RayleighCoefficients rayleigh_coefficients(const DampingRatio& ratio);
 
 struct FemSpec {
   /// False for geostatic-only cases: fem-solve stops after the t = 0 checkpoint.

@@ -53,17 +53,43 @@ std::array<Vec2, NPE> gather(const Index* nodes, const std::vector<Vec2>& values
   return out;
 }
 
-template <int NPE, int NGP, bool HOURGLASS>
+// VISCOUS adds the stiffness-proportional Rayleigh damping (see the header): the
+// viscous stress β_K D ε̇ at every Gauss point and the viscous hourglass force β_K K_q q̇,
+// both from the nodal velocities of `state`. Without it the kernel is the undamped one.
+template <int NPE, int NGP, bool HOURGLASS, bool VISCOUS>
 void element_forces_kernel(const FemModel& model, const ElementGeometry& geometry,
-                           const FemState& state, std::span<Vec2> element_force) {
+                           const FemState& state, double rayleigh_stiffness,
+                           std::span<Vec2> element_force) {
   const Index n_elements = model.element_count();
+  [[maybe_unused]] const Index* connectivity = model.mesh.connectivity.data();
   for (Index e = 0; e < n_elements; ++e) {
     std::array<Vec2, NPE> f;
     f.fill(Vec2::Zero());
+    [[maybe_unused]] std::array<Vec2, NPE> v;
+    [[maybe_unused]] Mat3 viscosity;  // β_K D, Pa·s
+    if constexpr (VISCOUS) {
+      v = gather<NPE>(connectivity + e * NPE, state.velocity);
+      viscosity = rayleigh_stiffness * model.elasticity[static_cast<std::size_t>(
+                                           model.mesh.material_id[static_cast<std::size_t>(e)])];
+    }
     for (int p = 0; p < NGP; ++p) {
       const auto gp = static_cast<std::size_t>(e * NGP + p);
       const ShapeGradients& b = geometry.gradients[gp];
-      const Vec4& s = state.stress[gp];
+      Vec4 s = state.stress[gp];
+      if constexpr (VISCOUS) {
+        // ε̇ = B v on [εxx, εyy, γxy]; σ ← σ + β_K D ε̇ (xx, yy, xy).
+        double exx = 0.0, eyy = 0.0, gxy = 0.0;
+        for (int k = 0; k < NPE; ++k) {
+          const Vec2& vk = v[static_cast<std::size_t>(k)];
+          exx += b(k, 0) * vk.x();
+          eyy += b(k, 1) * vk.y();
+          gxy += b(k, 1) * vk.x() + b(k, 0) * vk.y();
+        }
+        const Eigen::Vector3d viscous = viscosity * Eigen::Vector3d(exx, eyy, gxy);
+        s[0] += viscous[0];
+        s[1] += viscous[1];
+        s[3] += viscous[2];
+      }
       const double w = geometry.weight[gp];
       // f_k −= w Bᵀσ: [b_kx σxx + b_ky σxy, b_ky σyy + b_kx σxy]
       for (int k = 0; k < NPE; ++k) {
@@ -73,12 +99,43 @@ void element_forces_kernel(const FemModel& model, const ElementGeometry& geometr
     }
     if constexpr (HOURGLASS) {
       const Vec4& gamma = geometry.hourglass_vector[static_cast<std::size_t>(e)];
-      const Vec2& q_force = state.hourglass_force[static_cast<std::size_t>(e)];
+      Vec2 q_force = state.hourglass_force[static_cast<std::size_t>(e)];
+      if constexpr (VISCOUS) {
+        // Q ← Q + β_K K_q q̇, q̇ = Σ_k γ_k v_k: the hourglass mode damped like the others.
+        Vec2 q_rate = Vec2::Zero();
+        for (int k = 0; k < NPE; ++k) q_rate += gamma[k] * v[static_cast<std::size_t>(k)];
+        q_force += rayleigh_stiffness *
+                   (geometry.hourglass_stiffness[static_cast<std::size_t>(e)] * q_rate);
+      }
       for (int k = 0; k < NPE; ++k) f[static_cast<std::size_t>(k)] -= gamma[k] * q_force;
     }
     for (int k = 0; k < NPE; ++k) {
       element_force[static_cast<std::size_t>(e * NPE + k)] = f[static_cast<std::size_t>(k)];
     }
+  }
+}
+
+template <bool VISCOUS>
+void dispatch_element_forces(const FemModel& model, const ElementGeometry& geometry,
+                             const FemState& state, double rayleigh_stiffness,
+                             std::span<Vec2> element_force) {
+  switch (model.mesh.element_type) {
+    case ElementType::quad4_1gp:
+      if (model.hourglass_coefficient != 0.0) {
+        element_forces_kernel<4, 1, true, VISCOUS>(model, geometry, state, rayleigh_stiffness,
+                                                   element_force);
+      } else {
+        element_forces_kernel<4, 1, false, VISCOUS>(model, geometry, state, rayleigh_stiffness,
+                                                    element_force);
+      }
+      return;
+    case ElementType::quad4_2x2:
+      element_forces_kernel<4, 4, false, VISCOUS>(model, geometry, state, rayleigh_stiffness,
+                                                  element_force);
+      return;
+    case ElementType::tri3:
+      element_forces_kernel<3, 1, false, VISCOUS>(model, geometry, state, rayleigh_stiffness,
+                                                  element_force);
   }
 }
 
@@ -189,20 +246,12 @@ Index compute_geometry(const FemModel& model, std::span<const Vec2> coordinates,
 }
 
 void compute_element_forces(const FemModel& model, const ElementGeometry& geometry,
-                            const FemState& state, std::span<Vec2> element_force) {
-  switch (model.mesh.element_type) {
-    case ElementType::quad4_1gp:
-      if (model.hourglass_coefficient != 0.0) {
-        element_forces_kernel<4, 1, true>(model, geometry, state, element_force);
-      } else {
-        element_forces_kernel<4, 1, false>(model, geometry, state, element_force);
-      }
-      return;
-    case ElementType::quad4_2x2:
-      element_forces_kernel<4, 4, false>(model, geometry, state, element_force);
-      return;
-    case ElementType::tri3:
-      element_forces_kernel<3, 1, false>(model, geometry, state, element_force);
+                            const FemState& state, std::span<Vec2> element_force,
+                            double rayleigh_stiffness) {
+  if (rayleigh_stiffness > 0.0) {
+    dispatch_element_forces<true>(model, geometry, state, rayleigh_stiffness, element_force);
+  } else {
+    dispatch_element_forces<false>(model, geometry, state, 0.0, element_force);
   }
 }
 
@@ -260,6 +309,11 @@ double courant_time_step(const FemModel& model, std::span<const Vec2> coordinate
     smallest = std::min(smallest, length / c);
   }
   return courant * smallest;
+}
+
+double damped_time_step(double critical_step, double courant, double rayleigh_stiffness) {
+  const double xi = rayleigh_stiffness / critical_step;  // ξ_max = β_K ω_max / 2
+  return courant * critical_step / (std::sqrt(1.0 + xi * xi) + xi);
 }
 
 }  // namespace slide::fem

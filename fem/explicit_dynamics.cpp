@@ -49,8 +49,12 @@ std::optional<ExplicitSolver::BasePlane> find_base_plane(const Mesh& mesh,
 
 }  // namespace
 
+Damping damping_of(const DampingSpec& spec) {
+  return {NodalDamping{spec.rayleigh_mass, spec.local}, spec.rayleigh_stiffness};
+}
+
 ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constraints,
-                               double friction_coefficient, NodalDamping damping,
+                               double friction_coefficient, Damping damping,
                                std::vector<ConstitutiveModel> models)
     : model_(model),
       constraints_(std::move(constraints)),
@@ -86,10 +90,14 @@ const ElementGeometry& ExplicitSolver::geometry_for(const FemState& state) {
   return current_;
 }
 
-double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
-  if (!updated_lagrangian_) return courant_time_step(model_, model_.mesh.nodes, courant);
+double ExplicitSolver::critical_time_step(const FemState& state) {
+  if (!updated_lagrangian_) return courant_time_step(model_, model_.mesh.nodes, 1.0);
   update_coordinates(model_, state, coordinates_);
-  return courant_time_step(model_, coordinates_, courant);
+  return courant_time_step(model_, coordinates_, 1.0);
+}
+
+double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
+  return damped_time_step(critical_time_step(state), courant, damping_.rayleigh_stiffness);
 }
 
 Vec2 ExplicitSolver::nodal_force(Index node) const {
@@ -124,8 +132,8 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) const {
   for (Index node = 0; node < n_nodes; ++node) {
     const auto n = static_cast<std::size_t>(node);
     const Vec2 previous = state.velocity[n];
-    const Vec2 trial =
-        damped_trial_velocity(model_.nodal_mass[n], previous, nodal_force(node), dt, damping_);
+    const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], previous, nodal_force(node), dt,
+                                             damping_.nodal);
     const Vec2 velocity = constrained_velocity(node, state, trial, dt);
     state.acceleration[n] = (velocity - previous) / dt;
     state.velocity[n] = velocity;
@@ -134,7 +142,8 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) const {
 }
 
 Index ExplicitSolver::step(FemState& state, double dt) {
-  compute_element_forces(model_, geometry_for(state), state, element_force_);
+  compute_element_forces(model_, geometry_for(state), state, element_force_,
+                         damping_.rayleigh_stiffness);
   if (!updated_lagrangian_) {
     update_nodes(state, dt);
     yielded_count_ = update_stresses(model_, model_.reference, models_, dt, false, state);
@@ -167,11 +176,12 @@ void ExplicitSolver::synchronised_velocity(const FemState& state, double dt,
     velocity = state.velocity;
     return;
   }
-  compute_element_forces(model_, geometry_for(state), state, element_force_);
+  compute_element_forces(model_, geometry_for(state), state, element_force_,
+                         damping_.rayleigh_stiffness);
   for (Index node = 0; node < model_.node_count(); ++node) {
     const auto n = static_cast<std::size_t>(node);
     const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], state.velocity[n],
-                                             nodal_force(node), 0.5 * dt, damping_);
+                                             nodal_force(node), 0.5 * dt, damping_.nodal);
     velocity[n] = constrained_velocity(node, state, trial, 0.5 * dt);
   }
 }

@@ -4,7 +4,9 @@
 // (plus hourglass) forces of the elements, integrated by the leapfrog scheme, written
 // as a symplectic Euler step (the central-difference method with a velocity stored at
 // mid-step):
-//   1. forces from the current state:      F_n = m g − f_int(σ_n, Q_n)
+//   1. forces from the current state:      F_n = m g − f_int(σ_n, Q_n) − β_K K₀ v_{n−1/2}
+//      (the last term the optional stiffness-proportional Rayleigh damping, a viscous
+//      stress in the element forces; see fem/element_kernels.hpp)
 //   2. nodal velocity update:              v_{n+1/2} = constrain(v_{n−1/2} + dt F_n/m)
 //      through the shared update of common/nodal_update.hpp (damping, fixed, roller and
 //      Coulomb friction nodes exactly as the MPM grid does it); the frictional base is
@@ -30,11 +32,23 @@
 
 namespace slide::fem {
 
+/// The damping of the failure stage (METHOD.md §3): the nodal terms of the shared update
+/// (mass-proportional Rayleigh α_M, Cundall local α), applied to the nodal force with
+/// v_{n−1/2}, and the stiffness-proportional Rayleigh term β_K, a viscous stress in the
+/// element forces with the same v_{n−1/2}. Together C = α_M M + β_K K₀.
+struct Damping {
+  NodalDamping nodal;
+  double rayleigh_stiffness = 0.0;  ///< β_K, s
+};
+
+/// The damping a case asks for (α_M and β_K already derived from a ratio form).
+Damping damping_of(const DampingSpec& spec);
+
 class ExplicitSolver {
  public:
   /// `models` is indexed by material id (the failure stage's constitutive models).
   ExplicitSolver(const FemModel& model, NodalConstraints constraints, double friction_coefficient,
-                 NodalDamping damping, std::vector<ConstitutiveModel> models);
+                 Damping damping, std::vector<ConstitutiveModel> models);
 
   /// The switch from the elastic geostatic state to the failure-stage models
   /// (ConstitutiveModel::start on every Gauss point): Mohr–Coulomb returns stresses
@@ -42,8 +56,12 @@ class ExplicitSolver {
   /// its surfaces. Returns how many points had to be brought onto the surface.
   std::size_t return_to_yield_surface(FemState& state) const;
 
-  /// Courant step dt = C·min_e(l_e/c_p) of the reference (small strain) or current
-  /// (updated Lagrangian) geometry.
+  /// Courant step at C = 1, dt_c = min_e(l_e/c_p), of the reference (small strain) or
+  /// current (updated Lagrangian) geometry, without damping.
+  double critical_time_step(const FemState& state);
+
+  /// The step the run takes: C·dt_c, lowered by the stiffness damping β_K
+  /// (damped_time_step in fem/element_kernels.hpp; equal to C·dt_c when β_K = 0).
   double stable_time_step(const FemState& state, double courant);
 
   /// One step of length dt. Returns −1, or for updated Lagrangian the first element the
@@ -82,7 +100,7 @@ class ExplicitSolver {
   NodalConstraints constraints_;
   std::optional<BasePlane> base_plane_;
   double friction_coefficient_;
-  NodalDamping damping_;
+  Damping damping_;
   std::vector<ConstitutiveModel> models_;
   bool updated_lagrangian_;
 

@@ -241,12 +241,10 @@ void FemRun::start_failure_stage(bool switch_models) {
   std::vector<ConstitutiveModel> models;
   for (const auto& material : model_->materials)
     models.push_back(ConstitutiveModel::from(material));
-  const DampingSpec& damping = case_.fem.damping;
   solver_ = std::make_unique<ExplicitSolver>(
       *model_,
       make_constraints(model_->mesh, case_.fem.failure_boundaries, "fem.failure.boundaries"),
-      case_.fem.friction_coefficient, NodalDamping{damping.rayleigh_mass, damping.local},
-      std::move(models));
+      case_.fem.friction_coefficient, damping_of(case_.fem.damping), std::move(models));
   if (switch_models) {
     const std::size_t returned = solver_->return_to_yield_surface(state_);
     logger_.info("failure stage: {} of {} Gauss points returned to the yield surface at the switch",
@@ -273,17 +271,39 @@ void FemRun::start_failure_stage(bool switch_models) {
     }
   }
 
-  const double courant_step = solver_->stable_time_step(state_, case_.fem.courant);
+  // The Courant step, lowered by the stiffness-proportional damping (METHOD.md §3); the
+  // stability limit is the same at C = 1.
+  const DampingSpec& damping = case_.fem.damping;
+  const double critical_step = solver_->critical_time_step(state_);
+  const double courant_step =
+      damped_time_step(critical_step, case_.fem.courant, damping.rayleigh_stiffness);
+  const double reduction = courant_step / (case_.fem.courant * critical_step);
   time_step_ = case_.fem.time_step > 0.0 ? case_.fem.time_step : courant_step;
   if (case_.fem.time_step > 0.0 && case_.fem.time_step > courant_step / case_.fem.courant) {
-    logger_.warning("fem.time_step = {:.4g} s exceeds the stability limit {:.4g} s (C = 1)",
-                    case_.fem.time_step, courant_step / case_.fem.courant);
+    logger_.warning("fem.time_step = {:.4g} s exceeds the stability limit {:.4g} s (C = 1{})",
+                    case_.fem.time_step, courant_step / case_.fem.courant,
+                    damping.rayleigh_stiffness > 0.0 ? ", with β_K" : "");
   }
-  logger_.info(
-      "failure stage: {} kinematics, dt = {:.4g} s ({}), t = {:.3f} → {:.3f} s",
-      to_string(case_.fem.kinematics), time_step_,
-      case_.fem.time_step > 0.0 ? "fixed" : fmt::format("Courant C = {}", case_.fem.courant),
-      state_.time, schedule_.end_time());
+  std::string step_kind =
+      case_.fem.time_step > 0.0 ? "fixed" : fmt::format("Courant C = {}", case_.fem.courant);
+  if (damping.rayleigh_stiffness > 0.0) {
+    step_kind +=
+        fmt::format(", × {:.4g} for β_K: ξ_max = {:.4g} at ω_max = 2/dt_c = {:.4g} rad/s",
+                    reduction, damping.rayleigh_stiffness / critical_step, 2.0 / critical_step);
+  }
+  std::string damping_text;
+  if (damping.rayleigh_mass > 0.0 || damping.rayleigh_stiffness > 0.0 || damping.local > 0.0) {
+    damping_text = fmt::format("; damping: Rayleigh α_M = {:.6g} 1/s, β_K = {:.6g} s",
+                               damping.rayleigh_mass, damping.rayleigh_stiffness);
+    if (damping.ratio) {
+      damping_text += fmt::format(" (from ξ = {} at {} and {} Hz)", damping.ratio->ratio,
+                                  damping.ratio->frequencies[0], damping.ratio->frequencies[1]);
+    }
+    damping_text += fmt::format(", local α = {}", damping.local);
+  }
+  logger_.info("failure stage: {} kinematics, dt = {:.4g} s ({}), t = {:.3f} → {:.3f} s{}",
+               to_string(case_.fem.kinematics), time_step_, step_kind, state_.time,
+               schedule_.end_time(), damping_text);
   failure_started_ = true;
   progress_ =
       std::make_unique<Progress>(logger_, "failure stage", state_.time, schedule_.end_time());
@@ -302,6 +322,7 @@ void FemRun::advance_to(double stop) {
   const bool courant_every_step =
       model_->kinematics == Kinematics::updated_lagrangian && !(case_.fem.time_step > 0.0);
   while (state_.time < stop) {
+    // Updated Lagrangian: the Courant step of the current geometry, with the β_K reduction.
     const double dt =
         courant_every_step ? solver_->stable_time_step(state_, case_.fem.courant) : time_step_;
     const double remaining = stop - state_.time;
@@ -454,11 +475,13 @@ void FemRun::write_fem_checkpoint(const FemState& state, const std::string& stag
   context.solver["kinematics"] = std::string(to_string(model_->kinematics));
   context.solver["element_type"] = std::string(to_string(model_->mesh.element_type));
   context.solver["courant"] = case_.fem.courant;
-  // The step the state would take next: fixed, or the Courant step of its geometry.
+  // The step the state would take next: fixed, or the Courant step of its geometry
+  // (lowered by the stiffness damping, as the failure stage takes it).
   context.solver["time_step"] =
       case_.fem.time_step > 0.0 ? case_.fem.time_step
       : solver_                 ? solver_->stable_time_step(state, case_.fem.courant)
-                                : courant_time_step(*model_, model_->mesh.nodes, case_.fem.courant);
+                : damped_time_step(courant_time_step(*model_, model_->mesh.nodes, 1.0),
+                                   case_.fem.courant, case_.fem.damping.rayleigh_stiffness);
   context.solver["hourglass_coefficient"] = model_->hourglass_coefficient;
   if (!geostatic) {
     context.solver["initial_total_energy"] = limits_.initial_energy;

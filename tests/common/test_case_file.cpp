@@ -384,6 +384,27 @@ const Broken broken_cases[] = {
      "pic_fraction"},
     {"local damping 1", "cell_size = 1.0", "cell_size = 1.0\nlocal_damping = 1.0",
      "mpm.local_damping", "local_damping"},
+    {"negative stiffness damping", "[fem.geostatic.boundaries]",
+     "[fem.damping]\nrayleigh_stiffness = -0.01\n\n[fem.geostatic.boundaries]",
+     "fem.damping.rayleigh_stiffness = -0.01 is not admissible", "rayleigh_stiffness"},
+    {"damping ratio 1", "[fem.geostatic.boundaries]",
+     "[fem.damping]\nratio = 1.0\nfrequencies = [1.0, 10.0]\n\n[fem.geostatic.boundaries]",
+     "fem.damping.ratio = 1 is not admissible", "ratio = 1.0"},
+    {"damping ratio without frequencies", "[fem.geostatic.boundaries]",
+     "[fem.damping]\nratio = 0.05\n\n[fem.geostatic.boundaries]",
+     "fem.damping.frequencies: missing required key", "[fem.damping]"},
+    {"damping frequencies without ratio", "[fem.geostatic.boundaries]",
+     "[fem.damping]\nfrequencies = [1.0, 10.0]\n\n[fem.geostatic.boundaries]",
+     "fem.damping.frequencies: only used with fem.damping.ratio", "frequencies"},
+    {"one damping frequency", "[fem.geostatic.boundaries]",
+     "[fem.damping]\nratio = 0.05\nfrequencies = [1.0]\n\n[fem.geostatic.boundaries]",
+     "fem.damping.frequencies: expected [f1, f2]", "frequencies"},
+    {"damping frequencies not increasing", "[fem.geostatic.boundaries]",
+     "[fem.damping]\nratio = 0.05\nfrequencies = [10.0, 1.0]\n\n[fem.geostatic.boundaries]",
+     "fem.damping.frequencies[1]", "frequencies"},
+    {"damping frequency zero", "[fem.geostatic.boundaries]",
+     "[fem.damping]\nratio = 0.05\nfrequencies = [0.0, 1.0]\n\n[fem.geostatic.boundaries]",
+     "fem.damping.frequencies[0] = 0 is not admissible", "frequencies"},
     {"MPM ends before the transfer", "end_time = 5.0", "end_time = 1.5", "mpm.end_time",
      "end_time = 1.5"},
     {"grid boundary name", "base = \"friction\"\n\n[metrics]", "bottom = \"friction\"\n\n[metrics]",
@@ -447,6 +468,69 @@ std::string test_name(const testing::TestParamInfo<Broken>& info) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CaseFile, CaseFileBroken, testing::ValuesIn(broken_cases), test_name);
+
+// ----------------------------------------------------------------------------- damping
+
+/// The small case with a [fem.damping] table of `keys` (one "key = value" a line).
+std::string with_damping(std::string_view keys) {
+  std::string text = small_case();
+  const std::string anchor = "[fem.geostatic.boundaries]";
+  text.replace(text.find(anchor), anchor.size(),
+               fmt::format("[fem.damping]\n{}\n{}", keys, anchor));
+  return text;
+}
+
+TEST(CaseFile, RayleighDampingIsGivenAsCoefficientsOrAsARatioAtTwoFrequencies) {
+  const DampingSpec none = parse_case(small_case(), "case.toml").fem.damping;
+  EXPECT_EQ(none.rayleigh_mass, 0.0);
+  EXPECT_EQ(none.rayleigh_stiffness, 0.0);
+  EXPECT_EQ(none.local, 0.0);
+  EXPECT_FALSE(none.ratio.has_value());
+
+  const DampingSpec coefficients =
+      parse_case(with_damping("rayleigh_mass = 0.5\nrayleigh_stiffness = 0.002\nlocal = 0.1\n"),
+                 "case.toml")
+          .fem.damping;
+  EXPECT_DOUBLE_EQ(coefficients.rayleigh_mass, 0.5);
+  EXPECT_DOUBLE_EQ(coefficients.rayleigh_stiffness, 0.002);
+  EXPECT_DOUBLE_EQ(coefficients.local, 0.1);
+  EXPECT_FALSE(coefficients.ratio.has_value());
+
+  // ξ = 0.05 at 1 and 10 Hz: α_M = 2ξ ω1 ω2/(ω1 + ω2), β_K = 2ξ/(ω1 + ω2), and the
+  // Rayleigh ratio ξ(ω) = α_M/(2ω) + β_K ω/2 is ξ at both frequencies.
+  const DampingSpec ratio =
+      parse_case(with_damping("ratio = 0.05\nfrequencies = [1.0, 10.0]\n"), "case.toml")
+          .fem.damping;
+  const double omega1 = 2.0 * std::numbers::pi, omega2 = 20.0 * std::numbers::pi;
+  EXPECT_NEAR(ratio.rayleigh_mass, 0.1 * omega1 * omega2 / (omega1 + omega2), 1e-14);
+  EXPECT_NEAR(ratio.rayleigh_stiffness, 0.1 / (omega1 + omega2), 1e-17);
+  for (const double omega : {omega1, omega2}) {
+    EXPECT_NEAR(ratio.rayleigh_mass / (2.0 * omega) + ratio.rayleigh_stiffness * omega / 2.0, 0.05,
+                1e-15);
+  }
+  ASSERT_TRUE(ratio.ratio.has_value());
+  EXPECT_DOUBLE_EQ(ratio.ratio->ratio, 0.05);
+  EXPECT_EQ(ratio.ratio->frequencies, (std::array<double, 2>{1.0, 10.0}));
+  EXPECT_EQ(ratio.local, 0.0);
+}
+
+TEST(CaseFile, BothFormsOfRayleighDampingAreAOneLineErrorNamingTheKeys) {
+  for (const std::string_view key : {"rayleigh_mass", "rayleigh_stiffness"}) {
+    const std::string text =
+        with_damping(fmt::format("ratio = 0.05\nfrequencies = [1.0, 10.0]\n{} = 0.1\n", key));
+    try {
+      parse_case(text, "case.toml");
+      FAIL() << "ratio with " << key << " was accepted";
+    } catch (const Error& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+      EXPECT_TRUE(message.starts_with(fmt::format("case.toml:{}: ", line_of(text, key))))
+          << message;
+      EXPECT_NE(message.find("fem.damping.ratio"), std::string::npos) << message;
+      EXPECT_NE(message.find(fmt::format("fem.damping.{}", key)), std::string::npos) << message;
+    }
+  }
+}
 
 }  // namespace
 }  // namespace slide

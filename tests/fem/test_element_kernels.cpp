@@ -1,5 +1,6 @@
 // The element kernels: patch tests on distorted meshes, the rigid-body modes of the
 // element stiffness, and the hourglass control of the one-point quad.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 // Eigen's eigensolver, compiled for AVX-512 by GCC 12, trips a false
@@ -31,10 +32,12 @@ FemModel distorted_model(ElementType type) {
   return make_model(std::move(mesh), {soil()}, Kinematics::small_strain, 1.0);
 }
 
-/// Sum of the element forces at every node (without gravity).
-std::vector<Vec2> assembled_forces(const FemModel& model, const FemState& state) {
+/// Sum of the element forces at every node (without gravity), with the stiffness
+/// damping β_K = `rayleigh_stiffness` on the velocities of `state`.
+std::vector<Vec2> assembled_forces(const FemModel& model, const FemState& state,
+                                   double rayleigh_stiffness = 0.0) {
   std::vector<Vec2> element_force(model.mesh.connectivity.size());
-  compute_element_forces(model, model.reference, state, element_force);
+  compute_element_forces(model, model.reference, state, element_force, rayleigh_stiffness);
   std::vector<Vec2> nodal(model.mesh.nodes.size(), Vec2::Zero());
   for (std::size_t slot = 0; slot < element_force.size(); ++slot) {
     nodal[static_cast<std::size_t>(model.mesh.connectivity[slot])] += element_force[slot];
@@ -206,6 +209,83 @@ TEST(Model, LumpedMassIsTheRowSumAndAddsUpToTheTotalMass) {
     double total = 0.0;
     for (double m : model.nodal_mass) total += m;
     EXPECT_NEAR(total, soil().density * 12.0, 1e-9 * total);
+  }
+}
+
+TEST(RayleighStiffnessDamping, IsBetaKTimesTheElementStiffness) {
+  // The viscous stress β_K D ε̇ and, for one-point quads, the viscous hourglass force
+  // β_K K_q q̇ add −β_K K₀ v to the element forces, K₀ the whole elastic stiffness of
+  // element_stiffness (hourglass part included, at any hourglass coefficient): every mode
+  // of the element is damped in proportion to its stiffness. On distorted meshes with
+  // non-zero stresses and hourglass forces (which the damping must leave as they are), the
+  // damped minus the undamped forces equal −β_K K v to round-off.
+  const double beta = 0.003;  // s
+  std::vector<FemModel> models;
+  for (const auto type : all_types) models.push_back(distorted_model(type));
+  models.push_back(single_element(ElementType::quad4_1gp, 0.3, distorted_quad));
+  for (const FemModel& model : models) {
+    SCOPED_TRACE(fmt::format("{}, hourglass coefficient {}", to_string(model.mesh.element_type),
+                             model.hourglass_coefficient));
+    FemState state = make_rest_state(model);
+    for (std::size_t n = 0; n < state.velocity.size(); ++n) {
+      const auto k = static_cast<double>(n);
+      state.velocity[n] = Vec2(std::sin(3.0 * k + 1.0), std::cos(5.0 * k));
+    }
+    for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
+      state.stress[gp] = 1e4 * Vec4(1.0, -2.0, 0.5, std::sin(static_cast<double>(gp)));
+    }
+    for (Vec2& q : state.hourglass_force) q = Vec2(300.0, -700.0);
+    const std::vector<Vec2> undamped = assembled_forces(model, state);
+    const std::vector<Vec2> damped = assembled_forces(model, state, beta);
+    // −β_K K v, assembled element by element.
+    std::vector<Vec2> expected(state.velocity.size(), Vec2::Zero());
+    const int n = model.nodes_per_element;
+    for (Index e = 0; e < model.element_count(); ++e) {
+      const Index* nodes = model.mesh.connectivity.data() + e * n;
+      Eigen::Matrix<double, 2 * max_nodes_per_element, 1> v =
+          Eigen::Matrix<double, 2 * max_nodes_per_element, 1>::Zero();
+      for (int k = 0; k < n; ++k) {
+        v.segment<2>(2 * k) = state.velocity[static_cast<std::size_t>(nodes[k])];
+      }
+      const Eigen::Matrix<double, 2 * max_nodes_per_element, 1> kv =
+          element_stiffness(model, model.reference, e) * v;
+      for (int k = 0; k < n; ++k) {
+        expected[static_cast<std::size_t>(nodes[k])] -= beta * kv.segment<2>(2 * k);
+      }
+    }
+    double scale = 0.0;
+    for (const Vec2& f : expected) scale = std::max(scale, f.norm());
+    ASSERT_GT(scale, 0.0);
+    for (std::size_t node = 0; node < expected.size(); ++node) {
+      EXPECT_LT((damped[node] - undamped[node] - expected[node]).norm(), 1e-12 * scale)
+          << "node " << node;
+    }
+  }
+}
+
+TEST(DampedTimeStep, IsTheClosedFormWithTheCourantAndTheHeavyDampingLimits) {
+  // dt = C dt_c (sqrt(1 + ξ²) − ξ), ξ = β_K/dt_c (ξ_max = β_K ω_max/2, ω_max = 2/dt_c).
+  const double critical = 2.0e-3, courant = 0.5;
+  // β_K = 0: exactly the Courant step, bit for bit (the undamped runs do not change).
+  EXPECT_EQ(damped_time_step(critical, courant, 0.0), courant * critical);
+  for (const double xi : {1e-3, 0.1, 1.0, 2.5, 10.0}) {
+    SCOPED_TRACE(fmt::format("ξ_max = {}", xi));
+    const double beta = xi * critical;
+    const double dt = damped_time_step(critical, courant, beta);
+    EXPECT_NEAR(dt / (courant * critical * (std::sqrt(1.0 + xi * xi) - xi)), 1.0, 1e-12);
+    // At C = 1 it is the stability limit of the highest mode: ω² dt² + 2 β_K ω² dt = 4.
+    const double limit = damped_time_step(critical, 1.0, beta);
+    const double omega = 2.0 / critical;
+    EXPECT_NEAR(omega * omega * limit * (limit + 2.0 * beta), 4.0, 4e-12);
+  }
+  // Light damping: dt = C dt_c (1 − ξ + ξ²/2 + …).
+  EXPECT_NEAR(damped_time_step(critical, courant, 1e-6 * critical) / (courant * critical),
+              1.0 - 1e-6, 1e-12);
+  // Heavy damping: dt → C dt_c/(2ξ) (1 − 1/(4ξ²)), where the naive difference
+  // sqrt(1 + ξ²) − ξ would have lost every digit.
+  for (const double xi : {1e3, 1e6, 1e9}) {
+    const double dt = damped_time_step(critical, courant, xi * critical);
+    EXPECT_NEAR(dt / (courant * critical / (2.0 * xi)), 1.0 - 1.0 / (4.0 * xi * xi), 1e-12);
   }
 }
 

@@ -74,7 +74,7 @@ struct VibratingBar {
   ExplicitSolver solver;
   FemState state;
 
-  VibratingBar(ElementType type, const NodalDamping& damping)
+  VibratingBar(ElementType type, const Damping& damping)
       : model(make_model(rectangle_mesh(type, 40, 1, length, 0.25), {material},
                          Kinematics::small_strain, 1.0)),
         solver(model,
@@ -150,7 +150,7 @@ struct BarExtremes {
   double max_rise = -std::numeric_limits<double>::infinity();
   double dt = 0.0;
 };
-BarExtremes damped_bar(ElementType type, const NodalDamping& damping, double periods) {
+BarExtremes damped_bar(ElementType type, const Damping& damping, double periods) {
   VibratingBar vibrating(type, damping);
   const FemModel& model = vibrating.model;
   ExplicitSolver& solver = vibrating.solver;
@@ -181,6 +181,21 @@ BarExtremes damped_bar(ElementType type, const NodalDamping& damping, double per
   return bar;
 }
 
+/// The decay rate r of the free end's amplitude, |u| ∝ e^(−r t): minus the least-squares
+/// slope of ln |u| at the extremes against t.
+double fitted_decay_rate(const BarExtremes& bar) {
+  double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
+  const auto n = static_cast<double>(bar.time.size());
+  for (std::size_t i = 0; i < bar.time.size(); ++i) {
+    const double l = std::log(std::abs(bar.displacement[i]));
+    st += bar.time[i];
+    sl += l;
+    stt += bar.time[i] * bar.time[i];
+    stl += bar.time[i] * l;
+  }
+  return -(n * stl - st * sl) / (n * stt - st * st);
+}
+
 TEST(ExplicitDynamics, RayleighMassDampingDecaysTheFreeBarAsExpMinusAlphaTOverTwo) {
   // m ü + α_M m u̇ + K u = 0: every mode obeys q̈ + α_M q̇ + ω² q = 0, whose solution
   // from rest position is q = (q̇0/ω_d) e^(−α_M t/2) sin(ω_d t), ω_d² = ω² − α_M²/4. Its
@@ -195,19 +210,9 @@ TEST(ExplicitDynamics, RayleighMassDampingDecaysTheFreeBarAsExpMinusAlphaTOverTw
   const double alpha = 2.0;  // 1/s: damping ratio α_M/(2ω) = 0.05 of the 20 rad/s mode
   for (const auto type : all_types) {
     SCOPED_TRACE(to_string(type));
-    const BarExtremes bar = damped_bar(type, {alpha, 0.0}, 10.0);
+    const BarExtremes bar = damped_bar(type, {.nodal = {alpha, 0.0}}, 10.0);
     ASSERT_GE(bar.time.size(), 18U);
-    // Least-squares slope of ln |u| against t.
-    double st = 0.0, sl = 0.0, stt = 0.0, stl = 0.0;
-    const auto n = static_cast<double>(bar.time.size());
-    for (std::size_t i = 0; i < bar.time.size(); ++i) {
-      const double l = std::log(std::abs(bar.displacement[i]));
-      st += bar.time[i];
-      sl += l;
-      stt += bar.time[i] * bar.time[i];
-      stl += bar.time[i] * l;
-    }
-    const double slope = (n * stl - st * sl) / (n * stt - st * st);
+    const double slope = -fitted_decay_rate(bar);
     const double rate = -std::log(1.0 - alpha * bar.dt) / (2.0 * bar.dt);
     RecordProperty(std::string(to_string(type)) + "_decay_rate_over_alpha_half",
                    fmt::format("{:.6f}", -slope / (alpha / 2.0)));
@@ -238,7 +243,7 @@ TEST(ExplicitDynamics, LocalDampingTakesTheSameFractionOfTheEnergyEveryHalfPerio
   const double ratio = (1.0 - alpha) / (1.0 + alpha);
   for (const auto type : all_types) {
     SCOPED_TRACE(to_string(type));
-    const BarExtremes bar = damped_bar(type, {0.0, alpha}, 5.0);
+    const BarExtremes bar = damped_bar(type, {.nodal = {0.0, alpha}}, 5.0);
     ASSERT_GE(bar.energy.size(), 9U);
     double worst = 0.0;
     for (std::size_t i = 1; i < bar.energy.size(); ++i) {
@@ -251,6 +256,143 @@ TEST(ExplicitDynamics, LocalDampingTakesTheSameFractionOfTheEnergyEveryHalfPerio
     RecordProperty(std::string(to_string(type)) + "_max_energy_rise",
                    fmt::format("{:.3g}", bar.max_rise));
     EXPECT_LT(bar.max_rise, 0.0);
+  }
+}
+
+/// The first mode's angular frequency of the vibrating bar, ω1 = (π/2L) sqrt(M/ρ).
+double bar_first_omega() {
+  return std::numbers::pi / (2.0 * VibratingBar::length) * soil().p_wave_speed();
+}
+
+/// Discrete decay rate of a mode whose damping force is −c m q̇ (c = α_M + β_K ω²) under
+/// the leapfrog step with the damping on v_{n−1/2}: |z|² = 1 − c dt per step, so
+/// r = −ln(1 − c dt)/(2 dt) = c/2 (1 + c dt/2 + …).
+double leapfrog_decay_rate(double c, double dt) {
+  return -std::log(1.0 - c * dt) / (2.0 * dt);
+}
+
+TEST(ExplicitDynamics, RayleighStiffnessDampingDecaysTheFirstModeAtBetaOmegaSquaredOverTwo) {
+  // With the viscous stress β_K D ε̇ (and the viscous hourglass force) the damping matrix
+  // is β_K K exactly (test RayleighStiffnessDamping.IsBetaKTimesTheElementStiffness), so
+  // the modes stay uncoupled and the first one obeys q̈ + β_K ω² q̇ + ω² q = 0: damping
+  // ratio ξ = β_K ω/2, amplitude ∝ e^(−ξ ω t) = e^(−β_K ω² t/2), and maxima one damped
+  // period apart with the logarithmic decrement δ = ln(q_i/q_{i+1}) = 2π ξ/sqrt(1 − ξ²).
+  // Leapfrog as for α_M with c = β_K ω²: the discrete rate r = −ln(1 − c dt)/(2 dt) is
+  // c dt/2 = ξ ω dt above ξω, the O(ω dt) error of the time discretisation (1.9e-4 for
+  // quads, 0.9e-4 for tri3: the step is the β_K-reduced one, 0.19 of the Courant step at
+  // ξ_max = β_K/dt_c = 2.5). The lumped mass lowers ω1 by 6e-5 and so the rate by 1.3e-4.
+  // Asserted: the fitted rate equals r to 5e-4 (measured −1.4e-4 and −1.3e-4, the
+  // lumped-mass error), ξω = β_K ω²/2 to 1e-3 (both errors, measured +4e-5 and −3e-5), and
+  // every full period's log decrement ln(u_i/u_{i+2}) is δ = 0.315 to 5e-4 (the same
+  // errors and the sampling of the extremes at the steps; measured at most 3e-5).
+  const double beta = 0.005;  // s: ξ = 0.05 at ω1 = 20 rad/s
+  const double omega = bar_first_omega();
+  const double xi = beta * omega / 2.0;
+  const double decrement = 2.0 * std::numbers::pi * xi / std::sqrt(1.0 - xi * xi);
+  for (const auto type : all_types) {
+    SCOPED_TRACE(to_string(type));
+    const BarExtremes bar = damped_bar(type, {.nodal = {}, .rayleigh_stiffness = beta}, 10.0);
+    ASSERT_GE(bar.time.size(), 18U);
+    const double rate = fitted_decay_rate(bar);
+    const double discrete = leapfrog_decay_rate(beta * omega * omega, bar.dt);
+    double worst = 0.0;
+    for (std::size_t i = 2; i < bar.time.size(); ++i) {
+      const double measured = std::log(bar.displacement[i - 2] / bar.displacement[i]);
+      worst = std::max(worst, std::abs(measured / decrement - 1.0));
+      EXPECT_NEAR(measured / decrement, 1.0, 5e-4) << "extreme " << i;
+    }
+    RecordProperty(std::string(to_string(type)) + "_rate_over_xi_omega",
+                   fmt::format("{:.6f}", rate / (xi * omega)));
+    RecordProperty(std::string(to_string(type)) + "_rate_over_discrete",
+                   fmt::format("{:.6f}", rate / discrete));
+    RecordProperty(std::string(to_string(type)) + "_worst_decrement_error",
+                   fmt::format("{:.3g}", worst));
+    RecordProperty(std::string(to_string(type)) + "_dt", fmt::format("{:.6g}", bar.dt));
+    EXPECT_NEAR(rate / discrete, 1.0, 5e-4);
+    EXPECT_NEAR(rate / (xi * omega), 1.0, 1e-3);
+  }
+}
+
+TEST(ExplicitDynamics, RayleighDampingFromARatioAtTwoFrequenciesGivesTheFirstModeItsRatio) {
+  // α_M and β_K derived from ξ = 0.05 at f1, f2 as the case reader derives them
+  // (rayleigh_coefficients): the first mode's damping ratio is then
+  // ξ(ω1) = α_M/(2ω1) + β_K ω1/2 and its amplitude decays at ξ(ω1) ω1 = (α_M + β_K ω1²)/2.
+  // Two pairs: 1 and 10 Hz, between which ω1 = 20 rad/s (3.2 Hz) lies, so ξ(ω1) = 0.029
+  // is below ξ and both terms contribute about half; and f1 = ω1/2π, f2 = 3 f1, which
+  // gives the first mode ξ itself. The measured ratio is the fitted rate over ω1.
+  // Asserted: the fitted rate equals the leapfrog rate of c = α_M + β_K ω1² to 5e-4 (as
+  // for β_K alone), and the measured ratio ξ(ω1) to 1e-3: the time discretisation adds
+  // c dt/2 = ξ(ω1) ω1 dt, O(ω dt): 2.9e-4 at 1 and 10 Hz (the step 0.50 of the Courant
+  // step) and 5.4e-4 at ω1 and 3 ω1 (0.55 of it) for quads, half that for tri3, less up
+  // to 1.3e-4 of the lumped mass in the β_K part; measured
+  // 0.028755 and 0.050026 (quads), 0.028752 and 0.050014 (tri3) for 0.028749 and 0.05.
+  const double omega = bar_first_omega();
+  const double xi = 0.05;
+  const std::array<std::array<double, 2>, 2> pairs{
+      {{1.0, 10.0}, {omega / (2.0 * std::numbers::pi), 3.0 * omega / (2.0 * std::numbers::pi)}}};
+  for (const auto type : all_types) {
+    for (const auto& frequencies : pairs) {
+      SCOPED_TRACE(
+          fmt::format("{}, {} and {} Hz", to_string(type), frequencies[0], frequencies[1]));
+      const RayleighCoefficients rayleigh = rayleigh_coefficients({xi, frequencies});
+      const double predicted = rayleigh.mass / (2.0 * omega) + rayleigh.stiffness * omega / 2.0;
+      const BarExtremes bar = damped_bar(
+          type, {.nodal = {rayleigh.mass, 0.0}, .rayleigh_stiffness = rayleigh.stiffness}, 10.0);
+      ASSERT_GE(bar.time.size(), 18U);
+      const double rate = fitted_decay_rate(bar);
+      const double c = rayleigh.mass + rayleigh.stiffness * omega * omega;
+      const std::string pair =
+          fmt::format("{}_{:.3f}_{:.3f}Hz", to_string(type), frequencies[0], frequencies[1]);
+      RecordProperty(pair + "_ratio_measured",
+                     fmt::format("{:.6f} (predicted {:.6f})", rate / omega, predicted));
+      RecordProperty(pair + "_rate_over_discrete",
+                     fmt::format("{:.6f}", rate / leapfrog_decay_rate(c, bar.dt)));
+      RecordProperty(pair + "_dt", fmt::format("{:.6g}", bar.dt));
+      EXPECT_NEAR(rate / leapfrog_decay_rate(c, bar.dt), 1.0, 5e-4);
+      EXPECT_NEAR(rate / omega / predicted, 1.0, 1e-3);
+    }
+  }
+}
+
+/// Largest nodal speed of the vibrating bar with stiffness damping β_K after 2000 steps of
+/// `factor` times the damped step of C = 1, released with alternating nodal velocities
+/// ±0.01 m/s (column by column): the highest mode of the bar. NaN once it overflowed.
+double speed_after_damped_steps(ElementType type, double beta, double factor) {
+  VibratingBar bar(type, {.nodal = {}, .rayleigh_stiffness = beta});
+  for (std::size_t n = 0; n < bar.state.velocity.size(); ++n) {
+    const long column = std::lround(bar.model.mesh.nodes[n].x() / 0.25);
+    bar.state.velocity[n] = Vec2(column % 2 == 0 ? 0.01 : -0.01, 0.0);
+  }
+  const double dt = factor * bar.solver.stable_time_step(bar.state, 1.0);
+  for (int i = 0; i < 2000; ++i) bar.solver.step(bar.state, dt);
+  double speed = 0.0;
+  for (const Vec2& v : bar.state.velocity) {
+    if (!(v.norm() <= speed)) speed = v.norm();
+  }
+  return speed;
+}
+
+TEST(ExplicitDynamics, TheStepReducedForStiffnessDampingIsStableAndTwentyPercentMoreIsNot) {
+  // The bar with β_K = 0.005 s: ξ_max = β_K/dt_c = 2.5 and the step is 0.19 of the
+  // Courant step. Its highest mode (alternating nodal velocities) has ω = 2/dt_c to 2e-4
+  // on the uniform quad mesh, so at the damped step of C = 1 it decays, and a step only
+  // 2 % longer already breaks ω² dt² + 2 β_K ω² dt ≤ 4 and the mode grows (measured: at
+  // 1.001× 0.01 → 0.18 m/s in 2000 steps, at 1.005× 5e6 m/s; without the reduction the
+  // step would be 5.3× too long). The triangles' length 2·area/longest edge is
+  // conservative on this mesh (the highest tri3 mode is stable to about 1.35×, measured
+  // between 1.3 and 1.4), so there 1.2× still decays and 1.5× grows.
+  const double beta = 0.005;
+  for (const auto type : all_types) {
+    SCOPED_TRACE(to_string(type));
+    const bool triangles = type == ElementType::tri3;
+    EXPECT_LT(speed_after_damped_steps(type, beta, 1.0), 0.01);
+    for (const double factor : triangles ? std::vector{1.5} : std::vector{1.02, 1.2}) {
+      const double speed = speed_after_damped_steps(type, beta, factor);
+      EXPECT_FALSE(speed < 1e3) << factor << " × the step: " << speed << " m/s";
+    }
+    if (triangles) {
+      EXPECT_LT(speed_after_damped_steps(type, beta, 1.2), 0.01);
+    }
   }
 }
 

@@ -36,9 +36,7 @@ void benchmark(Case c, ElementType type) {
   std::vector<ConstitutiveModel> models;
   for (const auto& material : model.materials) models.push_back(ConstitutiveModel::from(material));
   ExplicitSolver solver(model, make_constraints(model.mesh, c.fem.failure_boundaries, "failure"),
-                        c.fem.friction_coefficient,
-                        NodalDamping{c.fem.damping.rayleigh_mass, c.fem.damping.local},
-                        std::move(models));
+                        c.fem.friction_coefficient, damping_of(c.fem.damping), std::move(models));
   solver.return_to_yield_surface(state);
   const double dt =
       c.fem.time_step > 0.0 ? c.fem.time_step : solver.stable_time_step(state, c.fem.courant);
