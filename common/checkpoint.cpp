@@ -374,6 +374,9 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
   connectivity.write_string_attribute("integration", to_string(mesh.element_type));
   writer.material_ids(e, mesh.material_id, elements, c.materials.size());
   writer.doubles(e, "jacobian_ratio", c.jacobian_ratio, 0, elements, "1");
+  if (!c.scaled_jacobian.empty()) {
+    writer.doubles(e, "scaled_jacobian", c.scaled_jacobian, 0, elements, "1");
+  }
   writer.doubles(e, "volume_reference", c.volume_reference, 0, elements, "m^3/m");
   writer.doubles(e, "volume", c.volume, 0, elements, "m^3/m");
   if (!c.hourglass_force.empty()) {
@@ -811,6 +814,9 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
                                        below(nodes.count, "n_nodes"));
   c.mesh.material_id = reader.material_ids("/elements/material_id", elements, c.materials.size());
   c.jacobian_ratio = reader.doubles("/elements/jacobian_ratio", 0, elements);
+  if (reader.file().contains("elements/scaled_jacobian")) {
+    c.scaled_jacobian = reader.doubles("/elements/scaled_jacobian", 0, elements);
+  }
   c.volume_reference = reader.doubles("/elements/volume_reference", 0, elements);
   c.volume = reader.doubles("/elements/volume", 0, elements);
   if (reader.file().contains("elements/hourglass_force")) {

@@ -63,7 +63,10 @@ struct FemCheckpoint {
   std::vector<double> pore_pressure;
 
   // Elements (n_elements each).
-  std::vector<double> jacobian_ratio;    ///< |J_t|/|J_0| at the element centre
+  std::vector<double> jacobian_ratio;  ///< |J_t|/|J_0| at the element centre
+  /// Minimum scaled corner Jacobian (scaled_jacobian in common/element.hpp); empty when
+  /// the file predates it (the dataset is optional).
+  std::vector<double> scaled_jacobian;
   std::vector<double> volume_reference;  ///< V_0^e
   std::vector<double> volume;            ///< V_t^e
   /// Hourglass generalised forces of stabilised one-point quads (n_elements × 2); empty

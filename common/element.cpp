@@ -198,6 +198,32 @@ double longest_edge_squared(ElementShape shape, const ElementNodes& nodes) {
   return longest2;
 }
 
+CornerJacobian corner_jacobian(ElementShape shape, const ElementNodes& nodes, int corner) {
+  const int n = nodes_per_element(shape);
+  // det J at a corner is det[e1 e2] scaled by the reference element (see element.hpp);
+  // a triangle's corners are normalised by the equilateral's sin 60° = √3/2.
+  const double det_per_cross = shape == ElementShape::quad4 ? 0.25 : 1.0;
+  const double normalisation = shape == ElementShape::quad4 ? 1.0 : 2.0 / std::sqrt(3.0);
+  const double zero = degenerate_jacobian_fraction * longest_edge_squared(shape, nodes);
+  const Vec2 x = nodes.row(corner).transpose();
+  const Vec2 e1 = nodes.row((corner + 1) % n).transpose() - x;
+  const Vec2 e2 = nodes.row((corner + n - 1) % n).transpose() - x;
+  const double cross = e1.x() * e2.y() - e1.y() * e2.x();
+  const double scaled =
+      std::abs(cross) <= zero ? 0.0 : normalisation * cross / (e1.norm() * e2.norm());
+  return {corner, det_per_cross * cross, scaled};
+}
+
+CornerJacobian worst_corner(ElementShape shape, const ElementNodes& nodes) {
+  CornerJacobian worst = corner_jacobian(shape, nodes, 0);
+  for (int k = 1; k < nodes_per_element(shape); ++k) {
+    const CornerJacobian c = corner_jacobian(shape, nodes, k);
+    // A NaN corner (non-finite nodes) is kept as the worst: such an element is inverted.
+    if (c.scaled_jacobian < worst.scaled_jacobian || std::isnan(c.scaled_jacobian)) worst = c;
+  }
+  return worst;
+}
+
 double element_area(ElementShape shape, const ElementNodes& nodes) {
   const int n = nodes_per_element(shape);
   double twice_area = 0.0;

@@ -90,4 +90,41 @@ double longest_edge_squared(ElementShape shape, const ElementNodes& nodes);
 /// round-off does not hide a collapsed element.
 inline constexpr double degenerate_jacobian_fraction = 1e-14;
 
+/// The shape of one corner k of an element: e1 and e2 are the edges from node k to the
+/// next and to the previous node (counter-clockwise), det[e1 e2] their cross product.
+/// det J of the isoparametric map at the corner is det[e1 e2]/4 (quad4: ∂x/∂ξ and ∂x/∂η
+/// are half the edges there) or det[e1 e2] (tri3: det J is the same everywhere).
+struct CornerJacobian {
+  int corner = 0;
+  double det_jacobian = 0.0;  ///< det J at the corner
+  /// det[e1 e2]/(|e1||e2|), the sine of the corner angle, divided by sin 60° for a
+  /// triangle: 1 for the square and for the equilateral triangle, cos θ at every corner of
+  /// a rhombus sheared by θ, 0 for a flat or collapsed corner, < 0 for a folded one. A
+  /// cross product within the mesh checks' zero (degenerate_jacobian_fraction × the
+  /// longest edge squared) counts as 0, so a corner with a zero-length edge gives 0.
+  double scaled_jacobian = 0.0;
+};
+
+/// Corner `corner` (node index, 0 ≤ corner < nodes_per_element) of the element.
+CornerJacobian corner_jacobian(ElementShape shape, const ElementNodes& nodes, int corner);
+/// The corner with the smallest scaled Jacobian (the first of equal ones).
+CornerJacobian worst_corner(ElementShape shape, const ElementNodes& nodes);
+/// The element's scaled Jacobian: the minimum over its corners (see CornerJacobian). It
+/// measures shape only: a stretched rectangle gives 1, a sheared element less, at any
+/// size, so it sees the distortion of isochoric shear that |J_t|/|J_0| does not.
+inline double scaled_jacobian(ElementShape shape, const ElementNodes& nodes) {
+  return worst_corner(shape, nodes).scaled_jacobian;
+}
+
+/// The one definition of an inverted element, shared by fem-solve (mesh quality) and
+/// fem2mpm (the transfer refuses inverted elements): det J ≤ 0 somewhere in the closed
+/// element, which is det J ≤ 0 at one of its corners. For tri3 det J is constant; for
+/// quad4 it is affine in (ξ, η) (the ξη terms of ∂x/∂ξ × ∂x/∂η cancel), so its minimum
+/// over the reference square is at a corner, and the test covers the centre, every Gauss
+/// point, every particle point and V_t^e ≤ 0 (V_t^e is the sum of the four corner values
+/// of det J). "≤ 0" is up to the mesh checks' zero, so it equals scaled_jacobian ≤ 0.
+inline bool is_inverted(ElementShape shape, const ElementNodes& nodes) {
+  return !(scaled_jacobian(shape, nodes) > 0.0);
+}
+
 }  // namespace slide

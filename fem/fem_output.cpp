@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -39,6 +40,7 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
   checkpoint.pore_pressure.assign(x.size(), 0.0);  // dry analyses
 
   checkpoint.jacobian_ratio = quality.jacobian_ratio;
+  checkpoint.scaled_jacobian = quality.scaled_jacobian;
   checkpoint.volume_reference = model.volume_reference;
   checkpoint.volume = quality.volume;
   checkpoint.hourglass_force = state.hourglass_force;
@@ -125,30 +127,42 @@ bool HistoryRow::inside_zone() const {
   return jacobian_ratio_avg >= zone_jacobian_ratio_avg_min && eps_q_avg <= zone_eps_q_avg_max;
 }
 
+bool HistoryRow::inverted() const {
+  if (std::isnan(scaled_jacobian_min)) return jacobian_ratio_min < 0.0;
+  return scaled_jacobian_min <= 0.0;
+}
+
 namespace {
 
 std::string format_row(const HistoryRow& row) {
-  return fmt::format("{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{}\n",
-                     row.time, row.kinetic_energy, row.pe0, row.ke_over_pe0, row.jacobian_ratio_min,
-                     row.jacobian_ratio_avg, row.eps_q_avg, row.eps_q_max, row.n_elements_yielding);
+  return fmt::format(
+      "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{},{:.10g},{:.10g},{:.10g}"
+      "\n",
+      row.time, row.kinetic_energy, row.pe0, row.ke_over_pe0, row.jacobian_ratio_min,
+      row.jacobian_ratio_avg, row.eps_q_avg, row.eps_q_max, row.n_elements_yielding, row.area_ratio,
+      row.scaled_jacobian_min, row.scaled_jacobian_avg);
 }
 
-bool parse_row(const std::string& line, HistoryRow& row) {
-  std::array<double, 9> values{};
+/// One row of `columns` numbers (12, or 9 for a history without the shape columns, which
+/// then come back NaN).
+bool parse_row(const std::string& line, std::size_t columns, HistoryRow& row) {
+  std::array<double, 12> values{};
+  values.fill(std::numeric_limits<double>::quiet_NaN());
   const char* cursor = line.c_str();
-  for (std::size_t i = 0; i < values.size(); ++i) {
+  for (std::size_t i = 0; i < columns; ++i) {
     char* end = nullptr;
     values[i] = std::strtod(cursor, &end);
     if (end == cursor) return false;
     cursor = end;
-    if (i + 1 < values.size()) {
+    if (i + 1 < columns) {
       if (*cursor != ',') return false;
       ++cursor;
     }
   }
-  row = {values[0], values[1], values[2],
-         values[3], values[4], values[5],
-         values[6], values[7], static_cast<Index>(values[8])};
+  row = {values[0], values[1],  values[2],
+         values[3], values[4],  values[5],
+         values[6], values[7],  static_cast<Index>(values[8]),
+         values[9], values[10], values[11]};
   return true;
 }
 
@@ -162,13 +176,18 @@ void HistoryFile::resume(double time, const Logger& logger) {
     return;
   }
   std::string line;
-  if (!std::getline(in, line) || line != history_header) {
+  std::size_t columns = 0;
+  if (std::getline(in, line)) {
+    if (line == history_header) columns = 12;
+    if (line == history_header_without_shape) columns = 9;
+  }
+  if (columns == 0) {
     logger.warning("{}: not a fem-solve history; it is replaced", path_.string());
     return;
   }
   while (std::getline(in, line)) {
     HistoryRow row;
-    if (!parse_row(line, row)) break;
+    if (!parse_row(line, columns, row)) break;
     if (row.time > time + 1e-9) break;
     rows_.push_back(row);
   }
@@ -228,6 +247,7 @@ void VtkSeries::write(const FemModel& model, const FemState& state,
                   vtk_field("strain", std::span<const Vec4>(strain)),
                   vtk_field("eps_q", std::span<const double>(quality.eps_q)),
                   vtk_field("jacobian_ratio", std::span<const double>(quality.jacobian_ratio)),
+                  vtk_field("scaled_jacobian", std::span<const double>(quality.scaled_jacobian)),
                   vtk_field("plastic_shear_strain", std::span<const double>(plastic)),
                   vtk_field("material_id", std::span<const double>(material)),
                   vtk_field("yielded", std::span<const double>(yielded))});

@@ -46,9 +46,16 @@ struct HistoryRow {
   double eps_q_avg = 0.0;           ///< NaN ("nan") without elements above εq = 3 %
   double eps_q_max = 0.0;
   Index n_elements_yielding = 0;
+  double area_ratio = 1.0;           ///< Σ V_t / Σ V_0
+  double scaled_jacobian_min = 1.0;  ///< ≤ 0: an element is inverted (is_inverted)
+  double scaled_jacobian_avg = 0.0;  ///< NaN ("nan") without elements above εq = 3 %
 
   /// Inside the recommended transfer zone (NaN averages count as inside).
   bool inside_zone() const;
+  /// An element is inverted (is_inverted, det J ≤ 0 at a corner): scaled_jacobian_min ≤ 0.
+  /// A row of an older history without that column (NaN) answers as that history's runs
+  /// reported inversion, by (|J_t|/|J_0|)_min < 0.
+  bool inverted() const;
 };
 
 /// fem_history.csv, rewritten atomically after every row so that a stopped run leaves
@@ -57,7 +64,8 @@ class HistoryFile {
  public:
   explicit HistoryFile(std::filesystem::path path) : path_(std::move(path)) {}
   /// On restart: keeps the rows of an existing file up to `time`; a missing or foreign
-  /// file starts an empty history (with a warning).
+  /// file starts an empty history (with a warning). A history written before the area
+  /// and shape columns existed (history_header_without_shape) is kept, those columns NaN.
   void resume(double time, const Logger& logger);
   void add(const HistoryRow& row);
   const std::vector<HistoryRow>& rows() const { return rows_; }
@@ -69,6 +77,10 @@ class HistoryFile {
 };
 
 inline constexpr const char* history_header =
+    "time,kinetic_energy,pe0,ke_over_pe0,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+    "eps_q_max,n_elements_yielding,area_ratio,scaled_jacobian_min,scaled_jacobian_avg";
+/// The header of the histories fem-solve wrote before area_ratio and the scaled Jacobian.
+inline constexpr const char* history_header_without_shape =
     "time,kinetic_energy,pe0,ke_over_pe0,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
     "eps_q_max,n_elements_yielding";
 

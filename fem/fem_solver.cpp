@@ -379,6 +379,9 @@ HistoryRow FemRun::diagnose(const ElementQuality& quality) {
   row.eps_q_avg = summary.eps_q_avg;
   row.eps_q_max = summary.eps_q_max;
   row.n_elements_yielding = summary.n_elements_yielding;
+  row.area_ratio = summary.area_ratio;
+  row.scaled_jacobian_min = summary.scaled_jacobian_min;
+  row.scaled_jacobian_avg = summary.scaled_jacobian_avg;
   return row;
 }
 
@@ -386,9 +389,10 @@ void FemRun::output(bool checkpoint) {
   update_coordinates(*model_, state_, coordinates_);
   const ElementQuality quality = evaluate_quality(*model_, state_, coordinates_);
   const HistoryRow row = diagnose(quality);
+  // Inverted as fem2mpm counts it (is_inverted); the previous row may come from the run
+  // before a restart.
   const auto& rows = history_->rows();
-  const bool newly_inverted =
-      row.jacobian_ratio_min < 0.0 && (rows.empty() || rows.back().jacobian_ratio_min >= 0.0);
+  const bool newly_inverted = row.inverted() && (rows.empty() || !rows.back().inverted());
   history_->add(row);
   if (vtk_) vtk_->write(*model_, state_, coordinates_, quality);
   if (checkpoint) {
@@ -396,9 +400,12 @@ void FemRun::output(bool checkpoint) {
                          options_.output_dir / checkpoint_file_name(state_.time));
   }
   if (newly_inverted) {
+    Index inverted = 0;
+    for (const std::uint8_t flag : quality.inverted) inverted += flag;
     logger_.info(
-        "t = {:.3f} s: (|J_t|/|J_0|)_min = {:.3f} < 0, an element is inverted{}", state_.time,
-        row.jacobian_ratio_min,
+        "t = {:.3f} s: {} element(s) inverted (det J ≤ 0 at a corner; fem2mpm refuses them), "
+        "(|J_t|/|J_0|)_min = {:.3f}, area ratio {:.4f}{}",
+        state_.time, inverted, row.jacobian_ratio_min, row.area_ratio,
         model_->kinematics == Kinematics::small_strain ? " (small strain: the run goes on)" : "");
   }
   if (failure_started_) track_zone(row);
@@ -510,8 +517,9 @@ FemRunSummary FemRun::finish() {
       exited = true;
       summary.zone_exit_time = row.time;
     }
-    if (!summary.first_time_inverted && row.jacobian_ratio_min < 0.0) {
-      summary.first_time_inverted = row.time;
+    if (!summary.first_time_inverted && row.inverted()) summary.first_time_inverted = row.time;
+    if (!summary.first_time_jacobian_ratio_negative && row.jacobian_ratio_min < 0.0) {
+      summary.first_time_jacobian_ratio_negative = row.time;
     }
     if (row.ke_over_pe0 > summary.ke_over_pe0_max) {
       summary.ke_over_pe0_max = row.ke_over_pe0;
@@ -533,10 +541,15 @@ FemRunSummary FemRun::finish() {
     }
     logger_.info("recommended transfer zone ((|J_t|/|J_0|)_avg ≥ {}, εq,avg ≤ {}): {}",
                  zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, zone);
+    const auto first = [&](const std::optional<double>& t) {
+      return t ? fmt::format("first at {}", at(*t)) : std::string("never");
+    };
     const std::string inversion =
-        summary.first_time_inverted
-            ? fmt::format("(|J_t|/|J_0|)_min < 0 first at {}", at(*summary.first_time_inverted))
-            : std::string("no element inverted ((|J_t|/|J_0|)_min ≥ 0 at every output step)");
+        summary.first_time_inverted || summary.first_time_jacobian_ratio_negative
+            ? fmt::format("element inverted (det J ≤ 0 at a corner) {}, (|J_t|/|J_0|)_min < 0 {}",
+                          first(summary.first_time_inverted),
+                          first(summary.first_time_jacobian_ratio_negative))
+            : std::string("no element inverted (det J > 0 at every corner at every output step)");
     logger_.info("{}; KE/PE0 peak {:.5f} at {}", inversion, summary.ke_over_pe0_max,
                  at(summary.ke_over_pe0_max_time));
   }
@@ -550,13 +563,15 @@ FemRunSummary FemRun::finish() {
       "last_time_in_zone = {}\n"
       "zone_exit_time = {}\n"
       "first_time_jacobian_ratio_negative = {}\n"
+      "first_time_inverted = {}\n"
       "ke_over_pe0_max = {:.6g}\n"
       "ke_over_pe0_max_time = {:.6g}\n"
       "wall_s = {:.3f}\n",
       case_.name, to_string(model_->mesh.element_type), to_string(model_->kinematics),
       summary.end_time, state_.step, summary.elements, format_time(summary.last_time_in_zone),
-      format_time(summary.zone_exit_time), format_time(summary.first_time_inverted),
-      summary.ke_over_pe0_max, summary.ke_over_pe0_max_time, summary.wall_seconds);
+      format_time(summary.zone_exit_time), format_time(summary.first_time_jacobian_ratio_negative),
+      format_time(summary.first_time_inverted), summary.ke_over_pe0_max,
+      summary.ke_over_pe0_max_time, summary.wall_seconds);
   write_text_atomically(options_.output_dir / "fem_summary.txt", text);
   return summary;
 }

@@ -16,15 +16,20 @@ ElementQuality evaluate_quality(const FemModel& model, const FemState& state,
   const Vec2 centre = reference_centre(mesh.shape());
   ElementQuality quality;
   quality.jacobian_ratio.assign(n_elements, 0.0);
+  quality.scaled_jacobian.assign(n_elements, 0.0);
   quality.volume.assign(n_elements, 0.0);
   quality.eps_q.assign(n_elements, 0.0);
   quality.gauss_eps_q.assign(n_elements * n_gauss, 0.0);
   quality.yielded.assign(n_elements, 0);
+  quality.inverted.assign(n_elements, 0);
   for (std::size_t e = 0; e < n_elements; ++e) {
     const ElementNodes x = mesh.element_nodes(static_cast<Index>(e), coordinates);
     quality.jacobian_ratio[e] =
         jacobian(mesh.shape(), x, centre).determinant() / model.centre_det_reference[e];
+    quality.scaled_jacobian[e] = scaled_jacobian(mesh.shape(), x);
+    quality.inverted[e] = is_inverted(mesh.shape(), x) ? 1 : 0;
     quality.volume[e] = element_area(mesh.shape(), x);
+    quality.volume_reference_total += model.volume_reference[e];
     double sum = 0.0;
     std::uint8_t yielded = 0;
     for (std::size_t p = 0; p < n_gauss; ++p) {
@@ -42,21 +47,29 @@ ElementQuality evaluate_quality(const FemModel& model, const FemState& state,
 QualitySummary summarise(const ElementQuality& quality) {
   QualitySummary summary;
   summary.jacobian_ratio_min = std::numeric_limits<double>::infinity();
-  double jacobian_sum = 0.0, eps_q_sum = 0.0;
+  summary.scaled_jacobian_min = std::numeric_limits<double>::infinity();
+  double jacobian_sum = 0.0, eps_q_sum = 0.0, scaled_sum = 0.0, volume_sum = 0.0;
   for (std::size_t e = 0; e < quality.eps_q.size(); ++e) {
     summary.jacobian_ratio_min = std::min(summary.jacobian_ratio_min, quality.jacobian_ratio[e]);
+    summary.scaled_jacobian_min = std::min(summary.scaled_jacobian_min, quality.scaled_jacobian[e]);
     summary.eps_q_max = std::max(summary.eps_q_max, quality.eps_q[e]);
     summary.n_elements_yielding += quality.yielded[e];
+    summary.n_elements_inverted += quality.inverted[e];
+    volume_sum += quality.volume[e];
     if (quality.eps_q[e] > deformed_eps_q) {
       ++summary.n_elements_deformed;
       jacobian_sum += quality.jacobian_ratio[e];
+      scaled_sum += quality.scaled_jacobian[e];
       eps_q_sum += quality.eps_q[e];
     }
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const auto deformed = static_cast<double>(summary.n_elements_deformed);
   summary.jacobian_ratio_avg = summary.n_elements_deformed > 0 ? jacobian_sum / deformed : nan;
+  summary.scaled_jacobian_avg = summary.n_elements_deformed > 0 ? scaled_sum / deformed : nan;
   summary.eps_q_avg = summary.n_elements_deformed > 0 ? eps_q_sum / deformed : nan;
+  summary.area_ratio =
+      quality.volume_reference_total > 0.0 ? volume_sum / quality.volume_reference_total : nan;
   return summary;
 }
 

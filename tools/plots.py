@@ -201,8 +201,14 @@ def plot_fem_quality(case, out, figures):
     rows = read_csv(path)
     t = column(rows, "time")
     inside = zone_mask(rows)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
-    for ax in (ax1, ax2):
+    # Area and shape (area_ratio, scaled_jacobian_*): a middle panel, when the history has
+    # them (fem-solve wrote histories without them before).
+    shape = all(name in rows[0] for name in ("area_ratio", "scaled_jacobian_min",
+                                             "scaled_jacobian_avg")) if rows else False
+    fig, axes = plt.subplots(1, 3 if shape else 2, figsize=(16 if shape else 11, 4))
+    fig.subplots_adjust(wspace=0.28)
+    ax1, ax2 = axes[0], axes[-1]
+    for ax in axes:
         ax.fill_between(t, 0, 1, where=inside, transform=ax.get_xaxis_transform(),
                         color="tab:green", alpha=0.15, label="recommended transfer zone")
     ax1.plot(t, column(rows, "jacobian_ratio_min"), "k-", label="(|J_t|/|J_0|)_min")
@@ -212,6 +218,19 @@ def plot_fem_quality(case, out, figures):
     ax1.set_xlabel("t (s)")
     ax1.set_ylabel("|J_t| / |J_0|")
     ax1.legend(fontsize=7)
+    if shape:
+        ax = axes[1]
+        ax.plot(t, column(rows, "area_ratio"), color="tab:purple", ls="-",
+                label="area ratio ΣV_t / ΣV_0")
+        ax.plot(t, column(rows, "scaled_jacobian_min"), "k-",
+                label="scaled Jacobian, min over all elements")
+        ax.plot(t, column(rows, "scaled_jacobian_avg"), "b--",
+                label="scaled Jacobian, avg over εq > 3 %")
+        ax.axhline(0.0, color="r", lw=0.5)
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel("area ratio, scaled Jacobian")
+        ax.set_title("scaled Jacobian: 1 square, 0 flat corner, < 0 inverted", fontsize=8)
+        ax.legend(fontsize=7)
     ax2.plot(t, 100 * column(rows, "eps_q_avg"), "b--", label="εq,avg (εq > 3 %)")
     ax2.plot(t, 100 * column(rows, "eps_q_max"), "k-", label="εq,max")
     ax2.axhline(100 * ZONE_EPS_Q_AVG, color="b", lw=0.5, ls=":")

@@ -68,8 +68,14 @@ def fem_summary(history, tau_c, case_file, out):
             last_inside = number(row["time"])
         else:
             break
-    entangled = next((number(r["time"]) for r in history
-                      if number(r["jacobian_ratio_min"]) <= 0.0), None)
+    negative = next((number(r["time"]) for r in history
+                     if number(r["jacobian_ratio_min"]) <= 0.0), None)
+    # An element is inverted when det J ≤ 0 at one of its corners (the definition fem2mpm
+    # refuses by): scaled_jacobian_min ≤ 0. Histories without that column: as before.
+    shape = "scaled_jacobian_min" in history[0]
+    inverted = next((number(r["time"]) for r in history
+                     if number(r["scaled_jacobian_min"]) <= 0.0), None) if shape else negative
+    entangled = min((t for t in (negative, inverted) if t is not None), default=None)
     lines = []
     if last_inside is not None:
         lines.append(f"- Last output time inside the recommended transfer zone "
@@ -83,11 +89,28 @@ def fem_summary(history, tau_c, case_file, out):
                          + (f"the run transferred then is row tt{tt} below." if ran else
                             f"to run MPM from it: `{make_command(case_file, out, f'mpm TT={tt}')}`"
                             f", then `{make_command(case_file, out, 'report')}`."))
-    if entangled is not None:
-        lines.append(f"- (|J_t|/|J_0|)_min first ≤ 0 (an element inverted) at "
-                     f"t = {entangled:.2f} s (t/τc = {entangled / tau_c:.2f}).")
-    else:
+    if shape and inverted is not None:
+        lines.append(f"- First element inverted (det J ≤ 0 at a corner, scaled Jacobian ≤ 0; "
+                     f"fem2mpm refuses it without --allow-inverted) at t = {inverted:.2f} s "
+                     f"(t/τc = {inverted / tau_c:.2f}).")
+    if negative is not None:
+        lines.append(f"- (|J_t|/|J_0|)_min first ≤ 0 (an element inverted at its centre) at "
+                     f"t = {negative:.2f} s (t/τc = {negative / tau_c:.2f}).")
+    if entangled is None:
         lines.append("- No element inverted during the FE phase.")
+    if shape:
+        def at(row):
+            avg = number(row["scaled_jacobian_avg"])
+            return (f"area ratio ΣV_t/ΣV_0 = {number(row['area_ratio']):.3f}, scaled Jacobian "
+                    f"min {number(row['scaled_jacobian_min']):.3f}"
+                    + ("" if math.isnan(avg) else f", avg over εq > 3 % {avg:.3f}")
+                    + f" at t = {number(row['time']):.2f} s")
+        picked = [r for r in history if last_inside is not None
+                  and abs(number(r["time"]) - last_inside) < 1e-6][:1]
+        if not picked or picked[0] is not history[-1]:
+            picked.append(history[-1])
+        lines.append("- Mesh area and shape (1 for the undeformed mesh): "
+                     + "; ".join(at(r) for r in picked) + ".")
     peak = max(history, key=lambda r: number(r["ke_over_pe0"]))
     lines.append(f"- Peak KE/PE0 in the FE phase: {number(peak['ke_over_pe0']):.4f} at "
                  f"t = {number(peak['time']):.2f} s.")

@@ -40,10 +40,12 @@ double parse_number(const std::string& text, const std::filesystem::path& path, 
 }
 
 /// The named columns of a history CSV (header line, then one row per output step; blank
-/// lines skipped), row by row in the order of `names`.
+/// lines skipped), row by row in the order of `names`, then of `optional` (NaN where the
+/// file has no such column).
 std::vector<std::vector<double>> read_columns(const std::filesystem::path& path,
                                               const std::string& what,
-                                              const std::vector<std::string>& names) {
+                                              const std::vector<std::string>& names,
+                                              const std::vector<std::string>& optional = {}) {
   std::ifstream in(path);
   if (!in) throw Error("{}: cannot open {}", path.string(), what);
   std::string line;
@@ -54,6 +56,12 @@ std::vector<std::vector<double>> read_columns(const std::filesystem::path& path,
     const auto found = std::find(header.begin(), header.end(), name);
     if (found == header.end()) throw Error("{}: missing column {}", path.string(), name);
     index.push_back(static_cast<std::size_t>(found - header.begin()));
+  }
+  const std::size_t absent = header.size();
+  for (const auto& name : optional) {
+    const auto found = std::find(header.begin(), header.end(), name);
+    index.push_back(found == header.end() ? absent
+                                          : static_cast<std::size_t>(found - header.begin()));
   }
   std::vector<std::vector<double>> rows;
   int line_number = 1;
@@ -66,7 +74,9 @@ std::vector<std::vector<double>> read_columns(const std::filesystem::path& path,
                   header.size());
     }
     std::vector<double> values;
-    for (std::size_t i : index) values.push_back(parse_number(cells[i], path, line_number));
+    for (std::size_t i : index) {
+      values.push_back(i == absent ? std::nan("") : parse_number(cells[i], path, line_number));
+    }
     rows.push_back(std::move(values));
   }
   return rows;
@@ -144,11 +154,18 @@ std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path) {
       {"jacobian_ratio_avg", &FemHistoryRow::jacobian_ratio_avg},
       {"eps_q_avg", &FemHistoryRow::eps_q_avg},
       {"eps_q_max", &FemHistoryRow::eps_q_max},
-      {"n_elements_yielding", &FemHistoryRow::n_elements_yielding}};
-  std::vector<std::string> names;
-  for (const auto& field : fields) names.push_back(field.first);
+      {"n_elements_yielding", &FemHistoryRow::n_elements_yielding},
+      // Optional from here on (read_fem_history in sweep_metrics.hpp).
+      {"area_ratio", &FemHistoryRow::area_ratio},
+      {"scaled_jacobian_min", &FemHistoryRow::scaled_jacobian_min},
+      {"scaled_jacobian_avg", &FemHistoryRow::scaled_jacobian_avg}};
+  const std::size_t required = 9;
+  std::vector<std::string> names, optional;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    (i < required ? names : optional).push_back(fields[i].first);
+  }
   std::vector<FemHistoryRow> rows;
-  for (const auto& values : read_columns(path, "the FE history", names)) {
+  for (const auto& values : read_columns(path, "the FE history", names, optional)) {
     FemHistoryRow row;
     for (std::size_t i = 0; i < fields.size(); ++i) row.*fields[i].second = values[i];
     rows.push_back(row);
@@ -195,7 +212,7 @@ std::vector<double> valid_transfer_times(const Case& c, const std::vector<FemHis
   for (double t : c.transfer.sweep_times) {
     if (t > c.fem.end_time + 1e-9) break;
     const auto row = history_at(history, t);
-    if (!row || !(row->jacobian_ratio_min > 0.0)) break;
+    if (!row || !(row->jacobian_ratio_min > 0.0) || row->scaled_jacobian_min <= 0.0) break;
     times.push_back(t);
   }
   return times;

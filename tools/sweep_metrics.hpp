@@ -4,6 +4,7 @@
 // after the CONTRACT columns, the run's KE/PE0 peak, its time and that time over τc.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -21,9 +22,15 @@ struct FemHistoryRow {
   double jacobian_ratio_min = 0.0, jacobian_ratio_avg = 0.0;
   double eps_q_avg = 0.0, eps_q_max = 0.0;
   double n_elements_yielding = 0.0;
+  // The area and shape columns: NaN when the history predates them.
+  double area_ratio = std::nan("");
+  double scaled_jacobian_min = std::nan("");  ///< ≤ 0: an element is inverted
+  double scaled_jacobian_avg = std::nan("");
 };
 
-/// Reads fem_history.csv (CONTRACT.md columns, by name); throws Error naming the file.
+/// Reads fem_history.csv (CONTRACT.md columns, by name; area_ratio, scaled_jacobian_min
+/// and scaled_jacobian_avg may be missing, as in histories written before them, and are
+/// then NaN); throws Error naming the file.
 std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path);
 
 /// One (time, KE/PE0) sample of an FE or MPM history.
@@ -54,7 +61,9 @@ std::optional<EnergyPeak> ke_over_pe0_peak(const std::vector<EnergySample>& samp
 std::optional<FemHistoryRow> history_at(const std::vector<FemHistoryRow>& history, double time);
 
 /// Transfer times of the sweep: the case's sweep_times within the FE end time, for as
-/// long as the mesh has not entangled ((|J_t|/|J_0|)_min > 0 at that time).
+/// long as the mesh has not entangled: (|J_t|/|J_0|)_min > 0 and no element inverted
+/// (scaled_jacobian_min > 0, the definition fem2mpm refuses by; not checked for a
+/// history without that column) at that time.
 std::vector<double> valid_transfer_times(const Case& c, const std::vector<FemHistoryRow>& history);
 
 struct RunMetrics {

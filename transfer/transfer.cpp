@@ -167,6 +167,17 @@ void validate(const FemCheckpoint& fem) {
   check_finite(fem.stress, "/gauss_points/stress");
   check_finite(fem.strain, "/gauss_points/strain");
   check_finite(fem.state, "/gauss_points/state");
+  // A positive geometry needs a positive V_t^e (the particles take their volume from it);
+  // an inverted element's V_t^e is not used (transfer.hpp).
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const double volume = fem.volume[static_cast<std::size_t>(e)];
+    if (!(volume > 0.0) && !is_inverted(mesh.shape(), mesh.element_nodes(e, fem.coordinates))) {
+      throw Error(
+          "FE checkpoint: /elements/volume of element {} is {} m³/m, but its current nodes are not "
+          "inverted (det J > 0 at every corner): the file is inconsistent",
+          e, volume);
+    }
+  }
 }
 
 /// Gauss points of each element as offsets into a list sorted by element (stable, so
@@ -289,31 +300,18 @@ LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_
   return limited;
 }
 
-/// Elements whose current geometry is inverted: V_t^e ≤ 0, or det J ≤ 0 at the centre
-/// or at any particle point (a non-convex quad can keep a positive centre Jacobian).
-std::vector<Index> find_inverted_elements(const FemCheckpoint& fem, const ParticleLayout& layout,
-                                          double* worst_det, Vec2* worst_xi) {
+/// Elements whose current geometry is inverted, by the definition fem-solve counts with
+/// (is_inverted, common/element.hpp: det J ≤ 0 at a corner, which covers the centre, every
+/// particle point and V_t^e ≤ 0), and the worst corner of the first of them.
+std::vector<Index> find_inverted_elements(const FemCheckpoint& fem, CornerJacobian* first) {
   const Mesh& mesh = fem.mesh;
   const ElementShape shape = mesh.shape();
   std::vector<Index> inverted;
   for (Index e = 0; e < mesh.element_count(); ++e) {
     const ElementNodes x = mesh.element_nodes(e, fem.coordinates);
-    double smallest = jacobian(shape, x, reference_centre(shape)).determinant();
-    Vec2 where = reference_centre(shape);
-    for (const auto& point : layout.points) {
-      const double det = jacobian(shape, x, point.xi).determinant();
-      if (det < smallest) {
-        smallest = det;
-        where = point.xi;
-      }
-    }
-    if (smallest <= 0.0 || fem.volume[static_cast<std::size_t>(e)] <= 0.0) {
-      if (inverted.empty()) {
-        *worst_det = smallest;
-        *worst_xi = where;
-      }
-      inverted.push_back(e);
-    }
+    if (!is_inverted(shape, x)) continue;
+    if (inverted.empty()) *first = worst_corner(shape, x);
+    inverted.push_back(e);
   }
   return inverted;
 }
@@ -530,16 +528,17 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
   report.stress_interpolation = std::string(to_string(options.stress_interpolation));
 
   // Inverted elements: an error naming the first, unless the user accepts them.
-  double worst_det = 0.0;
-  Vec2 worst_xi = Vec2::Zero();
-  const std::vector<Index> inverted = find_inverted_elements(fem, layout, &worst_det, &worst_xi);
+  CornerJacobian worst;
+  const std::vector<Index> inverted = find_inverted_elements(fem, &worst);
   if (!inverted.empty() && !options.allow_inverted) {
     const auto e = static_cast<std::size_t>(inverted.front());
+    const Vec2 xi = reference_corners(shape)[static_cast<std::size_t>(worst.corner)];
     throw Error(
-        "element {} is inverted at t = {} s (det J = {:.3g} at ξ = ({:.3g}, {:.3g}), V_t = {:.3g} "
-        "m³/m){}; transfer an earlier checkpoint, or pass --allow-inverted to transfer it with its "
-        "reference volume",
-        e, fem.header.time, worst_det, worst_xi.x(), worst_xi.y(), fem.volume[e],
+        "element {} is inverted at t = {} s (det J = {:.3g} at its corner ξ = ({:.3g}, {:.3g}), "
+        "scaled Jacobian {:.3g}, V_t = {:.3g} m³/m){}; transfer an earlier checkpoint, or pass "
+        "--allow-inverted to transfer it with its reference volume",
+        e, fem.header.time, worst.det_jacobian, xi.x(), xi.y(), worst.scaled_jacobian,
+        fem.volume[e],
         inverted.size() > 1 ? fmt::format(", and {} more element(s)", inverted.size() - 1)
                             : std::string());
   }

@@ -13,10 +13,12 @@
 //     so Σ M_p = Σ ρ V_0^e exactly and Σ V_p = Σ V_t^e exactly;
 //   - the GIMP domain l_x = l_y = sqrt(V_p): a square of the particle's own volume;
 //   - its element's material, and the element index as its origin.
-// An element inverted at t_T (det J ≤ 0 at its centre or at one of its particles, or
-// V_t^e ≤ 0) stops the transfer with an error naming it; with `allow_inverted` its
-// particles get the reference volume V_0^e w_p instead (the inverted geometry defines no
-// volume) and the report lists it.
+// An element inverted at t_T (is_inverted of common/element.hpp, the definition fem-solve
+// counts with: det J ≤ 0 at one of its corners, hence somewhere in the element) stops
+// the transfer with an error naming it; with `allow_inverted` its particles get the
+// reference volume V_0^e w_p instead (the inverted geometry defines no volume) and the
+// report lists it. A checkpoint with V_t^e ≤ 0 for an element that is not inverted is
+// inconsistent and refused.
 // A collapsed element (inverted, or V_t^e < r V_0^e) keeps its particles, mass and
 // nodal fields, but its Gauss points are left out of the RBF centres: a Gauss point of an
 // element squashed flat sits on top of its neighbours' with an unrelated stress, and the

@@ -152,6 +152,8 @@ FemCheckpoint sample_fem(ElementType type) {
   c.acceleration = f.vec2s(n_nodes);
   c.pore_pressure = f.scalars(n_nodes);
   c.jacobian_ratio = f.scalars(n_elements);
+  // Optional: the triangles' sample goes without it, as a file written before it existed.
+  if (type != ElementType::tri3) c.scaled_jacobian = f.scalars(n_elements);
   c.volume_reference = f.scalars(n_elements);
   c.volume = f.scalars(n_elements);
   if (type == ElementType::quad4_1gp) c.hourglass_force = f.vec2s(n_elements);
@@ -315,6 +317,7 @@ void expect_identical(const FemCheckpoint& a, const FemCheckpoint& b) {
   expect_identical<2>(a.acceleration, b.acceleration, "acceleration");
   expect_identical(a.pore_pressure, b.pore_pressure, "pore_pressure");
   expect_identical(a.jacobian_ratio, b.jacobian_ratio, "jacobian_ratio");
+  expect_identical(a.scaled_jacobian, b.scaled_jacobian, "scaled_jacobian");
   expect_identical(a.volume_reference, b.volume_reference, "volume_reference");
   expect_identical(a.volume, b.volume, "volume");
   expect_identical<2>(a.hourglass_force, b.hourglass_force, "hourglass_force");
@@ -552,6 +555,7 @@ TEST_F(Checkpoint, FemTri3RoundTripIsExact) {
   const FemCheckpoint read = read_fem_checkpoint(file("fem.h5"));
   EXPECT_EQ(read.mesh.element_type, ElementType::tri3);
   EXPECT_TRUE(read.hourglass_force.empty());
+  EXPECT_TRUE(read.scaled_jacobian.empty());  // absent dataset: read as none
   expect_identical(written, read);
 }
 
@@ -628,7 +632,8 @@ TEST_F(Checkpoint, FileCarriesTheContractAttributesAndUnitsOnEveryDataset) {
   };
   ASSERT_GE(H5Lvisit(f, H5_INDEX_NAME, H5_ITER_INC, each, &visit), 0);
   H5Fclose(f);
-  EXPECT_EQ(visit.datasets.size(), 24u);  // 6 nodes + 5 elements + 9 Gauss points + 4 sets
+  // 6 nodes + 6 elements (scaled_jacobian included) + 9 Gauss points + 4 sets
+  EXPECT_EQ(visit.datasets.size(), 25u);
   EXPECT_TRUE(visit.without_units.empty()) << visit.without_units.front();
 }
 

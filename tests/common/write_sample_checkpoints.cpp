@@ -67,6 +67,10 @@ FemCheckpoint sample_fem() {
                            BoundaryCondition::friction};
   c.friction_coefficient = 0.4;
   c.jacobian_ratio = {1.0, 0.9};
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    c.scaled_jacobian.push_back(
+        scaled_jacobian(mesh.shape(), mesh.element_nodes(e, c.coordinates)));
+  }
   c.volume_reference = {1.0, 1.0};
   c.volume = {1.0, 0.9};
 

@@ -190,7 +190,7 @@ TEST(FemSolveCli, WritesTheContractFiles) {
   std::getline(history, line);
   EXPECT_EQ(line,
             "time,kinetic_energy,pe0,ke_over_pe0,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-            "eps_q_max,n_elements_yielding");
+            "eps_q_max,n_elements_yielding,area_ratio,scaled_jacobian_min,scaled_jacobian_avg");
   std::vector<double> times;
   while (std::getline(history, line)) times.push_back(std::stod(line));
   ASSERT_EQ(times.size(), 5U);
@@ -349,6 +349,11 @@ TEST(FemSolveCli, ColumnShortRegression) {
   EXPECT_NE(summary.find("last_time_in_zone = 1.300\n"), std::string::npos) << summary;
   EXPECT_NE(summary.find("zone_exit_time = 1.400\n"), std::string::npos) << summary;
   EXPECT_NE(summary.find("first_time_jacobian_ratio_negative = 1.900\n"), std::string::npos);
+  // The first corner inversion (is_inverted, fem2mpm's refusal) comes at the same output.
+  EXPECT_NE(summary.find("first_time_inverted = 1.900\n"), std::string::npos) << summary;
+  EXPECT_GT(rows[18][10], 0.0);           // scaled_jacobian_min at 1.8 s
+  EXPECT_LT(rows[19][10], 0.0);           // and at 1.9 s
+  EXPECT_NEAR(rows[20][9], 0.919, 0.01);  // area ratio at 2 s (METHOD.md §3: 92 %)
 }
 
 TEST(FemSolveCli, CheckpointAtZoneExitKeepsTheLastStateInsideTheZone) {

@@ -70,6 +70,31 @@ TEST(FemHistory, ColumnsAreReadByNameAndNanMeansUndefined) {
   EXPECT_FALSE(history_at(rows, 1.4).has_value());
 }
 
+TEST(FemHistory, AreaAndShapeColumnsAreReadWhenPresentAndNanWhenNot) {
+  // The writer's full header (fem/fem_output.hpp): area_ratio and the scaled Jacobian after
+  // n_elements_yielding.
+  const fs::path path =
+      write_file("with-shape.csv", std::string(contract_header) +
+                                       ",area_ratio,scaled_jacobian_min,scaled_jacobian_avg\n"
+                                       "0,0,100,0,1,nan,nan,0,0,1,1,nan\n"
+                                       "1,2,100,0.02,0.9,0.98,0.05,0.3,7,0.97,0.42,0.81\n");
+  const auto rows = read_fem_history(path);
+  ASSERT_EQ(rows.size(), 2U);
+  EXPECT_DOUBLE_EQ(rows[0].area_ratio, 1.0);
+  EXPECT_TRUE(std::isnan(rows[0].scaled_jacobian_avg));
+  EXPECT_DOUBLE_EQ(rows[1].n_elements_yielding, 7.0);
+  EXPECT_DOUBLE_EQ(rows[1].area_ratio, 0.97);
+  EXPECT_DOUBLE_EQ(rows[1].scaled_jacobian_min, 0.42);
+  EXPECT_DOUBLE_EQ(rows[1].scaled_jacobian_avg, 0.81);
+  // A history written before those columns: the same rows, the new fields NaN.
+  const auto old = read_fem_history(write_file(
+      "without-shape.csv", std::string(contract_header) + "\n0,0,100,0,1,nan,nan,0,0\n"));
+  ASSERT_EQ(old.size(), 1U);
+  EXPECT_TRUE(std::isnan(old[0].area_ratio));
+  EXPECT_TRUE(std::isnan(old[0].scaled_jacobian_min));
+  EXPECT_TRUE(std::isnan(old[0].scaled_jacobian_avg));
+}
+
 void expect_error(const fs::path& path, const std::string& part) {
   try {
     read_fem_history(path);
@@ -133,6 +158,14 @@ TEST(TransferTimes, SweepStopsAtTheFirstEntangledMesh) {
             (std::vector<double>{0.0, 1.0, 2.0}));
   // (|J_t|/|J_0|)_min = 0 exactly is entangled (METHOD.md §7 asks for > 0).
   EXPECT_EQ(valid_transfer_times(c, history({1.0, 0.0})), (std::vector<double>{0.0}));
+  // An element inverted at a corner while every centre Jacobian is still positive
+  // (scaled_jacobian_min ≤ 0): fem2mpm would refuse it, so the sweep stops there too.
+  auto rows = history({1.0, 0.9, 0.8, 0.7});
+  for (auto& row : rows) row.scaled_jacobian_min = 0.5;
+  rows[2].scaled_jacobian_min = -0.1;
+  EXPECT_EQ(valid_transfer_times(c, rows), (std::vector<double>{0.0, 1.0}));
+  rows[2].scaled_jacobian_min = 0.0;  // a degenerate corner counts as inverted
+  EXPECT_EQ(valid_transfer_times(c, rows), (std::vector<double>{0.0, 1.0}));
 }
 
 TEST(TransferTimes, SweepStopsAtTheFemEndAndWhereTheHistoryEnds) {

@@ -420,6 +420,48 @@ TEST(Transfer, IsDeterministic) {
   }
 }
 
+TEST(Transfer, CountsInvertedElementsAsFemSolveDoesWhateverTheParticleLayout) {
+  // The centre cell's top-right node pushed in to a quarter of the cell: a re-entrant
+  // element whose centre det J (1/16) and area (0.25 m²) are positive but whose corner
+  // folds. The particle points of a 1 × 1 layout are the centre only, so checking det J
+  // there (the transfer's test before is_inverted) let it through; the corners do not.
+  FemCheckpoint fem = make_block(3, 3, 3.0, 3.0, ElementType::quad4_1gp);
+  const auto top_right = static_cast<std::size_t>(fem.mesh.element(4)[2]);
+  fem.coordinates[top_right] = Vec2(1.25, 1.25);
+  fem.displacement[top_right] = fem.coordinates[top_right] - fem.mesh.nodes[top_right];
+  for (Index e = 0; e < fem.mesh.element_count(); ++e) {
+    fem.volume[static_cast<std::size_t>(e)] =
+        element_area(ElementShape::quad4, fem.mesh.element_nodes(e, fem.coordinates));
+  }
+  ASSERT_GT(fem.volume[4], 0.0);
+  for (const ParticlesPerElement layout : {ParticlesPerElement{1, 1}, ParticlesPerElement{}}) {
+    TransferOptions options = with(StressInterpolation::element);
+    options.particles = layout;
+    try {
+      (void)transfer(fem, options);
+      ADD_FAILURE() << layout.nx << "x" << layout.ny << ": expected an Error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("element 4 is inverted"), std::string::npos) << message;
+      EXPECT_NE(message.find("corner ξ = (1, 1)"), std::string::npos) << message;
+    }
+    options.allow_inverted = true;
+    EXPECT_EQ(transfer(fem, options).report.inverted_elements, std::vector<Index>{4});
+  }
+}
+
+TEST(Transfer, RefusesAVolumeTheGeometryContradicts) {
+  FemCheckpoint fem = make_block(2, 2, 2.0, 2.0, ElementType::tri3);
+  fem.volume[3] = -fem.volume[3];  // the nodes are those of the undeformed block
+  try {
+    (void)transfer(fem, with(StressInterpolation::element));
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/elements/volume of element 3"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Transfer, RefusesAnInvertedElementNamingItUnlessAllowed) {
   FemCheckpoint fem = make_block(3, 3, 3.0, 3.0, ElementType::quad4_1gp);
   // Push the top-right node of element 4 (the centre cell) through its bottom-left node.
