@@ -117,14 +117,20 @@ inline double scaled_jacobian(ElementShape shape, const ElementNodes& nodes) {
 }
 
 /// The one definition of an inverted element, shared by fem-solve (mesh quality) and
-/// fem2mpm (the transfer refuses inverted elements): det J ≤ 0 somewhere in the closed
-/// element, which is det J ≤ 0 at one of its corners. For tri3 det J is constant; for
-/// quad4 it is affine in (ξ, η) (the ξη terms of ∂x/∂ξ × ∂x/∂η cancel), so its minimum
-/// over the reference square is at a corner, and the test covers the centre, every Gauss
-/// point, every particle point and V_t^e ≤ 0 (V_t^e is the sum of the four corner values
-/// of det J). "≤ 0" is up to the mesh checks' zero, so it equals scaled_jacobian ≤ 0.
+/// fem2mpm (the transfer refuses inverted elements): det J < 0 somewhere in the closed
+/// element, which is det J < 0 at one of its corners, or an element collapsed to zero
+/// area. For tri3 det J is constant; for quad4 it is affine in (ξ, η) (the ξη terms of
+/// ∂x/∂ξ × ∂x/∂η cancel), so its minimum over the reference square is at a corner, and the
+/// test covers the centre, every Gauss point, every particle point and V_t^e ≤ 0 (V_t^e
+/// is the sum of the four corner values of det J). "< 0" and "zero area" are up to the
+/// mesh checks' zero. A single flat corner (scaled Jacobian 0, e.g. a free face folded
+/// exactly onto the base, where the contact plane puts its nodes) with a positive area
+/// is degenerate, not inverted: det J > 0 inside it, every Gauss and particle point is
+/// fine, and the history's scaled_jacobian_min = 0 tells the user.
 inline bool is_inverted(ElementShape shape, const ElementNodes& nodes) {
-  return !(scaled_jacobian(shape, nodes) > 0.0);
+  if (!(scaled_jacobian(shape, nodes) >= 0.0)) return true;  // a folded corner, or NaN
+  return !(element_area(shape, nodes) >
+           degenerate_jacobian_fraction * longest_edge_squared(shape, nodes));
 }
 
 }  // namespace slide

@@ -129,7 +129,7 @@ bool HistoryRow::inside_zone() const {
 
 bool HistoryRow::inverted() const {
   if (std::isnan(scaled_jacobian_min)) return jacobian_ratio_min < 0.0;
-  return scaled_jacobian_min <= 0.0;
+  return scaled_jacobian_min < 0.0;  // is_inverted: a folded corner (a flat one is not)
 }
 
 namespace {

@@ -52,7 +52,7 @@ struct HistoryRow {
 
   /// Inside the recommended transfer zone (NaN averages count as inside).
   bool inside_zone() const;
-  /// An element is inverted (is_inverted, det J ≤ 0 at a corner): scaled_jacobian_min ≤ 0.
+  /// An element is inverted (is_inverted, det J < 0 at a corner): scaled_jacobian_min < 0.
   /// A row of an older history without that column (NaN) answers as that history's runs
   /// reported inversion, by (|J_t|/|J_0|)_min < 0.
   bool inverted() const;

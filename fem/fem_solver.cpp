@@ -403,7 +403,8 @@ void FemRun::output(bool checkpoint) {
     Index inverted = 0;
     for (const std::uint8_t flag : quality.inverted) inverted += flag;
     logger_.info(
-        "t = {:.3f} s: {} element(s) inverted (det J ≤ 0 at a corner; fem2mpm refuses them), "
+        "t = {:.3f} s: {} element(s) inverted (det J < 0 at a corner or zero area; fem2mpm refuses "
+        "them), "
         "(|J_t|/|J_0|)_min = {:.3f}, area ratio {:.4f}{}",
         state_.time, inverted, row.jacobian_ratio_min, row.area_ratio,
         model_->kinematics == Kinematics::small_strain ? " (small strain: the run goes on)" : "");
@@ -546,9 +547,11 @@ FemRunSummary FemRun::finish() {
     };
     const std::string inversion =
         summary.first_time_inverted || summary.first_time_jacobian_ratio_negative
-            ? fmt::format("element inverted (det J ≤ 0 at a corner) {}, (|J_t|/|J_0|)_min < 0 {}",
-                          first(summary.first_time_inverted),
-                          first(summary.first_time_jacobian_ratio_negative))
+            ? fmt::format(
+                  "element inverted (det J < 0 at a corner or zero area) {}, (|J_t|/|J_0|)_min < 0 "
+                  "{}",
+                  first(summary.first_time_inverted),
+                  first(summary.first_time_jacobian_ratio_negative))
             : std::string("no element inverted (det J > 0 at every corner at every output step)");
     logger_.info("{}; KE/PE0 peak {:.5f} at {}", inversion, summary.ke_over_pe0_max,
                  at(summary.ke_over_pe0_max_time));

@@ -39,7 +39,7 @@ struct FemRunSummary {
   /// From the whole history (including the rows before a restart):
   std::optional<double> last_time_in_zone;  ///< last output time inside the zone
   std::optional<double> zone_exit_time;     ///< first output time outside it
-  /// First output time with an inverted element (is_inverted: det J ≤ 0 at a corner).
+  /// First output time with an inverted element (is_inverted: det J < 0 at a corner, or zero area).
   std::optional<double> first_time_inverted;
   std::optional<double> first_time_jacobian_ratio_negative;  ///< (|J_t|/|J_0|)_min < 0
   double ke_over_pe0_max = 0.0;

@@ -8,7 +8,7 @@
 //    of det[e1 e2]/(|e1||e2|) (÷ sin 60° for triangles). |J_t|/|J_0| sees volume change
 //    only; plastic flow is nearly isochoric, so under updated-Lagrangian kinematics an
 //    element can shear flat with |J_t|/|J_0| ≈ 1, and the corner angles show it.
-//  - Inverted: det J ≤ 0 at a corner (is_inverted, the definition fem2mpm uses too).
+//  - Inverted: det J < 0 at a corner or zero area (is_inverted, as fem2mpm counts them).
 //  - Summaries over the mesh: (|J_t|/|J_0|)_min over all elements; (|J_t|/|J_0|)_avg and
 //    εq,avg over the "deformed" elements, those with εq > 3 %; εq,max; the number of
 //    elements with a Gauss point that yielded in the last update; the area ratio

@@ -71,10 +71,10 @@ def fem_summary(history, tau_c, case_file, out):
     negative = next((number(r["time"]) for r in history
                      if number(r["jacobian_ratio_min"]) <= 0.0), None)
     # An element is inverted when det J ≤ 0 at one of its corners (the definition fem2mpm
-    # refuses by): scaled_jacobian_min ≤ 0. Histories without that column: as before.
+    # refuses by): scaled_jacobian_min < 0. Histories without that column: as before.
     shape = "scaled_jacobian_min" in history[0]
     inverted = next((number(r["time"]) for r in history
-                     if number(r["scaled_jacobian_min"]) <= 0.0), None) if shape else negative
+                     if number(r["scaled_jacobian_min"]) < 0.0), None) if shape else negative
     entangled = min((t for t in (negative, inverted) if t is not None), default=None)
     lines = []
     if last_inside is not None:

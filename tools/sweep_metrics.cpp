@@ -212,7 +212,7 @@ std::vector<double> valid_transfer_times(const Case& c, const std::vector<FemHis
   for (double t : c.transfer.sweep_times) {
     if (t > c.fem.end_time + 1e-9) break;
     const auto row = history_at(history, t);
-    if (!row || !(row->jacobian_ratio_min > 0.0) || row->scaled_jacobian_min <= 0.0) break;
+    if (!row || !(row->jacobian_ratio_min > 0.0) || row->scaled_jacobian_min < 0.0) break;
     times.push_back(t);
   }
   return times;

@@ -218,7 +218,7 @@ TEST(Inverted, AFoldedElementIsNegativeAndCountedInvertedByTheSharedDefinition) 
   EXPECT_NEAR(jacobian(ElementShape::quad4, arrow, Vec2(0, 0)).determinant(), 1.0 / 16.0, 1e-15);
   EXPECT_NEAR(element_area(ElementShape::quad4, arrow), 0.25, 1e-15);
   EXPECT_TRUE(is_inverted(ElementShape::quad4, arrow));
-  // Fully folded (clockwise) and degenerate elements: −1, and 0 (also inverted).
+  // Fully folded (clockwise) and collapsed elements: −1, and 0 with zero area (inverted).
   EXPECT_EQ(scaled_jacobian(ElementShape::quad4, element({{0, 0}, {0, 1}, {1, 1}, {1, 0}})), -1.0);
   EXPECT_TRUE(is_inverted(ElementShape::tri3, element({{0, 0}, {0, 1}, {1, 0}})));
   const ElementNodes flat = element({{0, 0}, {1, 0}, {2, 0}});  // collinear
@@ -228,6 +228,12 @@ TEST(Inverted, AFoldedElementIsNegativeAndCountedInvertedByTheSharedDefinition) 
   EXPECT_EQ(scaled_jacobian(ElementShape::quad4, collapsed_edge), 0.0);
   EXPECT_TRUE(is_inverted(ElementShape::quad4, collapsed_edge));
   EXPECT_FALSE(is_inverted(ElementShape::quad4, element({{0, 0}, {1, 0}, {1, 1}, {0, 1}})));
+  // One flat corner (the right face folded onto the base line) with a positive area:
+  // degenerate (scaled Jacobian 0), not inverted; det J > 0 at its centre.
+  const ElementNodes flat_corner = element({{0, 0}, {1, 0}, {2, 0}, {0, 1}});
+  EXPECT_EQ(scaled_jacobian(ElementShape::quad4, flat_corner), 0.0);
+  EXPECT_GT(jacobian(ElementShape::quad4, flat_corner, Vec2(0, 0)).determinant(), 0.0);
+  EXPECT_FALSE(is_inverted(ElementShape::quad4, flat_corner));
 
   // In the mesh: push the top-right node of element 5 of the 4 × 2 block (cell (1, 1), nodes
   // 6, 7, 12, 11) down to a quarter of the cell. fem-solve's quality counts it inverted.

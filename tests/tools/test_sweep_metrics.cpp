@@ -159,13 +159,13 @@ TEST(TransferTimes, SweepStopsAtTheFirstEntangledMesh) {
   // (|J_t|/|J_0|)_min = 0 exactly is entangled (METHOD.md §7 asks for > 0).
   EXPECT_EQ(valid_transfer_times(c, history({1.0, 0.0})), (std::vector<double>{0.0}));
   // An element inverted at a corner while every centre Jacobian is still positive
-  // (scaled_jacobian_min ≤ 0): fem2mpm would refuse it, so the sweep stops there too.
+  // (scaled_jacobian_min < 0): fem2mpm would refuse it, so the sweep stops there too.
   auto rows = history({1.0, 0.9, 0.8, 0.7});
   for (auto& row : rows) row.scaled_jacobian_min = 0.5;
   rows[2].scaled_jacobian_min = -0.1;
   EXPECT_EQ(valid_transfer_times(c, rows), (std::vector<double>{0.0, 1.0}));
-  rows[2].scaled_jacobian_min = 0.0;  // a degenerate corner counts as inverted
-  EXPECT_EQ(valid_transfer_times(c, rows), (std::vector<double>{0.0, 1.0}));
+  rows[2].scaled_jacobian_min = 0.0;  // a flat corner is degenerate, not inverted
+  EXPECT_EQ(valid_transfer_times(c, rows), (std::vector<double>{0.0, 1.0, 2.0, 3.0}));
 }
 
 TEST(TransferTimes, SweepStopsAtTheFemEndAndWhereTheHistoryEnds) {
