@@ -550,14 +550,9 @@ Material read_material(const Section& s) {
                "cut-off)");
     }
   }
-  if (multi_yield) {
-    m.peak_shear_strain = s.number("peak_shear_strain", any_number(), m.peak_shear_strain);
-    m.yield_surfaces = s.integer("yield_surfaces", 1, max_yield_surfaces, m.yield_surfaces);
-  } else {
-    for (std::string_view key : {"peak_shear_strain", "yield_surfaces"}) {
-      s.reject(key, "used only by model \"pressure-independent-multi-yield\"");
-    }
-  }
+  // Read whatever the models: a user switching fem_model back and forth keeps them.
+  m.peak_shear_strain = s.number("peak_shear_strain", any_number(), m.peak_shear_strain);
+  m.yield_surfaces = s.integer("yield_surfaces", 1, max_yield_surfaces, m.yield_surfaces);
   // The default cut-off is the apex c·cot φ (infinite for φ = 0); +inf may be written.
   const Range cutoff{.min = -infinity, .max = infinity, .max_closed = true};
   m.tension_cutoff = s.number("tension_cutoff", cutoff, m.apex_stress());

@@ -56,11 +56,14 @@ def documented_schema(schema_page):
             continue
         name = cells[0].strip("`")
         if section == "materials":
-            material_attributes.append(name)
+            if "*optional*" not in line:
+                material_attributes.append(name)
         elif section in ("fem", "particles") and group and len(cells) >= 5:
             shape = cells[1].split("×")
             columns = None if len(shape) == 1 else shape[1].strip()
-            columns = 4 if columns == "k" else (int(columns) if columns else None)
+            # "k": the documented state width 4; "4k": any multiple of 4 (the multi-yield
+            # surfaces, 4 values each).
+            columns = 4 if columns == "k" else ("4k" if columns == "4k" else (int(columns) if columns else None))
             optional = "*optional*" in cells[4]
             sections[section][f"{group}/{name}"] = (
                 columns, DTYPE_KINDS[cells[2]], cells[3], optional)
@@ -101,8 +104,12 @@ def check_datasets(f, documented, rows_of):
         if name not in f:
             continue
         d = f[name]
-        expected = (rows_of(name),) if columns is None else (rows_of(name), columns)
-        check(d.shape == expected, f"{label}: /{name}: shape {d.shape}, expected {expected}")
+        if columns == "4k":
+            check(len(d.shape) == 2 and d.shape[0] == rows_of(name) and d.shape[1] % 4 == 0,
+                  f"{label}: /{name}: shape {d.shape}, expected ({rows_of(name)}, 4k)")
+        else:
+            expected = (rows_of(name),) if columns is None else (rows_of(name), columns)
+            check(d.shape == expected, f"{label}: /{name}: shape {d.shape}, expected {expected}")
         check(d.dtype.kind == kind and d.dtype.itemsize in (4, 8),
               f"{label}: /{name}: dtype {d.dtype}, expected kind {kind}")
         check(d.attrs.get("units") == units,
