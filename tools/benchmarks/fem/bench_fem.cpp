@@ -6,7 +6,10 @@
 // quad4-1gp, quad4-2x2, tri3): geostatic stage, switch to the failure models, then the
 // failure stage from t = 0 to fem.end_time with the Courant step and no output at all:
 // the cost of the physics alone (element forces, nodal update, stress update). Prints
-// element-steps per second of that loop.
+// element-steps per second of that loop, for each element type three times: with every
+// material's FE model set to Mohr–Coulomb, to pressure-independent multi-yield (both
+// without damping and with the same step, so the two differ by the constitutive update
+// only), and with the case's own models and damping.
 #include <chrono>
 #include <string>
 #include <vector>
@@ -26,7 +29,7 @@ using namespace slide;
 using namespace slide::fem;
 using Clock = std::chrono::steady_clock;
 
-void benchmark(Case c, ElementType type) {
+void benchmark(Case c, ElementType type, const std::string& label) {
   c.mesh.element_type = type;
   const FemModel model =
       make_model(build_mesh(c), c.materials, c.fem.kinematics, c.fem.hourglass_coefficient);
@@ -49,8 +52,9 @@ void benchmark(Case c, ElementType type) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const double element_steps = static_cast<double>(steps * model.element_count());
   fmt::print(
-      "{:<10} elements={} gauss_points={} steps={} wall_s={:.3f} element_steps_per_s={:.3g}\n",
-      to_string(type), model.element_count(), model.gauss_count(), steps, seconds,
+      "{:<10} {:<34} elements={} gauss_points={} steps={} wall_s={:.3f} "
+      "element_steps_per_s={:.3g}\n",
+      to_string(type), label, model.element_count(), model.gauss_count(), steps, seconds,
       element_steps / seconds);
 }
 
@@ -65,6 +69,15 @@ int main(int argc, char** argv) {
     if (types.empty()) types = {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3};
     fmt::print("bench_fem: {} ({}), failure stage 0 → {} s, no output\n", c.name,
                to_string(c.fem.kinematics), c.fem.end_time);
-    for (const auto type : types) benchmark(c, type);
+    for (const auto type : types) {
+      for (const auto model :
+           {MaterialModel::mohr_coulomb, MaterialModel::pressure_independent_multi_yield}) {
+        Case variant = c;
+        variant.fem.damping = {};
+        for (Material& m : variant.materials) m.model = model;
+        benchmark(variant, type, std::string(to_string(model)) + " (undamped)");
+      }
+      benchmark(c, type, "case models and damping");
+    }
   });
 }
