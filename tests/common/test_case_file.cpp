@@ -31,7 +31,11 @@ TEST(CaseFile, ColumnShortLoads) {
   EXPECT_EQ(c.name, "column-short");
   ASSERT_EQ(c.materials.size(), 1u);
   const Material& soil = c.materials[0];
-  EXPECT_EQ(soil.model, MaterialModel::mohr_coulomb);
+  // The reference workflow's pair: multi-yield in FE, Mohr–Coulomb in MPM.
+  EXPECT_EQ(soil.model, MaterialModel::pressure_independent_multi_yield);
+  EXPECT_EQ(soil.model_of(Phase::mpm), MaterialModel::mohr_coulomb);
+  EXPECT_DOUBLE_EQ(soil.peak_shear_strain, 0.1);
+  EXPECT_EQ(soil.yield_surfaces, 20);
   EXPECT_DOUBLE_EQ(soil.density, 1700.0);
   EXPECT_DOUBLE_EQ(soil.youngs_modulus, 23.8e6);
   EXPECT_DOUBLE_EQ(soil.friction_angle, 22.2);

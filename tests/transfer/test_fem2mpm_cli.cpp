@@ -358,7 +358,22 @@ TEST_F(Fem2mpm, RefusesBadOptionsInOneLine) {
 TEST_F(Fem2mpm, RbfAndRbfLocalOnColumnShort) {
   const fs::path fem_solve = fs::path(SLIDE_BINARY_DIR) / "bin" / "fem-solve";
   if (!fs::exists(fem_solve)) GTEST_SKIP() << "fem-solve is not built";
-  const std::string case_file = std::string(SLIDE_SOURCE_DIR) + "/cases/column-short/case.toml";
+  // The FE state of Mohr–Coulomb without damping (the case's FE model before the
+  // multi-yield soil), whose stress field and toe folding this test was written for.
+  std::string text = read_text(fs::path(SLIDE_SOURCE_DIR) / "cases/column-short/case.toml");
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"fem_model = \"pressure-independent-multi-yield\"",
+                                            "fem_model = \"mohr-coulomb\""},
+        {"rayleigh_stiffness = 0.005626", "rayleigh_stiffness = 0.0"}}) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  }
+  const std::string case_file = file("case.toml").string();
+  {
+    std::ofstream out(case_file);
+    out << text;
+  }
   const std::string command = fem_solve.string() + " " + case_file + " -o " + file("fem").string() +
                               " --until 2 > " + file("fem-solve.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << read_text(file("fem-solve.txt"));
