@@ -226,7 +226,9 @@ TEST(Inverted, AFoldedElementIsNegativeAndCountedInvertedByTheSharedDefinition) 
   EXPECT_TRUE(is_inverted(ElementShape::tri3, flat));
   const ElementNodes collapsed_edge = element({{0, 0}, {1, 0}, {1, 0}, {0, 1}});  // |e| = 0
   EXPECT_EQ(scaled_jacobian(ElementShape::quad4, collapsed_edge), 0.0);
-  EXPECT_TRUE(is_inverted(ElementShape::quad4, collapsed_edge));
+  // A quad with a zero-length edge is a triangle of positive area: degenerate corners,
+  // det J > 0 inside, not inverted.
+  EXPECT_FALSE(is_inverted(ElementShape::quad4, collapsed_edge));
   EXPECT_FALSE(is_inverted(ElementShape::quad4, element({{0, 0}, {1, 0}, {1, 1}, {0, 1}})));
   // One flat corner (the right face folded onto the base line) with a positive area:
   // degenerate (scaled Jacobian 0), not inverted; det J > 0 at its centre.
