@@ -122,7 +122,10 @@ void expect_identical(const fs::path& first, const fs::path& second) {
   for (std::size_t i = 0; i < a.state.size(); ++i) {
     ASSERT_EQ(a.state[i].plastic_shear_strain, b.state[i].plastic_shear_strain) << i;
     ASSERT_EQ(a.state[i].plastic_volumetric_strain, b.state[i].plastic_volumetric_strain) << i;
+    ASSERT_EQ(a.state[i].peak_strength, b.state[i].peak_strength) << i;
   }
+  ASSERT_EQ(a.surface_stress.per_point, b.surface_stress.per_point);
+  expect_same(a.surface_stress.values, b.surface_stress.values, "state/surface_stress");
   EXPECT_EQ(a.solver, b.solver);
 }
 
@@ -141,15 +144,27 @@ void expect_one_line_error(const ProgramRun& run, const std::string& fragment) {
 TEST(FemSolveCli, RestartContinuesBitForBit) {
   struct Variant {
     std::string element, kinematics;
+    std::string model = "mohr-coulomb";
+    std::string damping;  // more [fem] lines
   };
+  // The multi-yield soil carries its frozen strengths and 20 surfaces per Gauss point
+  // through the checkpoint; stiffness damping reads the velocities of the checkpoint.
+  const std::string multi_yield = "pressure-independent-multi-yield";
+  const std::string damped = "\n[fem.damping]\nrayleigh_stiffness = 0.005\n";
   for (const Variant& v :
        {Variant{"quad4-1gp", "small-strain"}, Variant{"quad4-2x2", "small-strain"},
-        Variant{"tri3", "updated-lagrangian"}}) {
-    SCOPED_TRACE(v.element + " " + v.kinematics);
-    const fs::path dir = scratch("restart-" + v.element + "-" + v.kinematics);
+        Variant{"tri3", "updated-lagrangian"},
+        Variant{"quad4-1gp", "small-strain", multi_yield, damped},
+        Variant{"quad4-2x2", "updated-lagrangian", multi_yield}}) {
+    SCOPED_TRACE(v.element + " " + v.kinematics + " " + v.model +
+                 (v.damping.empty() ? "" : " damped"));
+    const fs::path dir = scratch("restart-" + v.element + "-" + v.kinematics + "-" + v.model +
+                                 (v.damping.empty() ? "" : "-damped"));
     ColumnCase column;
     column.element = v.element;
     column.kinematics = v.kinematics;
+    column.model = v.model;
+    column.extra_fem = v.damping;
     const fs::path case_file = write_case(dir, column.text());
     const std::string base = case_file.string() + " --quiet -o ";
     ASSERT_EQ(fem_solve(base + (dir / "one").string(), dir).status, 0);

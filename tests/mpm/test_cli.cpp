@@ -162,6 +162,46 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
             "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");
 }
 
+TEST(MpmSolveCli, MultiYieldInMpmKeepsItsSurfacesAndRestartsBitForBit) {
+  // Pure MPM with the multi-yield model in MPM: the switch freezes every particle's
+  // strength from its K0 confinement; the strengths and the 20 surfaces per particle go
+  // through the checkpoint, sorting and the restart, and keep adding up to the deviator.
+  const fs::path folder = fresh_folder("restart-multi-yield");
+  std::string text = small_case();
+  const std::string from = "model = \"mohr-coulomb\"";
+  text.replace(text.find(from), from.size(), "model = \"pressure-independent-multi-yield\"");
+  const fs::path c = write_case(folder, text);
+  const Outcome straight = run_solver(
+      folder, fmt::format("{} -o {} --quiet", c.string(), (folder / "straight").string()));
+  ASSERT_EQ(straight.status, 0) << straight.err;
+  const fs::path split = folder / "split";
+  ASSERT_EQ(
+      run_solver(folder, fmt::format("{} -o {} --until 0.25 --quiet", c.string(), split.string()))
+          .status,
+      0);
+  const Outcome second =
+      run_solver(folder, fmt::format("{} -o {} --restart {} --quiet", c.string(), split.string(),
+                                     (split / "mpm_t0.250.h5").string()));
+  ASSERT_EQ(second.status, 0) << second.err;
+  const ParticleCheckpoint a = read_particle_checkpoint(folder / "straight" / "mpm_final.h5");
+  const ParticleCheckpoint b = read_particle_checkpoint(split / "mpm_final.h5");
+  EXPECT_TRUE(same_bits(a.particles.stress, b.particles.stress));
+  EXPECT_TRUE(same_bits(a.particles.coordinates, b.particles.coordinates));
+  ASSERT_EQ(a.particles.surface_stress.per_point, 20u);
+  EXPECT_TRUE(same_bits(a.particles.surface_stress.values, b.particles.surface_stress.values));
+  for (std::size_t p = 0; p < a.particles.count(); ++p) {
+    ASSERT_EQ(a.particles.state[p].peak_strength, b.particles.state[p].peak_strength);
+    ASSERT_GT(a.particles.state[p].peak_strength, 0.0) << "frozen at the switch";
+    const Vec4& sigma = a.particles.stress[p];
+    const double mean = (sigma[0] + sigma[1] + sigma[2]) / 3.0;
+    Vec4 sum = Vec4::Zero();
+    for (const Vec4& s : a.particles.surface_stress.of(p)) sum += s;
+    const Vec4 deviator(sigma[0] - mean, sigma[1] - mean, sigma[2] - mean, sigma[3]);
+    ASSERT_LT((sum - deviator).cwiseAbs().maxCoeff(), 1e-6 * (1.0 + sigma.cwiseAbs().maxCoeff()))
+        << p;
+  }
+}
+
 /// The small case scaled to a 40 m × 16 m column, 4 × 4 particles per cell (10,240
 /// particles) on an 80 m × 20 m grid: above the 8,192 particles from which the kernels
 /// run in parallel.
