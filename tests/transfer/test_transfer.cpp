@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -545,6 +546,53 @@ TEST(TransferReport, JsonNameAndContent) {
     EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
   }
   EXPECT_FALSE(format_report_lines(result.report).empty());
+}
+
+}  // namespace
+}  // namespace slide::transfer
+
+namespace slide::transfer {
+namespace {
+
+/// The geostatic column with the multi-yield soil in FE: a frozen strength and two
+/// surfaces per Gauss point, each value distinct (a function of the Gauss point).
+FemCheckpoint multi_yield_column(std::optional<MaterialModel> mpm_model) {
+  FemCheckpoint fem = geostatic_column();
+  for (Material& m : fem.materials) {
+    m.model = MaterialModel::pressure_independent_multi_yield;
+    m.yield_surfaces = 2;
+    m.mpm_model = mpm_model;
+  }
+  fem.surface_stress.per_point = 2;
+  fem.surface_stress.resize(fem.stress.size());
+  for (std::size_t g = 0; g < fem.stress.size(); ++g) {
+    fem.state[g].peak_strength = 1e5 + static_cast<double>(g);
+    fem.surface_stress.values[2 * g] = Vec4(1.0, -2.0, 1.0, 3.0) * static_cast<double>(g);
+    fem.surface_stress.values[2 * g + 1] = Vec4(-1.0, 0.5, 0.5, 2.0) * static_cast<double>(g);
+  }
+  return fem;
+}
+
+TEST(Transfer, MultiYieldStateTravelsWithTheElementWhenMpmRunsTheSameModel) {
+  const FemCheckpoint fem = multi_yield_column(std::nullopt);
+  const TransferResult result = transfer(fem, with(StressInterpolation::element));
+  const Particles& p = result.particles.particles;
+  ASSERT_EQ(p.surface_stress.per_point, 2u);
+  for (std::size_t i = 0; i < p.count(); ++i) {
+    const auto g = static_cast<std::size_t>(p.element[i]);  // one Gauss point per element
+    EXPECT_EQ(p.state[i].peak_strength, fem.state[g].peak_strength) << i;
+    EXPECT_EQ(p.surface_stress.values[2 * i], fem.surface_stress.values[2 * g]) << i;
+    EXPECT_EQ(p.surface_stress.values[2 * i + 1], fem.surface_stress.values[2 * g + 1]) << i;
+  }
+}
+
+TEST(Transfer, AnotherMpmModelStartsWithoutTheFeSurfaces) {
+  const TransferResult result =
+      transfer(multi_yield_column(MaterialModel::mohr_coulomb), with(StressInterpolation::element));
+  const Particles& p = result.particles.particles;
+  EXPECT_EQ(p.surface_stress.per_point, 0u);
+  EXPECT_TRUE(p.surface_stress.values.empty());
+  p.check_consistent_sizes();
 }
 
 }  // namespace
