@@ -24,28 +24,28 @@ Vec4 with_mean(const Vec4& deviatoric, double mean) {
 
 /// Components of the hyperbolic backbone in units of τ_f (stress) and τ_f/G (strain):
 /// vertices at τ̂_i = i/N, strains γ̂_i = τ̂_i γ̂_r / (γ̂_r − τ̂_i) on the hyperbola with
-/// γ̂_r = G γ_r / τ_f = 1/(1 − ρ), ρ = τ_f/(G γ_peak). Returns Ĝ_i and τ̂ at each limit.
+/// γ̂_r = G γ_r / τ_f = 1/(1 − ρ), ρ = τ_f/(G γ_peak). The secant slope between vertices
+/// i and i+1 is (1/N)/(γ̂_{i+1} − γ̂_i) = (γ̂_r − τ̂_i)(γ̂_r − τ̂_{i+1})/γ̂_r² (no division
+/// per segment). Writes Ĝ_i and the τ̂ at each component's limit. This runs at every
+/// update of every point (the components depend on the point's frozen strength), so it
+/// is one pass without temporaries.
 void normalised_components(double rho, int n, std::array<double, max_yield_surfaces>& modulus,
                            std::array<double, max_yield_surfaces>& limit) {
   const double reference = 1.0 / (1.0 - rho);  // γ̂_r
-  std::array<double, max_yield_surfaces> strain{};
-  for (int i = 0; i < n; ++i) {
-    const double tau = static_cast<double>(i + 1) / n;
-    strain[static_cast<std::size_t>(i)] = tau * reference / (reference - tau);
-  }
-  // Slope after vertex i: the secant between vertices i and i+1 (none after the last).
-  auto slope_after = [&](int i) {
-    if (i < 0) return 1.0;
-    if (i >= n - 1) return 0.0;
-    const auto k = static_cast<std::size_t>(i);
-    return (1.0 / n) / (strain[k + 1] - strain[k]);
-  };
-  const double first = 1.0 / n;  // elastic up to τ̂_1, at γ̂ = τ̂_1
+  const double inverse_square = 1.0 / (reference * reference);
+  const double step = 1.0 / n;
+  const double first_strain = step * reference / (reference - step);  // γ̂_1
+  double slope_before = 1.0;                                          // elastic up to τ̂_1
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    const double vertex = first + strain[k] - strain[0];
-    modulus[k] = slope_after(i - 1) - slope_after(i);
-    limit[k] = modulus[k] * vertex;
+    const double tau = (i + 1) * step;
+    const double strain = tau * reference / (reference - tau);
+    const double slope_after =
+        i < n - 1 ? (reference - tau) * (reference - tau - step) * inverse_square : 0.0;
+    // Vertex i sits at γ̃ = τ̂_1 + γ̂_i − γ̂_1 (elastic to τ̂_1, the secants after).
+    modulus[k] = slope_before - slope_after;
+    limit[k] = modulus[k] * (step + strain - first_strain);
+    slope_before = slope_after;
   }
 }
 
@@ -60,11 +60,13 @@ Components components(double shear_modulus, double peak_strength, double peak_sh
   const double rho = tau_f / (shear_modulus * peak_shear_strain);
   if (!(tau_f > 0.0) || rho >= 1.0 || c.count == 1) {
     // One elastic–perfectly-plastic component carries all of G (or no strength at all).
+    std::fill_n(c.two_shear.begin(), last, 0.0);
+    std::fill_n(c.limit.begin(), last, 0.0);
     c.two_shear[last] = 2.0 * shear_modulus;
     c.limit[last] = std::max(peak_strength, 0.0);
     return c;
   }
-  std::array<double, max_yield_surfaces> modulus{}, limit{};
+  std::array<double, max_yield_surfaces> modulus, limit;  // the first `count` are set
   normalised_components(rho, c.count, modulus, limit);
   // τ̂ in units of τ_f is k_i in units of q_f (both scale by 3/√2 to q).
   for (std::size_t k = 0; k <= last; ++k) {
@@ -72,23 +74,6 @@ Components components(double shear_modulus, double peak_strength, double peak_sh
     c.limit[k] = peak_strength * limit[k];
   }
   return c;
-}
-
-std::array<Vertex, max_yield_surfaces> backbone_vertices(const Components& c) {
-  std::array<Vertex, max_yield_surfaces> vertices{};
-  for (int i = 0; i < c.count; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    // Component i reaches its limit at εq = k_i / (3 G_i); the ones before it are at
-    // theirs, the ones after it still elastic.
-    const double eps = c.two_shear[k] > 0.0 ? c.limit[k] / (1.5 * c.two_shear[k]) : 0.0;
-    double q = 0.0;
-    for (int j = 0; j < c.count; ++j) {
-      const auto m = static_cast<std::size_t>(j);
-      q += std::min(1.5 * c.two_shear[m] * eps, c.limit[m]);
-    }
-    vertices[k] = {eps, q};
-  }
-  return vertices;
 }
 
 bool update(const Components& c, double bulk_modulus, double shear_modulus, Vec4& stress,

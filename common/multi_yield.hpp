@@ -44,8 +44,8 @@ namespace slide::multi_yield {
 /// The backbone of one point as its N components: 2G_i (Pa) and k_i (Pa, von Mises).
 struct Components {
   int count = 0;
-  std::array<double, max_yield_surfaces> two_shear{};
-  std::array<double, max_yield_surfaces> limit{};
+  std::array<double, max_yield_surfaces> two_shear;  ///< the first `count` are set
+  std::array<double, max_yield_surfaces> limit;
 };
 
 /// The components of a point with peak strength `peak_strength` (q_f, Pa) for shear
@@ -54,14 +54,6 @@ struct Components {
 /// the last component carries all of G. q_f ≤ 0 gives a point without shear strength.
 Components components(double shear_modulus, double peak_strength, double peak_shear_strain,
                       int count);
-
-/// The vertices of the backbone in (εq, q): the strain and stress at which component i
-/// reaches its limit under monotonic loading (for tests and plots).
-struct Vertex {
-  double eps_q;
-  double q;
-};
-std::array<Vertex, max_yield_surfaces> backbone_vertices(const Components& c);
 
 /// One strain increment: every component's elastic predictor and radial return, the
 /// stress rebuilt as Σ s_i + mean stress. Accumulates the deviatoric plastic strain

@@ -1,7 +1,9 @@
 // Benchmark of the FE step loop (not a timed test; fem/README.md quotes the figures).
 //
-//   OMP_NUM_THREADS=1 build/tools/benchmarks/fem/bench_fem [CASE.toml] [ELEMENT...]
+//   OMP_NUM_THREADS=1 build/tools/benchmarks/fem/bench_fem [CASE.toml] [ELEMENT...] [MODEL...]
 //
+// MODEL (mohr-coulomb, pressure-independent-multi-yield, case) picks the variants below
+// (default: all three), e.g. for an instruction count of one of them under callgrind.
 // For the case (default cases/column-short/case.toml) and each element type (default:
 // quad4-1gp, quad4-2x2, tri3): geostatic stage, switch to the failure models, then the
 // failure stage from t = 0 to fem.end_time with the Courant step and no output at all:
@@ -65,19 +67,30 @@ int main(int argc, char** argv) {
     const std::string file = argc > 1 ? argv[1] : SLIDE_SOURCE_DIR "/cases/column-short/case.toml";
     const Case c = load_case(file);
     std::vector<ElementType> types;
-    for (int i = 2; i < argc; ++i) types.push_back(parse_element_type(argv[i], "bench_fem"));
+    std::vector<std::string> variants;
+    for (int i = 2; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (arg == "case" || arg == "mohr-coulomb" || arg == "pressure-independent-multi-yield") {
+        variants.push_back(arg);
+      } else {
+        types.push_back(parse_element_type(arg, "bench_fem"));
+      }
+    }
+    if (variants.empty()) variants = {"mohr-coulomb", "pressure-independent-multi-yield", "case"};
     if (types.empty()) types = {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3};
     fmt::print("bench_fem: {} ({}), failure stage 0 → {} s, no output\n", c.name,
                to_string(c.fem.kinematics), c.fem.end_time);
     for (const auto type : types) {
-      for (const auto model :
-           {MaterialModel::mohr_coulomb, MaterialModel::pressure_independent_multi_yield}) {
+      for (const std::string& name : variants) {
+        if (name == "case") {
+          benchmark(c, type, "case models and damping");
+          continue;
+        }
         Case variant = c;
         variant.fem.damping = {};
-        for (Material& m : variant.materials) m.model = model;
-        benchmark(variant, type, std::string(to_string(model)) + " (undamped)");
+        for (Material& m : variant.materials) m.model = parse_material_model(name, "bench_fem");
+        benchmark(variant, type, name + " (undamped)");
       }
-      benchmark(c, type, "case models and damping");
     }
   });
 }
