@@ -149,13 +149,15 @@ TEST(FemSolveCli, RestartContinuesBitForBit) {
   };
   // The multi-yield soil carries its frozen strengths and 20 surfaces per Gauss point
   // through the checkpoint; stiffness damping reads the velocities of the checkpoint.
+  const std::string mohr_coulomb = "mohr-coulomb";
   const std::string multi_yield = "pressure-independent-multi-yield";
   const std::string damped = "\n[fem.damping]\nrayleigh_stiffness = 0.005\n";
   for (const Variant& v :
-       {Variant{"quad4-1gp", "small-strain"}, Variant{"quad4-2x2", "small-strain"},
-        Variant{"tri3", "updated-lagrangian"},
+       {Variant{"quad4-1gp", "small-strain", mohr_coulomb, ""},
+        Variant{"quad4-2x2", "small-strain", mohr_coulomb, ""},
+        Variant{"tri3", "updated-lagrangian", mohr_coulomb, ""},
         Variant{"quad4-1gp", "small-strain", multi_yield, damped},
-        Variant{"quad4-2x2", "updated-lagrangian", multi_yield}}) {
+        Variant{"quad4-2x2", "updated-lagrangian", multi_yield, ""}}) {
     SCOPED_TRACE(v.element + " " + v.kinematics + " " + v.model +
                  (v.damping.empty() ? "" : " damped"));
     const fs::path dir = scratch("restart-" + v.element + "-" + v.kinematics + "-" + v.model +
