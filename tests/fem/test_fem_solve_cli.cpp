@@ -152,12 +152,11 @@ TEST(FemSolveCli, RestartContinuesBitForBit) {
   const std::string mohr_coulomb = "mohr-coulomb";
   const std::string multi_yield = "pressure-independent-multi-yield";
   const std::string damped = "\n[fem.damping]\nrayleigh_stiffness = 0.005\n";
-  for (const Variant& v :
-       {Variant{"quad4-1gp", "small-strain", mohr_coulomb, ""},
-        Variant{"quad4-2x2", "small-strain", mohr_coulomb, ""},
-        Variant{"tri3", "updated-lagrangian", mohr_coulomb, ""},
-        Variant{"quad4-1gp", "small-strain", multi_yield, damped},
-        Variant{"quad4-2x2", "updated-lagrangian", multi_yield, ""}}) {
+  for (const Variant& v : {Variant{"quad4-1gp", "small-strain", mohr_coulomb, ""},
+                           Variant{"quad4-2x2", "small-strain", mohr_coulomb, ""},
+                           Variant{"tri3", "updated-lagrangian", mohr_coulomb, ""},
+                           Variant{"quad4-1gp", "small-strain", multi_yield, damped},
+                           Variant{"quad4-2x2", "updated-lagrangian", multi_yield, ""}}) {
     SCOPED_TRACE(v.element + " " + v.kinematics + " " + v.model +
                  (v.damping.empty() ? "" : " damped"));
     const fs::path dir = scratch("restart-" + v.element + "-" + v.kinematics + "-" + v.model +
