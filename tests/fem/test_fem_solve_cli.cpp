@@ -403,16 +403,7 @@ TEST(FemSolveCli, ColumnShortRegression) {
                                        (dir / "out").string() + " --quiet --no-vtk --until 2",
                                    dir);
   ASSERT_EQ(run.status, 0) << run.err;
-  std::istringstream history(read_text(dir / "out" / "fem_history.csv"));
-  std::string line;
-  std::getline(history, line);
-  std::map<int, std::vector<double>> rows;  // by time in tenths of a second
-  while (std::getline(history, line)) {
-    std::vector<double> values;
-    std::stringstream fields(line);
-    for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
-    rows[static_cast<int>(std::lround(10.0 * values[0]))] = values;
-  }
+  auto rows = history_rows(dir / "out" / "fem_history.csv");
   ASSERT_EQ(rows.size(), 21U);
   EXPECT_NEAR(rows[10][3] / 0.03715871103, 1.0, 0.02);  // KE/PE0 at 1 s
   EXPECT_NEAR(rows[20][3] / 0.1305172089, 1.0, 0.02);   // KE/PE0 at 2 s (toe on the base)

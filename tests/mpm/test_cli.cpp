@@ -126,6 +126,17 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
+/// The run of case `c` in two parts, to 0.25 s and then on from its checkpoint, into `split`.
+void run_split(const fs::path& folder, const fs::path& c, const fs::path& split) {
+  const Outcome first =
+      run_solver(folder, fmt::format("{} -o {} --until 0.25 --quiet", c.string(), split.string()));
+  ASSERT_EQ(first.status, 0) << first.err;
+  const Outcome second =
+      run_solver(folder, fmt::format("{} -o {} --restart {} --quiet", c.string(), split.string(),
+                                     (split / "mpm_t0.250.h5").string()));
+  ASSERT_EQ(second.status, 0) << second.err;
+}
+
 TEST(MpmSolveCli, RestartContinuesBitForBit) {
   const fs::path folder = fresh_folder("restart");
   const fs::path c = write_case(folder, small_case());
@@ -136,13 +147,7 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
   EXPECT_NE(straight.out.find("particle_steps_per_s="), std::string::npos) << straight.out;
 
   const fs::path split = folder / "split";
-  const Outcome first =
-      run_solver(folder, fmt::format("{} -o {} --until 0.25 --quiet", c.string(), split.string()));
-  ASSERT_EQ(first.status, 0) << first.err;
-  const Outcome second =
-      run_solver(folder, fmt::format("{} -o {} --restart {} --quiet", c.string(), split.string(),
-                                     (split / "mpm_t0.250.h5").string()));
-  ASSERT_EQ(second.status, 0) << second.err;
+  run_split(folder, c, split);
 
   const ParticleCheckpoint a = read_particle_checkpoint(folder / "straight" / "mpm_final.h5");
   const ParticleCheckpoint b = read_particle_checkpoint(split / "mpm_final.h5");
@@ -175,14 +180,7 @@ TEST(MpmSolveCli, MultiYieldInMpmKeepsItsSurfacesAndRestartsBitForBit) {
       folder, fmt::format("{} -o {} --quiet", c.string(), (folder / "straight").string()));
   ASSERT_EQ(straight.status, 0) << straight.err;
   const fs::path split = folder / "split";
-  ASSERT_EQ(
-      run_solver(folder, fmt::format("{} -o {} --until 0.25 --quiet", c.string(), split.string()))
-          .status,
-      0);
-  const Outcome second =
-      run_solver(folder, fmt::format("{} -o {} --restart {} --quiet", c.string(), split.string(),
-                                     (split / "mpm_t0.250.h5").string()));
-  ASSERT_EQ(second.status, 0) << second.err;
+  run_split(folder, c, split);
   const ParticleCheckpoint a = read_particle_checkpoint(folder / "straight" / "mpm_final.h5");
   const ParticleCheckpoint b = read_particle_checkpoint(split / "mpm_final.h5");
   EXPECT_TRUE(same_bits(a.particles.stress, b.particles.stress));
