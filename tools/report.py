@@ -90,7 +90,8 @@ def fem_summary(history, tau_c, case_file, out):
                             f"to run MPM from it: `{make_command(case_file, out, f'mpm TT={tt}')}`"
                             f", then `{make_command(case_file, out, 'report')}`."))
     if shape and inverted is not None:
-        lines.append(f"- First element inverted (det J ≤ 0 at a corner, scaled Jacobian ≤ 0; "
+        lines.append(f"- First element inverted (det J < 0 at a corner or zero area, scaled "
+                     f"Jacobian < 0; "
                      f"fem2mpm refuses it without --allow-inverted) at t = {inverted:.2f} s "
                      f"(t/τc = {inverted / tau_c:.2f}).")
     if negative is not None:
@@ -172,10 +173,12 @@ def reading(case, sweep, last_inside, tau_c):
                 f"(largest profile RMSE {max(number(r['rmse']) for r in within):.3f}).")
         if beyond:
             worst = max(beyond, key=lambda r: abs(number(r["runout_normalised_error"])))
+            rough = max(beyond, key=lambda r: number(r["rmse"]))
             text.append(
-                f"Later transfers inherit more FE mesh distortion: at t_T = "
-                f"{number(worst['tt']):g} s the R_N error reaches "
-                f"{signed_percent(number(worst['runout_normalised_error']))}.")
+                f"Later transfers inherit more FE mesh distortion: the largest profile RMSE "
+                f"is {number(rough['rmse']):.3f} (t_T = {number(rough['tt']):g} s), the "
+                f"largest R_N error {signed_percent(number(worst['runout_normalised_error']))} "
+                f"(t_T = {number(worst['tt']):g} s).")
         text.append(
             f"**Recommended transfer time for this case: t_T ≈ {time_text(last_inside)} s "
             f"(t_T/τc = {last_inside / tau_c:.2f})**, the last FE output inside the zone: "
