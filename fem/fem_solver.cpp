@@ -27,6 +27,9 @@ namespace {
 
 constexpr const char* geostatic_stage = "geostatic";
 constexpr const char* failure_stage = "failure";
+/// More steps than a failure stage may take: 10⁹ steps of a 2000-element mesh are two
+/// days on one core; beyond it the step is a mistake, not a plan.
+constexpr double max_steps = 1e9;
 
 std::string format_time(std::optional<double> t) {
   return t ? fmt::format("{:.3f}", *t) : std::string("none");
@@ -279,6 +282,18 @@ void FemRun::start_failure_stage(bool switch_models) {
       damped_time_step(critical_step, case_.fem.courant, damping.rayleigh_stiffness);
   const double reduction = courant_step / (case_.fem.courant * critical_step);
   time_step_ = case_.fem.time_step > 0.0 ? case_.fem.time_step : courant_step;
+  // A β_K (or a fixed step) that asks for more steps than any run could take would hang
+  // the program: refuse it, naming the cause.
+  const double steps_needed = (schedule_.end_time() - state_.time) / time_step_;
+  if (!(steps_needed <= max_steps)) {
+    throw Error(
+        "the failure stage would take {:.3g} steps of {:.3g} s (at most {:.0e}): {}", steps_needed,
+        time_step_, max_steps,
+        case_.fem.time_step > 0.0
+            ? std::string("fem.time_step is too small")
+            : fmt::format("fem.damping.rayleigh_stiffness = {:g} s lowers the stable step × {:.3g}",
+                          damping.rayleigh_stiffness, reduction));
+  }
   if (case_.fem.time_step > 0.0 && case_.fem.time_step > courant_step / case_.fem.courant) {
     logger_.warning("fem.time_step = {:.4g} s exceeds the stability limit {:.4g} s (C = 1{})",
                     case_.fem.time_step, courant_step / case_.fem.courant,

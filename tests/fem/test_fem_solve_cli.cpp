@@ -188,6 +188,17 @@ TEST(FemSolveCli, RestartContinuesBitForBit) {
   }
 }
 
+TEST(FemSolveCli, ADampingThatWouldTakeForeverIsAOneLineError) {
+  // β_K = 1e300 s lowers the stable step to nothing: refused instead of hanging.
+  const fs::path dir = scratch("huge-damping");
+  ColumnCase column;
+  column.extra_fem = "\n[fem.damping]\nrayleigh_stiffness = 1e300\n";
+  const fs::path case_file = write_case(dir, column.text());
+  const ProgramRun run =
+      fem_solve(case_file.string() + " -o " + (dir / "out").string() + " --quiet", dir);
+  expect_one_line_error(run, "fem.damping.rayleigh_stiffness = 1e+300 s lowers the stable step");
+}
+
 TEST(FemSolveCli, WritesTheContractFiles) {
   const fs::path dir = scratch("files");
   const fs::path case_file = write_case(dir, ColumnCase{}.text());
