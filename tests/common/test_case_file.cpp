@@ -81,7 +81,8 @@ TEST(CaseFile, ColumnTallLoads) {
   const Case c = load_repository_case("column-tall");
   EXPECT_EQ(c.mesh.surface[1], Vec2(20.0, 80.0));
   EXPECT_DOUBLE_EQ(c.fem.end_time, 6.0);
-  EXPECT_DOUBLE_EQ(c.transfer.main_time, 1.0);
+  EXPECT_DOUBLE_EQ(c.transfer.main_time, 3.0);  // ≈ τc: the FE mesh lives to 3.7 s
+  EXPECT_DOUBLE_EQ(c.mpm.courant, 0.45);
   EXPECT_EQ(c.transfer.sweep_times.back(), 6.0);
   EXPECT_EQ(c.mpm.domain_max, Vec2(300.0, 85.0));
   EXPECT_DOUBLE_EQ(c.metrics.initial_length, 20.0);
