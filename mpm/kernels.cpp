@@ -244,7 +244,7 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
 
 // Every field of Particles, so that a permutation moves whole particles. A new field
 // must be added to ParticleRow and move_particle below (this trips when Particles grows).
-static_assert(sizeof(Particles) == 14 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
+static_assert(sizeof(Particles) == 15 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
               "a field was added to Particles: add it to ParticleRow and move_particle");
 
 /// One particle, all fields: the one-particle buffer of the in-place permutation.
@@ -257,13 +257,16 @@ struct ParticleRow {
   std::int64_t element, id;
   MaterialState state;
   std::array<Vec4, max_yield_surfaces> surfaces;
+  Vec4 affine_velocity;  ///< zero when the particles carry none
 
   static ParticleRow of(const Particles& p, std::size_t k) {
     ParticleRow row{p.coordinates[k], p.displacement[k],  p.velocity[k], p.stress[k], p.strain[k],
                     p.eps_q[k],       p.pore_pressure[k], p.volume[k],   p.mass[k],   p.size[k],
-                    p.material_id[k], p.element[k],       p.id[k],       p.state[k],  {}};
+                    p.material_id[k], p.element[k],       p.id[k],       p.state[k],  {},
+                    Vec4::Zero()};
     const auto own = p.surface_stress.of(k);
     std::copy(own.begin(), own.end(), row.surfaces.begin());
+    if (!p.affine_velocity.empty()) row.affine_velocity = p.affine_velocity[k];
     return row;
   }
   void store(Particles& p, std::size_t k) const {
@@ -284,6 +287,7 @@ struct ParticleRow {
     const auto own = p.surface_stress.of(k);
     std::copy(surfaces.begin(), surfaces.begin() + static_cast<std::ptrdiff_t>(own.size()),
               own.begin());
+    if (!p.affine_velocity.empty()) p.affine_velocity[k] = affine_velocity;
   }
 };
 
@@ -304,6 +308,7 @@ void move_particle(Particles& p, std::size_t to, std::size_t from) {
   p.state[to] = p.state[from];
   const auto source = p.surface_stress.of(from);
   std::copy(source.begin(), source.end(), p.surface_stress.of(to).begin());
+  if (!p.affine_velocity.empty()) p.affine_velocity[to] = p.affine_velocity[from];
 }
 
 /// Particle k takes the place of old particle order[k] (`order` is a permutation of
@@ -564,6 +569,7 @@ std::size_t retire_particles(Particles& particles, std::size_t active_count,
   if (mode == ParticleExit::freeze) {
     for (std::size_t p : indices) {
       particles.velocity[p].setZero();
+      if (!particles.affine_velocity.empty()) particles.affine_velocity[p].setZero();
       order.push_back(static_cast<std::uint32_t>(p));
     }
   }
