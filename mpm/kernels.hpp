@@ -47,14 +47,15 @@
 // carries C_p). Why: D_p depends on where the particle sits in its cell, not on the
 // material. Carrying B_p itself across the move, as Jiang et al. do with their constant
 // D = h²/4 (quadratic B-splines), would give the next P2G C_p D_p(x^n) D_p(x^{n+1})⁻¹:
-// a rigid rotation becomes a spurious stretching by up to a factor 4 for uGIMP, without
-// bound for linear hats near a node line. With the choice every affine field is
-// reproduced on moving particles too; the price is that angular momentum, exact in each
-// transfer, changes across the move by m_p ε:(C_p ΔD_p) (a rigid rotation ω keeps ω;
-// its angular momentum on the grid, ω Σ_p m_p (|x_p − x_0|² + tr D_p), follows the
-// sub-cell positions of the particles, a fraction of order (h/R)²). For linear hats
-// N_ip D_p⁻¹ (x_i − x_p) = ∇N_ip, so C_p is the nodal velocity gradient and B_p
-// (zero on a node line, where no node sees it) never needs D_p⁻¹.
+// an affine flow turned into a spurious stretching by up to a factor 4 for uGIMP and
+// without bound for linear hats near a node line (tests/mpm/test_apic.cpp: a ballistic
+// shear flow stays exact on moving particles this way and fails the other way). The
+// price: angular momentum, exact in each transfer, changes across the move by the change
+// of each particle's spin m_p ε:(C_p D_p), at most m_p |C_p| h²/4. For linear hats
+// N_ip D_p⁻¹ (x_i − x_p) = ∇N_ip, so C_p is the nodal velocity gradient and B_p (zero on
+// a node line, where no node sees it) never needs D_p⁻¹. B_p is computed where C_p is
+// gathered: in the final pass (USL) or in MUSL's velocity pass, there for the position
+// x_p + Δt v_p the final pass moves the particle to.
 #pragma once
 
 #include <cstdint>
