@@ -64,6 +64,10 @@ constexpr std::array<Named<UpdateScheme>, 2> update_scheme_names{{
     {"usl", UpdateScheme::usl},
     {"musl", UpdateScheme::musl},
 }};
+constexpr std::array<Named<VelocityTransfer>, 2> velocity_transfer_names{{
+    {"flip-pic", VelocityTransfer::flip_pic},
+    {"apic", VelocityTransfer::apic},
+}};
 constexpr std::array<Named<ParticleExit>, 2> particle_exit_names{{
     {"freeze", ParticleExit::freeze},
     {"remove", ParticleExit::remove},
@@ -978,6 +982,7 @@ MpmSpec read_mpm(const Section& root, const MeshSpec& mesh, const TransferSpec& 
                                                     "cell_size",
                                                     "shape_function",
                                                     "update_scheme",
+                                                    "velocity_transfer",
                                                     "pic_fraction",
                                                     "end_time",
                                                     "checkpoint_times",
@@ -1013,6 +1018,10 @@ MpmSpec read_mpm(const Section& root, const MeshSpec& mesh, const TransferSpec& 
       s.choice("shape_function", shape_function_names, std::optional(ShapeFunction::gimp));
   mpm.update_scheme =
       s.choice("update_scheme", update_scheme_names, std::optional(UpdateScheme::musl));
+  mpm.velocity_transfer = s.choice("velocity_transfer", velocity_transfer_names,
+                                   std::optional(VelocityTransfer::flip_pic));
+  // pic_fraction is the tuning key of flip-pic: accepted and ignored with apic (the
+  // policy at the top of this file), so a case switches transfer with one line.
   mpm.pic_fraction = s.number(
       "pic_fraction", Range{.min = 0.0, .min_closed = true, .max = 1.0, .max_closed = true}, 0.0);
   // The MPM phase continues the clock from t_T: it must end after every transfer time.
@@ -1144,6 +1153,9 @@ std::string_view to_string(ShapeFunction shape_function) {
 }
 std::string_view to_string(UpdateScheme scheme) {
   return name_of(update_scheme_names, scheme);
+}
+std::string_view to_string(VelocityTransfer transfer) {
+  return name_of(velocity_transfer_names, transfer);
 }
 
 }  // namespace slide

@@ -124,6 +124,10 @@ struct TransferSpec {
 
 enum class ShapeFunction { gimp, linear };
 enum class UpdateScheme { usl, musl };
+/// Grid → particle velocity transfer (METHOD.md §5, mpm/README.md "Velocity transfer"):
+/// FLIP with an optional PIC share (`pic_fraction`), or APIC (affine particle-in-cell:
+/// each particle carries an affine velocity matrix; no PIC share needed).
+enum class VelocityTransfer { flip_pic, apic };
 enum class ParticleExit { freeze, remove };
 enum class InitialStress { k0, gravity };
 
@@ -133,8 +137,11 @@ struct MpmSpec {
   double cell_size = 1.0;          ///< h, m
   ShapeFunction shape_function = ShapeFunction::gimp;
   UpdateScheme update_scheme = UpdateScheme::musl;
-  double pic_fraction = 0.0;  ///< 0: pure FLIP, 1: pure PIC
-  double end_time = 0.0;      ///< s
+  VelocityTransfer velocity_transfer = VelocityTransfer::flip_pic;
+  /// 0: pure FLIP, 1: pure PIC; read with any transfer, used by flip-pic only (apic
+  /// ignores it, so that switching the transfer is a one-line edit)
+  double pic_fraction = 0.0;
+  double end_time = 0.0;  ///< s
   std::vector<double> checkpoint_times;
   double checkpoint_every = 0.0;  ///< s
   double output_every = 0.0;      ///< history/VTK cadence, s
@@ -196,5 +203,6 @@ std::string_view to_string(StressInterpolation interpolation);
 std::string_view to_string(RbfPolynomial polynomial);
 std::string_view to_string(ShapeFunction shape_function);
 std::string_view to_string(UpdateScheme scheme);
+std::string_view to_string(VelocityTransfer transfer);
 
 }  // namespace slide

@@ -442,6 +442,10 @@ void write_particles(Writer& writer, const ParticleCheckpoint& c) {
   writer.indices(g, "element", p.element, 0, particles, source_element_range);
   writer.indices(g, "id", p.id, 0, particles, std::nullopt);
   writer.state(g, p.state, p.surface_stress, particles);
+  // APIC's affine velocity: only particles that carry it (an APIC run) write it.
+  if (!p.affine_velocity.empty()) {
+    writer.vectors<4>(g, "affine_velocity", p.affine_velocity, particles, "m^2/s");
+  }
 
   if (c.header.kind == CheckpointKind::particles || !is_default(c.transfer)) {
     write_transfer(writer, c.transfer);
@@ -869,6 +873,11 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
   p.id = reader.indices("/particles/id", 0, particles, std::nullopt);
   p.state = reader.state("/particles/state", particles);
   p.surface_stress = reader.surface_stress("/particles/state", particles);
+  // Optional: absent (FLIP/PIC runs, fem2mpm) leaves it empty; an APIC run then starts
+  // its particles with B_p = 0.
+  if (reader.file().contains("particles/affine_velocity")) {
+    p.affine_velocity = reader.vectors<4>("/particles/affine_velocity", particles);
+  }
 
   // A particle file always records its transfer; an mpm checkpoint when it came from one.
   if (c.header.kind == CheckpointKind::particles || reader.file().contains("transfer")) {

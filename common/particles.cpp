@@ -20,6 +20,7 @@ void Particles::resize(std::size_t n) {
   id.resize(n, 0);
   state.resize(n, MaterialState{});
   surface_stress.resize(n);
+  if (!affine_velocity.empty()) affine_velocity.resize(n, Vec4::Zero());
 }
 
 void Particles::shrink_to_fit() {
@@ -38,6 +39,7 @@ void Particles::shrink_to_fit() {
   id.shrink_to_fit();
   state.shrink_to_fit();
   surface_stress.values.shrink_to_fit();
+  affine_velocity.shrink_to_fit();
 }
 
 void Particles::check_consistent_sizes() const {
@@ -59,6 +61,7 @@ void Particles::check_consistent_sizes() const {
   check(element.size(), "element");
   check(id.size(), "id");
   check(state.size(), "state");
+  if (!affine_velocity.empty()) check(affine_velocity.size(), "affine_velocity");
   if (surface_stress.values.size() != n * surface_stress.per_point) {
     throw Error("particles: field surface_stress has {} entries, expected {} ({} per particle)",
                 surface_stress.values.size(), n * surface_stress.per_point,

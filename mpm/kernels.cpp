@@ -25,14 +25,16 @@ template <class Shape>
 struct ParticleWeights {
   Weights1d<Shape::support> x, y;
   double inv_h;
+  double xi, eta;  ///< the position in cell units
+  double ax, ay;   ///< uGIMP half-lengths in cell units
 
   ParticleWeights(const GridGeometry& grid, const Vec2& position, const Vec2& size) {
     inv_h = 1.0 / grid.cell_size;
-    const double xi = (position.x() - grid.origin.x()) * inv_h;
-    const double eta = (position.y() - grid.origin.y()) * inv_h;
-    // uGIMP half-lengths in cell units, at most ½ (a domain never spans more than a cell).
-    const double ax = std::min(0.5 * size.x() * inv_h, 0.5);
-    const double ay = std::min(0.5 * size.y() * inv_h, 0.5);
+    xi = (position.x() - grid.origin.x()) * inv_h;
+    eta = (position.y() - grid.origin.y()) * inv_h;
+    // At most ½: a domain never spans more than a cell.
+    ax = std::min(0.5 * size.x() * inv_h, 0.5);
+    ay = std::min(0.5 * size.y() * inv_h, 0.5);
     x = Shape::weights(xi, ax);
     y = Shape::weights(eta, ay);
   }
@@ -41,6 +43,90 @@ struct ParticleWeights {
     return grid.node_index(x.base + a, y.base);
   }
 };
+
+/// APIC's moments of one particle's weights (shape_functions.hpp): D_p = h² diag(x.inertia,
+/// y.inertia) and N_ip D_p⁻¹ (x_i − x_p) = (x.value[a] S_b, S_a y.value[b])/h.
+template <class Shape>
+struct ParticleAffine {
+  AffineWeights1d<Shape::support> x, y;
+
+  explicit ParticleAffine(const ParticleWeights<Shape>& w)
+      : x(Shape::affine(w.x, w.xi)), y(Shape::affine(w.y, w.eta)) {}
+};
+
+/// What a FLIP/PIC kernel computes in place of ParticleAffine: nothing.
+struct NoAffine {};
+
+/// The particle's APIC moments in an APIC kernel, nothing in a FLIP/PIC one.
+template <VelocityTransfer Transfer, class Shape>
+auto affine_moments(const ParticleWeights<Shape>& w) {
+  if constexpr (Transfer == VelocityTransfer::apic) {
+    return ParticleAffine<Shape>(w);
+  } else {
+    return NoAffine{};
+  }
+}
+
+/// The diagonal of D_p, m², of a particle at `position`.
+template <class Shape>
+Vec2 inertia_at(const GridGeometry& grid, const Vec2& position, const Vec2& size) {
+  const ParticleWeights<Shape> w(grid, position, size);
+  const double h2 = grid.cell_size * grid.cell_size;
+  return Vec2(Shape::inertia(w.xi, w.ax) * h2, Shape::inertia(w.eta, w.ay) * h2);
+}
+
+/// APIC's gather at one particle of the end-of-step nodal velocities v^L: the value
+/// v_p = Σ N_ip v_i and C_p = Σ v_i (N_ip D_p⁻¹ (x_i − x_p))ᵀ (cell units: × 1/h). With
+/// N_ip = S_a S_b and N_ip D_p⁻¹ (x_i − x_p) = (e_a S_b, S_a e_b) both sums separate:
+/// per stencil column a, u = Σ_b S_b v_ab and t = Σ_b e_b v_ab; then v_p = Σ_a S_a u,
+/// C_·x = Σ_a e_a u, C_·y = Σ_a S_a t (half the products of the node-by-node sums).
+struct AffineGather {
+  double vx = 0.0, vy = 0.0;
+  double cxx = 0.0, cxy = 0.0, cyx = 0.0, cyy = 0.0;
+};
+
+template <class Shape>
+[[gnu::always_inline]] inline AffineGather gather_affine(const GridGeometry& grid,
+                                                         const GridState& state,
+                                                         const ParticleWeights<Shape>& w,
+                                                         const ParticleAffine<Shape>& e) {
+  constexpr int n = Shape::support;
+  AffineGather g;
+  for (int a = 0; a < n; ++a) {
+    const NodeMotion* column = state.motion.data() + w.column_start(grid, a);
+    double ux = 0.0, uy = 0.0, tx = 0.0, ty = 0.0;
+    for (int b = 0; b < n; ++b) {
+      ux += w.y.value[b] * column[b].velocity_x;
+      uy += w.y.value[b] * column[b].velocity_y;
+      tx += e.y.value[b] * column[b].velocity_x;
+      ty += e.y.value[b] * column[b].velocity_y;
+    }
+    g.vx += w.x.value[a] * ux;
+    g.vy += w.x.value[a] * uy;
+    g.cxx += e.x.value[a] * ux;
+    g.cyx += e.x.value[a] * uy;
+    g.cxy += w.x.value[a] * tx;
+    g.cyy += w.x.value[a] * ty;
+  }
+  return g;
+}
+
+/// The affine velocity as it is stored: B_p = C_p D_p at the particle's end-of-step
+/// position x_p + Δt v_p (kernels.hpp, "Velocity transfer": the particle keeps C_p across
+/// its move). `w`: its weights at the start of the step (same grid and domain size);
+/// `g`: v_p and C_p gathered there.
+template <class Shape>
+Vec4 affine_velocity_at(const GridGeometry& grid, const ParticleWeights<Shape>& w,
+                        const Particles& particles, std::size_t p, double dt,
+                        const AffineGather& g) {
+  const Vec2& x = particles.coordinates[p];
+  const double xi = (x.x() + dt * g.vx - grid.origin.x()) * w.inv_h;
+  const double eta = (x.y() + dt * g.vy - grid.origin.y()) * w.inv_h;
+  // B = (c/h)(D̂ h²) = c D̂ h, with c = C_p h (cell units) and D̂ = D/h².
+  const double dx = Shape::inertia(xi, w.ax) * grid.cell_size;
+  const double dy = Shape::inertia(eta, w.ay) * grid.cell_size;
+  return Vec4(g.cxx * dx, g.cxy * dy, g.cyx * dx, g.cyy * dy);
+}
 
 template <class Shape>
 int first_node(double xi) {
@@ -77,13 +163,14 @@ void locate_block(const Particles& particles, const GridGeometry& grid, std::siz
   column_end = first_node<Shape>(xi_max) + Shape::support + 1;
 }
 
-template <class Shape>
+template <class Shape, VelocityTransfer Transfer>
 void scatter_block(const Particles& particles, const GridGeometry& grid, const Vec2& gravity,
                    std::size_t begin, std::size_t end, int column_begin,
                    std::vector<NodeSums>& window) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
   constexpr int n = Shape::support;
+  constexpr bool apic = Transfer == VelocityTransfer::apic;
   for (std::size_t p = begin; p < end; ++p) {
     const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
     const double m = particles.mass[p];
@@ -95,16 +182,44 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
     // −V σ·∇N with ∇N in physical units: fold V/h in once.
     const double vh = volume * w.inv_h;
     const double sxx = vh * s[0], syy = vh * s[1], sxy = vh * s[3];
+    // APIC: the momentum of the particle's affine velocity field v_p + C_p (x − x_p),
+    // C_p = B_p D_p⁻¹: N_ip m (v_p + C_p (x_i − x_p)) = m (N_ip v_p + B_p g_ip) with
+    // g_ip = N_ip D_p⁻¹ (x_i − x_p) = (e_a S_b, S_a e_b)/h (for linear hats ∇N_ip: no
+    // division by D_p). Per stencil column a: S_b (S_a m v + m B_·x e_a/h) +
+    // e_b (S_a m B_·y/h).
+    [[maybe_unused]] const auto affine = affine_moments<Transfer>(w);
+    [[maybe_unused]] double bxx = 0.0, bxy = 0.0, byx = 0.0, byy = 0.0;
+    if constexpr (apic) {
+      const Vec4& b = particles.affine_velocity[p];
+      const double mh = m * w.inv_h;  // g in physical units: fold 1/h in once
+      bxx = mh * b[0];
+      bxy = mh * b[1];
+      byx = mh * b[2];
+      byy = mh * b[3];
+    }
     for (int a = 0; a < n; ++a) {
       NodeSums* column = window.data() + (w.column_start(grid, a) - offset);
+      [[maybe_unused]] double along_x = 0.0, across_x = 0.0, along_y = 0.0, across_y = 0.0;
+      if constexpr (apic) {
+        const double sa = w.x.value[a], ea = affine.x.value[a];
+        along_x = sa * mvx + bxx * ea;
+        along_y = sa * mvy + byx * ea;
+        across_x = sa * bxy;
+        across_y = sa * byy;
+      }
       for (int b = 0; b < n; ++b) {
         const double weight = w.x.value[a] * w.y.value[b];
         const double gx = w.x.derivative[a] * w.y.value[b];  // ×1/h folded into vh
         const double gy = w.x.value[a] * w.y.derivative[b];
         NodeSums& node = column[b];
         node.mass += weight * m;
-        node.momentum_x += weight * mvx;
-        node.momentum_y += weight * mvy;
+        if constexpr (apic) {
+          node.momentum_x += w.y.value[b] * along_x + affine.y.value[b] * across_x;
+          node.momentum_y += w.y.value[b] * along_y + affine.y.value[b] * across_y;
+        } else {
+          node.momentum_x += weight * mvx;
+          node.momentum_y += weight * mvy;
+        }
         node.force_x += weight * mgx - (sxx * gx + sxy * gy);
         node.force_y += weight * mgy - (sxy * gx + syy * gy);
       }
@@ -127,38 +242,63 @@ void sum_column(const ParticleBlocks& blocks, const std::vector<std::vector<T>>&
   }
 }
 
-template <class Shape>
+template <class Shape, VelocityTransfer Transfer>
 void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
-                              const GridState& state, double dt_velocity, double pic_fraction,
+                              const GridState& state, const StepLengths& step, double pic_fraction,
                               std::size_t begin, std::size_t end, int column_begin,
                               std::vector<Vec2>& window) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
   constexpr int n = Shape::support;
+  const double dt_velocity = step.dt_velocity;
   const double flip = 1.0 - pic_fraction;
   for (std::size_t p = begin; p < end; ++p) {
     const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
-    double ax = 0.0, ay = 0.0, vx = 0.0, vy = 0.0;
-    for (int a = 0; a < n; ++a) {
-      const NodeMotion* column = state.motion.data() + w.column_start(grid, a);
-      for (int b = 0; b < n; ++b) {
-        const double weight = w.x.value[a] * w.y.value[b];
-        ax += weight * column[b].acceleration_x;
-        ay += weight * column[b].acceleration_y;
-        vx += weight * column[b].velocity_x;
-        vy += weight * column[b].velocity_y;
-      }
-    }
     Vec2& v = particles.velocity[p];
-    v.x() = flip * (v.x() + dt_velocity * ax) + pic_fraction * vx;
-    v.y() = flip * (v.y() + dt_velocity * ay) + pic_fraction * vy;
-    const double mvx = particles.mass[p] * v.x(), mvy = particles.mass[p] * v.y();
-    for (int a = 0; a < n; ++a) {
-      Vec2* column = window.data() + (w.column_start(grid, a) - offset);
-      for (int b = 0; b < n; ++b) {
-        const double weight = w.x.value[a] * w.y.value[b];
-        column[b].x() += weight * mvx;
-        column[b].y() += weight * mvy;
+    if constexpr (Transfer == VelocityTransfer::apic) {
+      // The particle takes the nodal field's value and first moment C_p: C_p goes into the
+      // re-projection below, and B_p is stored for the position the final pass moves the
+      // particle to (x + Δt v_p: v_p = Σ N v^L is the velocity of the position update).
+      const ParticleAffine<Shape> e(w);
+      const AffineGather g = gather_affine(grid, state, w, e);
+      v = Vec2(g.vx, g.vy);
+      particles.affine_velocity[p] = affine_velocity_at(grid, w, particles, p, step.dt, g);
+      // The momenta of the affine field, N_ip m (v_p + C_p (x_i − x_p)), with N_ip (x_i −
+      // x_p) = h (moment_a S_b, S_a moment_b) and C_p = c/h (the h cancel): per column,
+      // S_b (S_a m v + m c_·x moment_a) + moment_b (S_a m c_·y).
+      const double m = particles.mass[p];
+      for (int a = 0; a < n; ++a) {
+        Vec2* column = window.data() + (w.column_start(grid, a) - offset);
+        const double sa = w.x.value[a], ma = e.x.moment[a];
+        const double along_x = m * (sa * g.vx + g.cxx * ma), across_x = m * sa * g.cxy;
+        const double along_y = m * (sa * g.vy + g.cyx * ma), across_y = m * sa * g.cyy;
+        for (int b = 0; b < n; ++b) {
+          column[b].x() += w.y.value[b] * along_x + e.y.moment[b] * across_x;
+          column[b].y() += w.y.value[b] * along_y + e.y.moment[b] * across_y;
+        }
+      }
+    } else {
+      double ax = 0.0, ay = 0.0, vx = 0.0, vy = 0.0;
+      for (int a = 0; a < n; ++a) {
+        const NodeMotion* column = state.motion.data() + w.column_start(grid, a);
+        for (int b = 0; b < n; ++b) {
+          const double weight = w.x.value[a] * w.y.value[b];
+          ax += weight * column[b].acceleration_x;
+          ay += weight * column[b].acceleration_y;
+          vx += weight * column[b].velocity_x;
+          vy += weight * column[b].velocity_y;
+        }
+      }
+      v.x() = flip * (v.x() + dt_velocity * ax) + pic_fraction * vx;
+      v.y() = flip * (v.y() + dt_velocity * ay) + pic_fraction * vy;
+      const double mvx = particles.mass[p] * v.x(), mvy = particles.mass[p] * v.y();
+      for (int a = 0; a < n; ++a) {
+        Vec2* column = window.data() + (w.column_start(grid, a) - offset);
+        for (int b = 0; b < n; ++b) {
+          const double weight = w.x.value[a] * w.y.value[b];
+          column[b].x() += weight * mvx;
+          column[b].y() += weight * mvy;
+        }
       }
     }
   }
@@ -189,11 +329,12 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   particles.volume[p] *= jacobian;
 }
 
-template <class Shape, UpdateScheme Scheme>
+template <class Shape, UpdateScheme Scheme, VelocityTransfer Transfer>
 double gather_block(Particles& particles, const GridGeometry& grid, const GridState& state,
                     const StepLengths& step, double pic_fraction,
                     std::span<const ConstitutiveModel> models, std::size_t begin, std::size_t end) {
   constexpr int n = Shape::support;
+  constexpr bool apic = Transfer == VelocityTransfer::apic;
   const double flip = 1.0 - pic_fraction;
   double kinetic = 0.0;
   for (std::size_t p = begin; p < end; ++p) {
@@ -208,15 +349,19 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
         const double weight = w.x.value[a] * w.y.value[b];
         const double gx = w.x.derivative[a] * w.y.value[b];
         const double gy = w.x.value[a] * w.y.derivative[b];
-        vx += weight * column[b].velocity_x;
-        vy += weight * column[b].velocity_y;
+        if constexpr (!apic) {
+          vx += weight * column[b].velocity_x;
+          vy += weight * column[b].velocity_y;
+        }
         double ux, uy;  // the velocity field the gradient is taken of
         if constexpr (Scheme == UpdateScheme::musl) {
           ux = remapped[b].x();
           uy = remapped[b].y();
         } else {
-          ax += weight * column[b].acceleration_x;
-          ay += weight * column[b].acceleration_y;
+          if constexpr (!apic) {
+            ax += weight * column[b].acceleration_x;
+            ay += weight * column[b].acceleration_y;
+          }
           ux = column[b].velocity_x;
           uy = column[b].velocity_y;
         }
@@ -227,7 +372,17 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
       }
     }
     Vec2& v = particles.velocity[p];
-    if constexpr (Scheme == UpdateScheme::usl) {
+    if constexpr (apic) {
+      // v_p and C_p from v^L (for linear hats C_p is the gradient of v^L), and B_p for the
+      // end-of-step position. MUSL: the velocity pass did this already.
+      if constexpr (Scheme == UpdateScheme::usl) {
+        const AffineGather g = gather_affine(grid, state, w, ParticleAffine<Shape>(w));
+        v = Vec2(g.vx, g.vy);
+        particles.affine_velocity[p] = affine_velocity_at(grid, w, particles, p, step.dt, g);
+      }
+      vx = v.x();  // Σ N v^L: the position update's velocity
+      vy = v.y();
+    } else if constexpr (Scheme == UpdateScheme::usl) {
       v.x() = flip * (v.x() + step.dt_velocity * ax) + pic_fraction * vx;
       v.y() = flip * (v.y() + step.dt_velocity * ay) + pic_fraction * vy;
     }
@@ -244,7 +399,7 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
 
 // Every field of Particles, so that a permutation moves whole particles. A new field
 // must be added to ParticleRow and move_particle below (this trips when Particles grows).
-static_assert(sizeof(Particles) == 14 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
+static_assert(sizeof(Particles) == 15 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
               "a field was added to Particles: add it to ParticleRow and move_particle");
 
 /// One particle, all fields: the one-particle buffer of the in-place permutation.
@@ -257,13 +412,16 @@ struct ParticleRow {
   std::int64_t element, id;
   MaterialState state;
   std::array<Vec4, max_yield_surfaces> surfaces;
+  Vec4 affine_velocity;  ///< zero when the particles carry none
 
   static ParticleRow of(const Particles& p, std::size_t k) {
     ParticleRow row{p.coordinates[k], p.displacement[k],  p.velocity[k], p.stress[k], p.strain[k],
                     p.eps_q[k],       p.pore_pressure[k], p.volume[k],   p.mass[k],   p.size[k],
-                    p.material_id[k], p.element[k],       p.id[k],       p.state[k],  {}};
+                    p.material_id[k], p.element[k],       p.id[k],       p.state[k],  {},
+                    Vec4::Zero()};
     const auto own = p.surface_stress.of(k);
     std::copy(own.begin(), own.end(), row.surfaces.begin());
+    if (!p.affine_velocity.empty()) row.affine_velocity = p.affine_velocity[k];
     return row;
   }
   void store(Particles& p, std::size_t k) const {
@@ -284,6 +442,7 @@ struct ParticleRow {
     const auto own = p.surface_stress.of(k);
     std::copy(surfaces.begin(), surfaces.begin() + static_cast<std::ptrdiff_t>(own.size()),
               own.begin());
+    if (!p.affine_velocity.empty()) p.affine_velocity[k] = affine_velocity;
   }
 };
 
@@ -304,6 +463,7 @@ void move_particle(Particles& p, std::size_t to, std::size_t from) {
   p.state[to] = p.state[from];
   const auto source = p.surface_stress.of(from);
   std::copy(source.begin(), source.end(), p.surface_stress.of(to).begin());
+  if (!p.affine_velocity.empty()) p.affine_velocity[to] = p.affine_velocity[from];
 }
 
 /// Particle k takes the place of old particle order[k] (`order` is a permutation of
@@ -382,8 +542,15 @@ LocateResult locate_particles(const Particles& particles, std::size_t active_cou
   return result;
 }
 
+Vec2 affine_inertia(const GridGeometry& grid, ShapeFunction shape, const Vec2& position,
+                    const Vec2& size) {
+  return shape == ShapeFunction::gimp ? inertia_at<GimpShape>(grid, position, size)
+                                      : inertia_at<LinearShape>(grid, position, size);
+}
+
 void particles_to_grid(const Particles& particles, const GridGeometry& grid, ShapeFunction shape,
-                       const Vec2& gravity, ParticleBlocks& blocks, GridState& state) {
+                       VelocityTransfer transfer, const Vec2& gravity, ParticleBlocks& blocks,
+                       GridState& state) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const auto nblocks = static_cast<int>(blocks.count());
   int active_begin = std::numeric_limits<int>::max(), active_end = 0;
@@ -402,8 +569,17 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
     auto& window = blocks.sums_window[k];
     const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
     window.assign(width * rows, NodeSums{});
-    auto scatter =
-        shape == ShapeFunction::gimp ? scatter_block<GimpShape> : scatter_block<LinearShape>;
+    using Scatter = void (*)(const Particles&, const GridGeometry&, const Vec2&, std::size_t,
+                             std::size_t, int, std::vector<NodeSums>&);
+    const bool apic = transfer == VelocityTransfer::apic;
+    Scatter scatter = nullptr;
+    if (shape == ShapeFunction::gimp) {
+      scatter = apic ? scatter_block<GimpShape, VelocityTransfer::apic>
+                     : scatter_block<GimpShape, VelocityTransfer::flip_pic>;
+    } else {
+      scatter = apic ? scatter_block<LinearShape, VelocityTransfer::apic>
+                     : scatter_block<LinearShape, VelocityTransfer::flip_pic>;
+    }
     scatter(particles, grid, gravity, blocks.offsets[k], blocks.offsets[k + 1],
             blocks.column_begin[k], window);
   }
@@ -452,9 +628,9 @@ void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
 
 void update_particle_velocities_and_remap(Particles& particles, const GridGeometry& grid,
                                           const GridBoundaries& boundaries, ShapeFunction shape,
-                                          double dt_velocity, double pic_fraction,
-                                          double mass_floor, ParticleBlocks& blocks,
-                                          GridState& state) {
+                                          VelocityTransfer transfer, const StepLengths& step,
+                                          double pic_fraction, double mass_floor,
+                                          ParticleBlocks& blocks, GridState& state) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const auto nblocks = static_cast<int>(blocks.count());
 #pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
@@ -463,10 +639,19 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
     auto& window = blocks.momentum_window[k];
     const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
     window.assign(width * rows, Vec2::Zero());
-    auto remap = shape == ShapeFunction::gimp ? velocity_and_remap_block<GimpShape>
-                                              : velocity_and_remap_block<LinearShape>;
-    remap(particles, grid, state, dt_velocity, pic_fraction, blocks.offsets[k],
-          blocks.offsets[k + 1], blocks.column_begin[k], window);
+    using Remap = void (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&,
+                           double, std::size_t, std::size_t, int, std::vector<Vec2>&);
+    const bool apic = transfer == VelocityTransfer::apic;
+    Remap remap = nullptr;
+    if (shape == ShapeFunction::gimp) {
+      remap = apic ? velocity_and_remap_block<GimpShape, VelocityTransfer::apic>
+                   : velocity_and_remap_block<GimpShape, VelocityTransfer::flip_pic>;
+    } else {
+      remap = apic ? velocity_and_remap_block<LinearShape, VelocityTransfer::apic>
+                   : velocity_and_remap_block<LinearShape, VelocityTransfer::flip_pic>;
+    }
+    remap(particles, grid, state, step, pic_fraction, blocks.offsets[k], blocks.offsets[k + 1],
+          blocks.column_begin[k], window);
   }
   // Momenta summed in block order → velocity, with the kinematic part of the edge
   // constraints (μ = 0 turns a friction edge into a roller).
@@ -495,20 +680,33 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
   }
 }
 
+namespace {
+
+using Gather = double (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&,
+                          double, std::span<const ConstitutiveModel>, std::size_t, std::size_t);
+
+template <class Shape, UpdateScheme Scheme>
+Gather gather_for(VelocityTransfer transfer) {
+  return transfer == VelocityTransfer::apic
+             ? gather_block<Shape, Scheme, VelocityTransfer::apic>
+             : gather_block<Shape, Scheme, VelocityTransfer::flip_pic>;
+}
+
+}  // namespace
+
 LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
-                               UpdateScheme scheme, const StepLengths& step, double pic_fraction,
+                               UpdateScheme scheme, VelocityTransfer transfer,
+                               const StepLengths& step, double pic_fraction,
                                std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
                                const GridState& state) {
   const auto nblocks = static_cast<int>(blocks.count());
-  using Gather = double (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&,
-                            double, std::span<const ConstitutiveModel>, std::size_t, std::size_t);
   Gather gather = nullptr;
   if (shape == ShapeFunction::gimp) {
-    gather = scheme == UpdateScheme::musl ? gather_block<GimpShape, UpdateScheme::musl>
-                                          : gather_block<GimpShape, UpdateScheme::usl>;
+    gather = scheme == UpdateScheme::musl ? gather_for<GimpShape, UpdateScheme::musl>(transfer)
+                                          : gather_for<GimpShape, UpdateScheme::usl>(transfer);
   } else {
-    gather = scheme == UpdateScheme::musl ? gather_block<LinearShape, UpdateScheme::musl>
-                                          : gather_block<LinearShape, UpdateScheme::usl>;
+    gather = scheme == UpdateScheme::musl ? gather_for<LinearShape, UpdateScheme::musl>(transfer)
+                                          : gather_for<LinearShape, UpdateScheme::usl>(transfer);
   }
   auto locate = shape == ShapeFunction::gimp ? locate_block<GimpShape> : locate_block<LinearShape>;
   std::vector<std::int64_t> non_finite(blocks.count(), -1);
@@ -564,6 +762,7 @@ std::size_t retire_particles(Particles& particles, std::size_t active_count,
   if (mode == ParticleExit::freeze) {
     for (std::size_t p : indices) {
       particles.velocity[p].setZero();
+      if (!particles.affine_velocity.empty()) particles.affine_velocity[p].setZero();
       order.push_back(static_cast<std::uint32_t>(p));
     }
   }

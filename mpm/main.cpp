@@ -2,7 +2,7 @@
 //
 // Continues a body of material points under gravity on a background grid of square
 // cells until the end time (or rest): explicit MPM, uGIMP or linear shape functions,
-// USL or MUSL, FLIP with an optional PIC share, Mohr–Coulomb or linear elastic
+// USL or MUSL, FLIP with an optional PIC share or APIC, Mohr–Coulomb or linear elastic
 // particles, Coulomb base friction, local damping. Plane strain, SI units.
 //
 //   mpm-solve cases/column-short/case.toml -o out/tt2 --particles out/particles_t2.h5

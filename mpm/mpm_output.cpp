@@ -30,6 +30,7 @@ SolverSettings settings_record(const MpmSettings& s, double time_step) {
   r["cell_size"] = s.grid.cell_size;
   r["shape_function"] = std::string(to_string(s.shape_function));
   r["update_scheme"] = std::string(to_string(s.update_scheme));
+  r["velocity_transfer"] = std::string(to_string(s.velocity_transfer));
   r["pic_fraction"] = s.pic_fraction;
   r["local_damping"] = s.damping.local;
   r["friction_coefficient"] = s.boundaries.friction_coefficient;
@@ -198,16 +199,27 @@ void VtkWriter::write(const MpmSolver& solver) {
     plastic_volumetric[k] = p.state[k].plastic_volumetric_strain;
   }
   const fs::path file = folder_ / fmt::format("mpm_{:06d}.vtu", solver.clock().step);
-  write_vtk_points(
-      file, p.coordinates,
-      {vtk_field("displacement", p.displacement), vtk_field("velocity", p.velocity),
-       vtk_field("stress", p.stress), vtk_field("strain", p.strain), vtk_field("eps_q", p.eps_q),
-       vtk_field("mean_stress", mean), vtk_field("deviatoric_stress", deviatoric),
-       vtk_field("pore_pressure", p.pore_pressure), vtk_field("volume", p.volume),
-       vtk_field("mass", p.mass), vtk_field("size", p.size), vtk_field("material_id", material),
-       vtk_field("id", id), vtk_field("element", element), vtk_field("active", active),
-       vtk_field("plastic_shear_strain", plastic_shear),
-       vtk_field("plastic_volumetric_strain", plastic_volumetric)});
+  std::vector<VtkField> fields{vtk_field("displacement", p.displacement),
+                               vtk_field("velocity", p.velocity),
+                               vtk_field("stress", p.stress),
+                               vtk_field("strain", p.strain),
+                               vtk_field("eps_q", p.eps_q),
+                               vtk_field("mean_stress", mean),
+                               vtk_field("deviatoric_stress", deviatoric),
+                               vtk_field("pore_pressure", p.pore_pressure),
+                               vtk_field("volume", p.volume),
+                               vtk_field("mass", p.mass),
+                               vtk_field("size", p.size),
+                               vtk_field("material_id", material),
+                               vtk_field("id", id),
+                               vtk_field("element", element),
+                               vtk_field("active", active),
+                               vtk_field("plastic_shear_strain", plastic_shear),
+                               vtk_field("plastic_volumetric_strain", plastic_volumetric)};
+  if (!p.affine_velocity.empty()) {
+    fields.push_back(vtk_field("affine_velocity", p.affine_velocity));  // APIC's B_p
+  }
+  write_vtk_points(file, p.coordinates, fields);
   collection_.add(solver.clock().time, fs::path("vtk") / file.filename());
 }
 

@@ -151,6 +151,7 @@ void initialise_pure_mpm(const Case& c, const Mesh& body, MpmSolver& solver, dou
     Particles& q = solver.particles();
     for (std::size_t k = 0; k < q.count(); ++k) {
       q.velocity[k].setZero();
+      if (!q.affine_velocity.empty()) q.affine_velocity[k].setZero();
       q.displacement[k].setZero();
       q.strain[k].setZero();
       q.eps_q[k] = 0.0;
@@ -320,9 +321,13 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   }
   refs.time_step = dt;
   const GridGeometry& grid = settings.grid;
-  log.info("grid {} × {} cells of {} m, {} shape functions, {}, PIC share {}, Δt = {:.4g} s{}",
-           grid.cells_x, grid.cells_y, grid.cell_size, to_string(settings.shape_function),
-           to_string(settings.update_scheme), settings.pic_fraction, dt,
+  const std::string transfer =
+      settings.velocity_transfer == VelocityTransfer::apic
+          ? std::string(settings.pic_fraction > 0.0 ? "APIC (pic_fraction ignored)" : "APIC")
+          : fmt::format("FLIP with PIC share {}", settings.pic_fraction);
+  log.info("grid {} × {} cells of {} m, {} shape functions, {}, {}, Δt = {:.4g} s{}", grid.cells_x,
+           grid.cells_y, grid.cell_size, to_string(settings.shape_function),
+           to_string(settings.update_scheme), transfer, dt,
            c.mpm.time_step > 0.0 ? " (case)" : fmt::format(" (Courant C = {})", c.mpm.courant));
 
   if (start.pure_mpm) initialise_pure_mpm(c, start.body, solver, dt, log);

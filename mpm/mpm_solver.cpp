@@ -30,6 +30,7 @@ MpmSettings MpmSettings::from(const MpmSpec& spec) {
   s.boundaries = GridBoundaries::from(spec.boundaries, spec.friction_coefficient);
   s.shape_function = spec.shape_function;
   s.update_scheme = spec.update_scheme;
+  s.velocity_transfer = spec.velocity_transfer;
   s.pic_fraction = spec.pic_fraction;
   s.damping.local = spec.local_damping;
   s.particle_exit = spec.particle_exit;
@@ -49,6 +50,10 @@ MpmSolver::MpmSolver(MpmSettings settings, MaterialTable materials, Particles pa
     particles_.surface_stress = SurfaceStresses{surfaces, {}};
     particles_.surface_stress.resize(particles_.count());
   }
+  // FLIP/PIC carries no affine state: an APIC checkpoint's B_p are dropped (the restart
+  // warns of the changed transfer); APIC starts particles without one at B_p = 0.
+  if (settings_.velocity_transfer != VelocityTransfer::apic) particles_.affine_velocity.clear();
+  size_affine_velocity();
   particles_.check_consistent_sizes();
   // The arrays are permuted in place from now on: drop the slack a generator may have
   // left (push_back growth), which would otherwise stay for the whole run.
@@ -60,6 +65,15 @@ MpmSolver::MpmSolver(MpmSettings settings, MaterialTable materials, Particles pa
   // Nodes lighter than this are empty: 1e-14 of a particle is far below any weight a
   // particle gives a node it actually moves, and keeps p/m and F/m finite.
   mass_floor_ = particles_.count() > 0 ? 1e-14 * smallest_mass : 0.0;
+}
+
+void MpmSolver::size_affine_velocity() {
+  // B_p = 0: the particle hands its velocity alone to the grid on its first step (a
+  // particle file has no affine state: fem2mpm writes none).
+  if (settings_.velocity_transfer == VelocityTransfer::apic &&
+      particles_.affine_velocity.size() != particles_.count()) {
+    particles_.affine_velocity.assign(particles_.count(), Vec4::Zero());
+  }
 }
 
 void MpmSolver::use_elastic_models(bool elastic) {
@@ -118,20 +132,23 @@ StepReport MpmSolver::step(double dt) {
   const StepLengths lengths{dt, 0.5 * (clock_.previous_dt + dt)};
   const MpmSettings& s = settings_;
   exited_this_step_ = 0;
+  size_affine_velocity();  // the settings may have switched to APIC since the start
 
   locate();
   if (!clock_.sorted_once || clock_.steps_since_sort >= s.sort_interval) sort();
 
-  particles_to_grid(particles_, s.grid, s.shape_function, s.gravity, blocks_, grid_state_);
+  particles_to_grid(particles_, s.grid, s.shape_function, s.velocity_transfer, s.gravity, blocks_,
+                    grid_state_);
   update_grid(s.grid, s.boundaries, s.damping, lengths.dt_velocity, mass_floor_, blocks_,
               grid_state_);
   if (s.update_scheme == UpdateScheme::musl) {
     update_particle_velocities_and_remap(particles_, s.grid, s.boundaries, s.shape_function,
-                                         lengths.dt_velocity, s.pic_fraction, mass_floor_, blocks_,
-                                         grid_state_);
+                                         s.velocity_transfer, lengths, s.pic_fraction, mass_floor_,
+                                         blocks_, grid_state_);
   }
-  pending_ = grid_to_particles(particles_, s.grid, s.shape_function, s.update_scheme, lengths,
-                               s.pic_fraction, models_, blocks_, grid_state_);
+  pending_ =
+      grid_to_particles(particles_, s.grid, s.shape_function, s.update_scheme, s.velocity_transfer,
+                        lengths, s.pic_fraction, models_, blocks_, grid_state_);
   located_ = true;
 
   clock_.time += dt;
@@ -212,7 +229,7 @@ MpmSolver::Memory MpmSolver::memory() const {
                       bytes_of(p.stress) + bytes_of(p.strain) + bytes_of(p.eps_q) +
                       bytes_of(p.pore_pressure) + bytes_of(p.volume) + bytes_of(p.mass) +
                       bytes_of(p.size) + bytes_of(p.material_id) + bytes_of(p.element) +
-                      bytes_of(p.id) + bytes_of(p.state);
+                      bytes_of(p.id) + bytes_of(p.state) + bytes_of(p.affine_velocity);
   // The sort (in place): the permutation, 4 B per particle, and the bucket table.
   m.sort_peak =
       p.count() * sizeof(std::uint32_t) + (settings_.grid.cell_count() + 2) * sizeof(std::uint32_t);
@@ -241,6 +258,8 @@ void validate_particles(const Particles& particles, const MpmSettings& settings,
       throw Error("{}: displacement is not finite", name());
     if (!particles.stress[p].allFinite()) throw Error("{}: stress is not finite", name());
     if (!particles.strain[p].allFinite()) throw Error("{}: strain is not finite", name());
+    if (!particles.affine_velocity.empty() && !particles.affine_velocity[p].allFinite())
+      throw Error("{}: affine velocity is not finite", name());
     if (!(particles.mass[p] > 0.0) || !std::isfinite(particles.mass[p])) {
       throw Error("{}: mass {} kg/m is not admissible (expected > 0)", name(), particles.mass[p]);
     }

@@ -8,7 +8,8 @@
 //   3. P2G          m_i, p_i and f_i = Σ N m g − Σ V σ·∇N
 //   4. grid         v_i^L = v_i + Δt_v F_i/m_i with damping and the edge constraints
 //   5. G2P          (MUSL: velocities, then momenta re-projected to the grid)
-//   6. G2P          positions x += Δt Σ N v^L, velocity gradients L_p, and particle by
+//   6. G2P          positions x += Δt Σ N v^L, velocity gradients L_p (APIC: the affine
+//                   velocities B_p), and particle by
 //   7. stresses     particle: Jaumann rotation, constitutive update, strain, εq, volume;
 //                   block by block (in cache) the particles' location for the next step
 #pragma once
@@ -40,7 +41,8 @@ struct MpmSettings {
   GridBoundaries boundaries;
   ShapeFunction shape_function = ShapeFunction::gimp;
   UpdateScheme update_scheme = UpdateScheme::musl;
-  double pic_fraction = 0.0;
+  VelocityTransfer velocity_transfer = VelocityTransfer::flip_pic;
+  double pic_fraction = 0.0;  ///< flip-pic only
   NodalDamping damping;
   Vec2 gravity = gravity_vector();
   ParticleExit particle_exit = ParticleExit::freeze;
@@ -79,7 +81,8 @@ struct Energies {
 class MpmSolver {
  public:
   /// Takes the particles (validated: see validate_particles) and sorts them by cell on
-  /// the first step unless `clock.sorted_once`.
+  /// the first step unless `clock.sorted_once`. APIC particles without an affine velocity
+  /// (a particle file, pure MPM) start with B_p = 0; a FLIP/PIC run drops any it finds.
   MpmSolver(MpmSettings settings, MaterialTable materials, Particles particles,
             SolverClock clock = {});
 
@@ -143,6 +146,8 @@ class MpmSolver {
  private:
   void locate();
   void sort();
+  /// APIC: one affine velocity per particle (zeros for those that came without).
+  void size_affine_velocity();
 
   MpmSettings settings_;
   MaterialTable materials_;

@@ -15,6 +15,24 @@
 // unity by construction) and R'(f) = (a + c)/(2a). This is the standard piecewise form
 // (linear where the domain sits inside one cell, quadratic where it straddles a node)
 // written without branches, so the compiler can keep the kernels free of mispredictions.
+//
+// APIC moments (Jiang et al. 2015, "The affine particle-in-cell method"). APIC's
+// inertia-like matrix D_p = Σ_i N_ip (x_i − x_p)(x_i − x_p)ᵀ is, for tensor-product
+// weights that reproduce linear fields (Σ_k S_k (k − ξ) = 0), diagonal with the 1-D
+// entries D = h² Σ_k S_k (k − ξ)²: the variance of the node positions under the weights.
+// With the partition of unity and that reproduction it is D = h² (S_{−1} + S_{+1} − f²)
+// over three nodes k = −1, 0, 1 (f from the middle one; S_{+1} − S_{−1} = f). It is h²/4
+// everywhere for quadratic B-splines (uGIMP with l_p = h, a = ½), but not constant here:
+//   linear  D = h² f(1 − f): 0 on a node line (singular), h²/4 at the cell centre;
+//   uGIMP   D = h² (⟨f(1 − f)⟩ + a²/3) (the hat's variance averaged over the domain plus
+//           the domain's own): a h²/2 on a node, h²/4 at the cell centre (a = ¼ at 2 × 2
+//           particles per cell: D ∈ [h²/8, h²/4]; a = ⅛ at 4 × 4: [h²/16, h²/4]).
+// `affine` returns D (cell units, × h² for m²), the first moments S_k (k − ξ) and the
+// "affine weights" e_k = S_k (k − ξ)/D (× 1/h for 1/m) with which
+//   Σ_i v_i (N_ip D_p⁻¹ (x_i − x_p))ᵀ, N_ip D_p⁻¹ (x_i − x_p) = (e_a S_b, S_a e_b)/h,
+// is the affine velocity C_p = B_p D_p⁻¹. For linear hats e_k = dS_k/dξ exactly
+// (S_c = 1 − f, k − ξ = −f: e_c = −(1 − f) f/(f(1 − f)) = −1; likewise +1), so C_p is the
+// grid velocity gradient and no division by the vanishing D is ever needed.
 #pragma once
 
 #include <algorithm>
@@ -30,6 +48,14 @@ struct Weights1d {
   double derivative[Support];  ///< dS/dξ (divide by h for dS/dx)
 };
 
+/// APIC's 1-D moments of the weights (see the header comment), in cell units.
+template <int Support>
+struct AffineWeights1d {
+  double inertia;          ///< D = Σ_k S_k (k − ξ)² (× h² for m²)
+  double moment[Support];  ///< S_k (k − ξ) (× h for m)
+  double value[Support];   ///< e_k = S_k (k − ξ)/D (× 1/h for 1/m)
+};
+
 struct LinearShape {
   static constexpr int support = 2;
   static Weights1d<2> weights(double xi, double /*half_size*/) {
@@ -42,6 +68,22 @@ struct LinearShape {
     w.derivative[0] = -1.0;
     w.derivative[1] = 1.0;
     return w;
+  }
+  /// D = Σ_k S_k (k − ξ)² = f(1 − f).
+  static double inertia(double xi, double /*half_size*/) {
+    const double f = xi - std::floor(xi);
+    return f * (1.0 - f);
+  }
+  /// D = f(1 − f) and e_k = dS_k/dξ, the identity of the header comment.
+  static AffineWeights1d<2> affine(const Weights1d<2>& w, double xi) {
+    AffineWeights1d<2> m;
+    const double f = xi - w.base;
+    m.inertia = f * (1.0 - f);
+    m.moment[0] = -m.inertia;  // (1 − f)(−f)
+    m.moment[1] = m.inertia;   // f (1 − f)
+    m.value[0] = w.derivative[0];
+    m.value[1] = w.derivative[1];
+    return m;
   }
 };
 
@@ -68,6 +110,26 @@ struct GimpShape {
     w.derivative[1] = slope_minus - slope_plus;
     w.derivative[2] = slope_plus;
     return w;
+  }
+  /// D = Σ_k S_k (k − f)² over the nodes k = −1, 0, 1 (f from the nearest node). The
+  /// partition of unity and Σ_k S_k (k − f) = 0 (S_{+1} − S_{−1} = f) reduce it to
+  /// D = S_{−1} + S_{+1} − f², which is never below a/2 (a particle centred on a node).
+  static double inertia(const Weights1d<3>& w, double xi) {
+    const double f = xi - (w.base + 1);  // from the nearest node, as in `weights`
+    return w.value[0] + w.value[2] - f * f;
+  }
+  static double inertia(double xi, double half_size) { return inertia(weights(xi, half_size), xi); }
+  /// D and e_k = S_k (k − f)/D: a plain division, D ≥ a/2.
+  static AffineWeights1d<3> affine(const Weights1d<3>& w, double xi) {
+    AffineWeights1d<3> m;
+    const double f = xi - (w.base + 1);
+    m.inertia = inertia(w, xi);
+    const double inv_inertia = 1.0 / m.inertia;
+    for (int k = 0; k < 3; ++k) {
+      m.moment[k] = w.value[k] * ((k - 1) - f);
+      m.value[k] = m.moment[k] * inv_inertia;
+    }
+    return m;
   }
 };
 

@@ -225,7 +225,8 @@ def read_particles(path, kind, time, step):
         check(transfer["rbf_polynomial"] == "linear", f"{kind}: rbf_polynomial")
         check(float(transfer["rbf_shape"]) == 0.5, f"{kind}: rbf_shape")
         check(int(transfer["rbf_neighbours"]) == 0, f"{kind}: rbf_neighbours")
-        return {name: f[name][...] for name in ("particles/coordinates", "particles/velocity")} | {
+        return {name: f[name][...] for name in ("particles/coordinates", "particles/velocity",
+                                                 "particles/affine_velocity") if name in f} | {
             "solver": dict(f["solver"].attrs)}
 
 
@@ -240,6 +241,11 @@ def main():
     moved = mpm["particles/coordinates"] - particles["particles/coordinates"]
     check(np.allclose(moved, [0.1, 0.0], rtol=0, atol=1e-12), "mpm: particles moved 0.1 m in x")
     check(np.array_equal(mpm["particles/velocity"], np.tile([0.1, 0.0], (8, 1))), "mpm: velocity")
+    # optional: an APIC run's affine velocity [Bxx, Bxy, Byx, Byy]; the particle file has none
+    check("particles/affine_velocity" not in particles, "particles: affine_velocity present")
+    check(np.allclose(mpm.get("particles/affine_velocity", np.zeros((8, 4))),
+                      np.tile([0.0, -0.0125, 0.0125, 0.0], (8, 1)), rtol=0, atol=1e-15),
+          "mpm: affine_velocity")
     check(mpm["solver"].get("shape_function") == "gimp", "mpm: solver shape_function")
     check(float(mpm["solver"].get("grid_spacing")) == 0.5, "mpm: solver grid_spacing")
     for message in failures:

@@ -351,6 +351,7 @@ void expect_identical(const ParticleCheckpoint& a, const ParticleCheckpoint& b) 
   EXPECT_EQ(p.element, q.element);
   EXPECT_EQ(p.id, q.id);
   expect_identical(p.state, q.state, "state");
+  expect_identical<4>(p.affine_velocity, q.affine_velocity, "affine_velocity");
   expect_identical(a.materials, b.materials);
   expect_identical(a.transfer, b.transfer);
   expect_identical(a.solver, b.solver);
@@ -574,6 +575,27 @@ TEST_F(Checkpoint, MpmRoundTripIsExact) {
   continued.transfer = {2.0, "16", "element", "none", 0.0, 0};
   write_checkpoint(file("mpm_continued.h5"), continued);
   expect_identical(continued, read_particle_checkpoint(file("mpm_continued.h5")));
+}
+
+// APIC's affine velocity is optional: written when the particles carry it, read back bit
+// for bit; a file without it reads as particles without it (B_p = 0 for an APIC run).
+TEST_F(Checkpoint, AffineVelocityIsOptionalAndRoundTripsExactly) {
+  ParticleCheckpoint written = sample_particles(CheckpointKind::mpm);
+  Filler f;
+  written.particles.affine_velocity = f.vec4s(written.particles.count());
+  write_checkpoint(file("mpm_apic.h5"), written);
+  const ParticleCheckpoint read = read_particle_checkpoint(file("mpm_apic.h5"));
+  ASSERT_EQ(read.particles.affine_velocity.size(), written.particles.count());
+  expect_identical(written, read);
+
+  const ParticleCheckpoint without = sample_particles(CheckpointKind::particles);
+  write_checkpoint(file("particles.h5"), without);
+  EXPECT_TRUE(read_particle_checkpoint(file("particles.h5")).particles.affine_velocity.empty());
+
+  Damage(file("mpm_apic.h5"))
+      .replace_dataset("/particles/affine_velocity", {7, 2}, H5T_NATIVE_DOUBLE);
+  EXPECT_EQ(particle_error(file("mpm_apic.h5")),
+            file("mpm_apic.h5").string() + ": /particles/affine_velocity: shape 7×2, expected 7×4");
 }
 
 TEST_F(Checkpoint, EmptyParticleSetRoundTrips) {

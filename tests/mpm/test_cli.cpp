@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -250,6 +251,55 @@ TEST(MpmSolveCli, RestartContinuesBitForBitOnTheParallelPath) {
   EXPECT_EQ(read_text(folder / "straight" / "mpm_t0.500.h5"), read_text(split / "mpm_t0.500.h5"));
   EXPECT_EQ(read_text(folder / "straight" / "mpm_history.csv"),
             read_text(split / "mpm_history.csv"));
+}
+
+// APIC: the affine velocities are particle state. They go through the checkpoints
+// (/particles/affine_velocity), the sort and the restart: 0 → 0.25 → 0.5 equals 0 → 0.5
+// file for file, byte for byte, on the serial path (the small case) and above the
+// parallel threshold on 2 threads. A restart under flip-pic drops them and says so.
+TEST(MpmSolveCli, ApicRestartContinuesBitForBit) {
+  const std::string apic = "velocity_transfer = \"apic\"";
+  for (const bool parallel : {false, true}) {
+    const fs::path folder = fresh_folder(parallel ? "restart_apic_parallel" : "restart_apic");
+    const fs::path c = write_case(folder, parallel ? parallel_case(apic) : small_case(apic));
+    const std::string options = "--threads 2 --no-vtk --quiet";
+    const Outcome straight = run_solver(
+        folder, fmt::format("{} -o {} {}", c.string(), (folder / "straight").string(), options));
+    ASSERT_EQ(straight.status, 0) << straight.err;
+    const fs::path split = folder / "split";
+    const Outcome first = run_solver(
+        folder, fmt::format("{} -o {} --until 0.25 {}", c.string(), split.string(), options));
+    ASSERT_EQ(first.status, 0) << first.err;
+    const Outcome second =
+        run_solver(folder, fmt::format("{} -o {} --restart {} {}", c.string(), split.string(),
+                                       (split / "mpm_t0.250.h5").string(), options));
+    ASSERT_EQ(second.status, 0) << second.err;
+
+    const fs::path a = folder / "straight" / "mpm_final.h5", b = split / "mpm_final.h5";
+    const ParticleCheckpoint state = read_particle_checkpoint(a);
+    EXPECT_EQ(state.particles.count() > 8192u, parallel);
+    ASSERT_EQ(state.particles.affine_velocity.size(), state.particles.count());
+    double largest = 0.0;
+    for (const Vec4& v : state.particles.affine_velocity)
+      largest = std::max(largest, v.cwiseAbs().maxCoeff());
+    EXPECT_GT(largest, 1e-3) << "the collapse has affine velocities, m²/s";
+    EXPECT_EQ(std::get<std::string>(state.solver.at("velocity_transfer")), "apic");
+    EXPECT_EQ(read_text(a), read_text(b));
+    EXPECT_EQ(read_text(folder / "straight" / "mpm_t0.500.h5"), read_text(split / "mpm_t0.500.h5"));
+    EXPECT_EQ(read_text(folder / "straight" / "mpm_history.csv"),
+              read_text(split / "mpm_history.csv"));
+    if (parallel) continue;
+    // The same checkpoint continued under flip-pic: a warning, and no affine state written.
+    const fs::path flip = write_case(folder, small_case());
+    const Outcome switched = run_solver(
+        folder, fmt::format("{} -o {} --restart {} --no-vtk --quiet", flip.string(),
+                            (folder / "flip").string(), (split / "mpm_t0.250.h5").string()));
+    ASSERT_EQ(switched.status, 0) << switched.err;
+    EXPECT_NE(switched.err.find("velocity_transfer apic → flip-pic"), std::string::npos)
+        << switched.err;
+    EXPECT_TRUE(read_particle_checkpoint(folder / "flip" / "mpm_final.h5")
+                    .particles.affine_velocity.empty());
+  }
 }
 
 /// Overwrites one value of a dataset, as a foreign tool could (our writer refuses).

@@ -14,9 +14,10 @@ namespace {
 using namespace testing;
 
 /// A collapsing frictional column large enough for the kernels to run in parallel.
-Particles collapse(int threads, int steps) {
+Particles collapse(int threads, int steps, VelocityTransfer transfer = VelocityTransfer::flip_pic) {
   omp_set_num_threads(threads);
   MpmSettings s = settings_on(Vec2(0, 0), Vec2(80, 20), 1.0);
+  s.velocity_transfer = transfer;
   s.gravity = Vec2(0, -9.81);
   set_edge(s, edge_left, BoundaryCondition::roller);
   set_edge(s, edge_base, BoundaryCondition::friction);
@@ -45,6 +46,7 @@ void expect_identical(const Particles& a, const Particles& b) {
   EXPECT_TRUE(same_bits(a.strain, b.strain));
   EXPECT_TRUE(same_bits(a.volume, b.volume));
   EXPECT_TRUE(same_bits(a.id, b.id));
+  EXPECT_TRUE(same_bits(a.affine_velocity, b.affine_velocity));
 }
 
 TEST(Determinism, TwoThreadsTwiceAndOneThreadAreBitIdentical) {
@@ -59,6 +61,17 @@ TEST(Determinism, TwoThreadsTwiceAndOneThreadAreBitIdentical) {
   double largest = 0.0;
   for (const Vec2& u : first.displacement) largest = std::max(largest, u.norm());
   EXPECT_GT(largest, 0.05);
+}
+
+TEST(Determinism, ApicTwoThreadsAndOneThreadAreBitIdentical) {
+  const int steps = 40;
+  const Particles first = collapse(2, steps, VelocityTransfer::apic);
+  ASSERT_EQ(first.affine_velocity.size(), first.count());
+  expect_identical(first, collapse(2, steps, VelocityTransfer::apic));
+  expect_identical(first, collapse(1, steps, VelocityTransfer::apic));
+  double largest = 0.0;
+  for (const Vec4& b : first.affine_velocity) largest = std::max(largest, b.cwiseAbs().maxCoeff());
+  EXPECT_GT(largest, 0.0);
 }
 
 }  // namespace

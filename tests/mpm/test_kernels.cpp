@@ -41,6 +41,11 @@ Particles scattered_particles(const GridGeometry& grid, std::size_t n) {
     p.id[k] = static_cast<std::int64_t>(k);
     p.state[k] = MaterialState{id + 16, id + 17};
   }
+  p.affine_velocity.resize(n);  // APIC's field, carried when present
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto id = static_cast<double>(k);
+    p.affine_velocity[k] = Vec4(id + 18, id + 19, id + 20, id + 21);
+  }
   return p;
 }
 
@@ -64,6 +69,7 @@ void expect_whole(const Particles& p, const Particles& original) {
     ASSERT_EQ(p.element[k], static_cast<std::int64_t>(i) + 15) << k;
     ASSERT_EQ(p.state[k].plastic_shear_strain, id + 16) << k;
     ASSERT_EQ(p.state[k].plastic_volumetric_strain, id + 17) << k;
+    ASSERT_EQ(p.affine_velocity[k], original.affine_velocity[i]) << k;
   }
 }
 
@@ -123,11 +129,17 @@ TEST(RetireParticles, FreezeMovesThemBehindTheActiveOnesAndRemoveDeletesThem) {
     for (std::size_t k = 0; k < p.count(); ++k) {
       const auto i = static_cast<std::size_t>(p.id[k]);
       const bool left = std::find(leaving.begin(), leaving.end(), i) != leaving.end();
-      // A frozen particle stops; everything else is that particle's own.
+      // A frozen particle stops (its affine velocity too); everything else is that
+      // particle's own.
       EXPECT_EQ(p.velocity[k], left ? Vec2::Zero().eval() : original.velocity[i]) << k;
+      EXPECT_EQ(p.affine_velocity[k], left ? Vec4::Zero().eval() : original.affine_velocity[i])
+          << k;
     }
     Particles stopped = original;
-    for (std::size_t k : leaving) stopped.velocity[k].setZero();
+    for (std::size_t k : leaving) {
+      stopped.velocity[k].setZero();
+      stopped.affine_velocity[k].setZero();
+    }
     expect_whole(p, stopped);
   }
 }

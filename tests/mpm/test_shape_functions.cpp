@@ -1,5 +1,6 @@
-// The 1-D shape functions: partition of unity, reproduction of linear fields, and uGIMP
-// equal to the hat function averaged over the particle domain (its definition).
+// The 1-D shape functions: partition of unity, reproduction of linear fields, uGIMP equal
+// to the hat function averaged over the particle domain (its definition), and APIC's
+// moments: D = Σ S_k (k − ξ)² and the affine weights e_k = S_k (k − ξ)/D.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -62,6 +63,53 @@ TEST(ShapeFunctions, GimpIsTheHatAveragedOverTheParticleDomain) {
       }
     }
   }
+}
+
+/// The moments `affine` returns against their definitions, and the two identities APIC
+/// rests on: Σ_k e_k = 0 and Σ_k e_k (k − ξ) = 1 (C_p = Σ v_i e_iᵀ then returns the slope
+/// of any linear field, and nothing of a constant one).
+template <class Shape>
+void check_affine_moments(double xi, double a) {
+  const auto w = Shape::weights(xi, a);
+  const auto m = Shape::affine(w, xi);
+  double inertia = 0.0, sum = 0.0, first = 0.0;
+  for (int k = 0; k < Shape::support; ++k) {
+    const double d = w.base + k - xi;
+    inertia += w.value[k] * d * d;
+    EXPECT_NEAR(m.moment[k], w.value[k] * d, 1e-14) << xi;
+    sum += m.value[k];
+    first += m.value[k] * d;
+  }
+  EXPECT_NEAR(m.inertia, inertia, 1e-13) << xi;
+  EXPECT_EQ(Shape::inertia(xi, a), m.inertia) << xi;
+  EXPECT_NEAR(sum, 0.0, 1e-12) << xi;
+  if (m.inertia > 1e-9) {
+    EXPECT_NEAR(first, 1.0, 1e-12) << xi;
+  }
+}
+
+TEST(ShapeFunctions, ApicInertiaAndAffineWeights) {
+  for (double xi = 0.0; xi < 6.0; xi += 0.01237) {
+    check_affine_moments<LinearShape>(xi, 0.0);
+    // Linear hats: D = f(1 − f) and e_k = dS_k/dξ exactly (no division by D).
+    const auto w = LinearShape::weights(xi, 0.0);
+    const auto m = LinearShape::affine(w, xi);
+    const double f = xi - std::floor(xi);
+    EXPECT_DOUBLE_EQ(m.inertia, f * (1.0 - f));
+    EXPECT_EQ(m.value[0], w.derivative[0]);
+    EXPECT_EQ(m.value[1], w.derivative[1]);
+    for (double a : {0.05, 0.125, 0.25, 0.5}) {
+      check_affine_moments<GimpShape>(xi, a);
+      // uGIMP: between a/2 (centred on a node) and 1/4 (cell centre), never singular.
+      const double d = GimpShape::inertia(xi, a);
+      EXPECT_GE(d, 0.5 * a - 1e-14) << xi << " " << a;
+      EXPECT_LE(d, 0.25 + 1e-14) << xi << " " << a;
+    }
+    // l_p = h (a = ½) is the quadratic B-spline, whose D is Jiang et al.'s h²/4 everywhere.
+    EXPECT_NEAR(GimpShape::inertia(xi, 0.5), 0.25, 1e-14) << xi;
+  }
+  EXPECT_NEAR(GimpShape::inertia(3.0, 0.125), 0.0625, 1e-15);  // a/2 on a node
+  EXPECT_NEAR(GimpShape::inertia(3.5, 0.125), 0.25, 1e-15);    // ¼ at a cell centre
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 //
 //   build/tools/benchmarks/mpm/bench_mpm [--steps 500] [--repeat 3] [--threads 1,2]
 //                                  [--shape gimp|linear] [--scheme musl|usl]
+//                                  [--transfer flip-pic|apic] [--pic-fraction 0]
 //                                  [--sort-interval 10] [--skip 0]
 //
 // --skip S first runs S untimed steps (the column has started to collapse and particles
@@ -38,13 +39,16 @@ Material column_soil() {
   return m;
 }
 
-MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, int sort_interval) {
+MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer transfer,
+                      double pic_fraction, int sort_interval) {
   MpmSpec spec;
   spec.domain_min = Vec2(0, 0);
   spec.domain_max = Vec2(200, 45);
   spec.cell_size = 1.0;
   spec.shape_function = shape;
   spec.update_scheme = scheme;
+  spec.velocity_transfer = transfer;
+  spec.pic_fraction = pic_fraction;
   spec.boundaries = {{"left", BoundaryCondition::roller},
                      {"right", BoundaryCondition::roller},
                      {"base", BoundaryCondition::friction},
@@ -65,25 +69,34 @@ MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, int sort_interva
 int main(int argc, char** argv) {
   CLI::App app{"bench_mpm: particle-steps per second of the MPM step loop (column-short)"};
   int steps = 500, repeat = 3, sort_interval = 10, skip = 0;
-  std::string threads_list = "1,2", shape = "gimp", scheme = "musl";
+  double pic_fraction = 0.0;
+  std::string threads_list = "1,2", shape = "gimp", scheme = "musl", transfer = "flip-pic";
   app.add_option("--steps", steps, "timed steps per run");
   app.add_option("--repeat", repeat, "runs per thread count (the best is reported)");
   app.add_option("--threads", threads_list, "comma-separated thread counts");
   app.add_option("--shape", shape, "gimp or linear");
   app.add_option("--scheme", scheme, "musl or usl");
+  app.add_option("--transfer", transfer, "grid-to-particle velocity transfer: flip-pic or apic")
+      ->check(CLI::IsMember({"flip-pic", "apic"}));
+  app.add_option("--pic-fraction", pic_fraction, "PIC share of flip-pic (0: pure FLIP)");
   app.add_option("--sort-interval", sort_interval, "steps between two sorts by cell");
   app.add_option("--skip", skip, "untimed steps before timing");
   CLI11_PARSE(app, argc, argv);
   const ShapeFunction shape_function =
       shape == "linear" ? ShapeFunction::linear : ShapeFunction::gimp;
   const UpdateScheme update_scheme = scheme == "usl" ? UpdateScheme::usl : UpdateScheme::musl;
+  const VelocityTransfer velocity_transfer =
+      transfer == "apic" ? VelocityTransfer::apic : VelocityTransfer::flip_pic;
 
   std::vector<int> threads;
   std::stringstream list(threads_list);
   for (std::string item; std::getline(list, item, ',');) threads.push_back(std::stoi(item));
 
-  std::printf("bench_mpm: column-short, %s, %s, sort every %d steps, %d timed steps (after %d)\n",
-              shape.c_str(), scheme.c_str(), sort_interval, steps, skip);
+  const std::string transfer_name =
+      transfer == "apic" ? transfer : fmt::format("{} (PIC share {})", transfer, pic_fraction);
+  std::printf(
+      "bench_mpm: column-short, %s, %s, %s, sort every %d steps, %d timed steps (after %d)\n",
+      shape.c_str(), scheme.c_str(), transfer_name.c_str(), sort_interval, steps, skip);
   double rate_one = 0.0;
   for (int t : threads) {
     omp_set_num_threads(t);
@@ -91,7 +104,8 @@ int main(int argc, char** argv) {
     std::size_t particles = 0;
     MpmSolver::Memory memory;
     for (int r = 0; r < repeat; ++r) {
-      MpmSolver solver = make_column(shape_function, update_scheme, sort_interval);
+      MpmSolver solver = make_column(shape_function, update_scheme, velocity_transfer, pic_fraction,
+                                     sort_interval);
       const double dt = solver.courant_time_step(0.5);
       for (int s = 0; s < skip; ++s) solver.step(dt);
       const auto begin = std::chrono::steady_clock::now();
