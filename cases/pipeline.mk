@@ -14,7 +14,9 @@
 #   make sweep            t_T = 0, 1, 2, ... while the FE mesh is not entangled,
 #                         plus pure-mpm and pure-fem: out/sweep.csv
 #   make report           out/report/report.md with its figures, from every finished
-#                         run in out/ (re-measured when a run is newer than sweep.csv)
+#                         run in out/ (re-measured when a run is newer than sweep.csv;
+#                         with the main transfer's run, also out/tt<main>/after-0.5s/,
+#                         its state 0.5 s after t_T, for the σyy figure)
 #   make main             the README's main job: tt0, tt<main>, pure runs, report
 #   make sweep-plan       the runs `make sweep` makes (after the FE phase)
 #
@@ -176,9 +178,23 @@ $(SWEEP_CSV): $(MEASURED) $(HISTORIES) $(CASE) $(METRICS)
 endif
 
 # --------------------------------------------------------------------------- report
+# The report's σyy figure shows the main transfer's particles at t_T, 0.5 s later and at
+# the end. The MPM runs keep checkpoints only every mpm.checkpoint_every (2 s), so the
+# state at t_T + 0.5 s comes from a second, short run from the same particles that stops
+# there (--until) and leaves it as its mpm_final.h5: the same particles, threads and
+# output times (which the steps land on) as the main run, so the same first steps, for
+# about 0.5/18 of that run's cost (column-short). Made only when the main transfer's run
+# is measured; slide-metrics and plots.py do not take the folder for a run.
+AFTER_MAIN := $(OUT)/tt$(MAIN_TT)/after-0.5s/mpm_final.h5
+$(AFTER_MAIN): $(OUT)/tt$(MAIN_TT)/particles.h5 $(MPM_SOLVE)
+	$(MPM_SOLVE) $(CASE) -o $(dir $@) --particles $< \
+	  --until $$(awk 'BEGIN { print $(MAIN_TT) + 0.5 }') --no-vtk --quiet \
+	  $(if $(mpm_threads),--threads $(mpm_threads)) $(MPM_FLAGS)
+SNAPSHOT_RUNS := $(if $(filter $(call run_file,$(MAIN_TT)),$(MEASURED)),$(AFTER_MAIN))
+
 # plots.py writes the PNGs, then report/figures.txt listing them; report.py reads the
 # tables, the FE history and the PNGs.
-$(FIGURES): $(SWEEP_CSV) $(HISTORIES) $(CASE) $(TOOLS)/plots.py
+$(FIGURES): $(SWEEP_CSV) $(HISTORIES) $(CASE) $(TOOLS)/plots.py $(SNAPSHOT_RUNS)
 	$(PYTHON) $(TOOLS)/plots.py $(CASE) $(OUT)
 
 $(REPORT): $(SWEEP_CSV) $(FIGURES) $(wildcard $(OUT)/report/*.png) $(HISTORIES) $(CASE) \

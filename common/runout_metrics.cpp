@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/error.hpp"
+
 namespace slide {
 
 double percentile(std::vector<double> values, double p) {
@@ -42,6 +44,7 @@ SurfaceProfile surface_profile(std::span<const Vec2> points, double bin_width, d
   if (foundation_level > 0.0) {
     while (first < bins.size() && bins[first].empty()) ++first;
   }
+  profile.first_above_level = first;
   std::size_t end = first;
   while (end < bins.size() && !bins[end].empty()) ++end;
   profile.height.reserve(end);
@@ -84,6 +87,58 @@ double profile_rmse(const SurfaceProfile& run, const SurfaceProfile& reference,
     sum += e * e;
   }
   return std::sqrt(sum / static_cast<double>(bins));
+}
+
+bool measured_by_profile(const Vec2& x, const SurfaceProfile& profile, double foundation_level) {
+  if (x.x() < 0.0) return false;
+  const auto b = static_cast<std::size_t>(x.x() / profile.bin_width);
+  if (b >= profile.height.size()) return false;  // beyond the toe's bin: a stray
+  return b < profile.first_above_level || x.y() > foundation_level;
+}
+
+std::vector<double> stress_errors_at_rest(std::span<const Vec2> coordinates,
+                                          std::span<const Vec2> velocities,
+                                          std::span<const double> sigma_yy,
+                                          std::span<const double> densities,
+                                          const SurfaceProfile& profile, double initial_height,
+                                          double foundation_level) {
+  const std::size_t n = coordinates.size();
+  if (velocities.size() != n || sigma_yy.size() != n || densities.size() != n) {
+    throw Error("stress quality: {} coordinates but {} velocities, {} stresses, {} densities", n,
+                velocities.size(), sigma_yy.size(), densities.size());
+  }
+  std::vector<double> errors;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& x = coordinates[i];
+    if (!(velocities[i].norm() < rest_speed) ||
+        !measured_by_profile(x, profile, foundation_level)) {
+      continue;
+    }
+    // The weight of the column of deposit between the particle and the surface above it.
+    const double h_b = profile.height[static_cast<std::size_t>(x.x() / profile.bin_width)];
+    const double rho_g = densities[i] * gravity_acceleration;
+    const double lithostatic = -rho_g * (h_b - x.y());
+    errors.push_back(std::abs(sigma_yy[i] - lithostatic) / (rho_g * initial_height));
+  }
+  return errors;
+}
+
+StressQuality stress_quality_at_rest(std::span<const Vec2> coordinates,
+                                     std::span<const Vec2> velocities,
+                                     std::span<const double> sigma_yy,
+                                     std::span<const double> densities,
+                                     const SurfaceProfile& profile, double initial_height,
+                                     double foundation_level) {
+  const std::vector<double> errors = stress_errors_at_rest(
+      coordinates, velocities, sigma_yy, densities, profile, initial_height, foundation_level);
+  StressQuality q;
+  q.deposit_count = errors.size();
+  if (errors.empty()) return q;
+  q.p50 = percentile(errors, 50.0);
+  q.p90 = percentile(errors, 90.0);
+  q.p99 = percentile(errors, 99.0);
+  q.max = *std::max_element(errors.begin(), errors.end());
+  return q;
 }
 
 }  // namespace slide

@@ -4,8 +4,10 @@
     /usr/bin/python3 tools/plots.py cases/column-short/case.toml cases/column-short/out
 
 Uses Debian's python3-matplotlib, python3-numpy and python3-h5py only. Reads what the
-pipeline wrote: fem/fem_history.csv, tt*/mpm_history.csv, sweep.csv, profiles.csv and
-the particle checkpoints (datasets as documented in common/checkpoint-schema.md).
+pipeline wrote: fem/fem_history.csv, tt*/mpm_history.csv, sweep.csv, profiles.csv, the
+particle checkpoints and, for the σyy figure of the main transfer, its FE checkpoint's
+Gauss points and tt<main>/after-0.5s/ (datasets as documented in
+common/checkpoint-schema.md).
 Every figure is optional: one whose inputs are missing is skipped. The last file
 written is OUT/report/figures.txt, the names of the PNGs made (one a line): the Make
 pipeline's target for this step.
@@ -22,6 +24,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.transforms  # noqa: E402
+import matplotlib.tri  # noqa: E402
 import numpy as np  # noqa: E402
 
 G = 9.81
@@ -386,6 +389,123 @@ def plot_geostatic_transfer_error(case, out, figures):
     save(fig, figures / "geostatic_transfer_error.png")
 
 
+def read_gauss_points(path):
+    """Current coordinates, σyy (kPa), time and point spacing (m: the square root of the
+    median area a Gauss point stands for) of an FE checkpoint."""
+    with h5py.File(path, "r") as f:
+        x = f["gauss_points/coordinates"][:]
+        area = np.median(f["elements/volume"][:]) * len(f["elements/volume"]) / max(len(x), 1)
+        return x, f["gauss_points/stress"][:, 1] / 1e3, float(f.attrs["time"]), math.sqrt(area)
+
+
+def particle_spacing(path):
+    """The square root of the median particle area (m) of a particle checkpoint."""
+    with h5py.File(path, "r") as f:
+        return math.sqrt(np.median(f["particles/volume"][:]))
+
+
+def main_transfer_states(case, out):
+    """The σyy states of the main transfer (transfer.main_time), as (what, time, x, σyy in
+    kPa, point spacing in m): the FE Gauss points at t_T, the particles made from them, the
+    particles 0.5 s later and at the end. Missing files are left out."""
+    tt = case["transfer"].get("main_time", 0)
+    run = out / f"tt{tt:g}"
+    fem = out / "fem" / f"fem_t{tt:.3f}.h5"
+    states = []
+    if fem.exists():
+        x, syy, time, spacing = read_gauss_points(fem)
+        states.append(("FE Gauss points at the transfer", time, x, syy, spacing))
+    # 0.5 s after t_T: the short run the pipeline makes for this figure
+    # (tt<T>/after-0.5s/, cases/pipeline.mk), else the main run's checkpoint nearest to it.
+    after = run / "after-0.5s" / "mpm_final.h5"
+    if not after.exists():
+        checkpoints = [(abs(float(p.stem[5:]) - tt - 0.5), p) for p in run.glob("mpm_t*.h5")
+                       if float(p.stem[5:]) > tt + 1e-6]
+        after = min(checkpoints)[1] if checkpoints else None
+    for what, path in (("particles at the transfer", run / "particles.h5"),
+                       ("MPM", after), ("MPM, end of the run", run / "mpm_final.h5")):
+        if path is None or not path.exists():
+            continue
+        x, fields, time = read_snapshot(path)
+        if what == "MPM":
+            what = f"MPM, t_T + {time - tt:.2f} s"
+        states.append((what, time, x, fields["sigma_yy"], particle_spacing(path)))
+    return states
+
+
+def plot_stress_at_transfer(case, out, figures):
+    """σyy of the main transfer: the FE state at t_T beside the particles made from it,
+    0.5 s later and at the end, on one colour scale (METHOD.md §6, stress quality at
+    rest)."""
+    states = main_transfer_states(case, out)
+    if len(states) < 2:
+        return
+    tt = case["transfer"].get("main_time", 0)
+    height = case["metrics"]["initial_height"]
+    rho = max(m["density"] for m in case["materials"])
+    # One scale for every panel: from the weight of the initial column, −ρ g H0 at its
+    # base, to a little tension; values beyond it take the end colours (extend="both").
+    vmin, vmax = -nice_ceil(rho * G * height / 1e3), nice_ceil(0.05 * rho * G * height / 1e3)
+    x_max = nice_ceil(1.02 * max(s[2][:, 0].max() for s in states))
+    y_max = nice_ceil(1.05 * max(s[2][:, 1].max() for s in states))
+    ratio = y_max / x_max
+    # Wide (a runout): one panel a row; tall: side by side.
+    stacked = ratio < 0.5
+    width = 8.6 if stacked else 9.0 / len(states)  # inches of one panel
+    rows, cols = (len(states), 1) if stacked else (1, len(states))
+    fig, axes = plt.subplots(rows, cols, squeeze=False, sharex=True, sharey=True,
+                             layout="constrained",
+                             figsize=(10.5 if stacked else 11,
+                                      (width * ratio + 0.5) * rows + (0.7 if stacked else 1.2)))
+    axes = axes.ravel()
+    # The stress quality of the end state's deposit (sweep.csv), on its panel.
+    rows_by_run = {r["run"]: r for r in read_csv(out / "sweep.csv")} \
+        if (out / "sweep.csv").exists() else {}
+    quality = rows_by_run.get(f"tt{tt:g}", {})
+    quality = [f"{name} {float(quality[key]):#.3g}" for name, key in (
+        ("p50", "stress_quality_p50"), ("p90", "stress_quality_p90"),
+        ("p99", "stress_quality_p99"), ("max", "stress_quality_max"))
+               ] if quality.get("stress_quality_p50") else []
+    for ax, (what, time, x, syy, spacing) in zip(axes, states):
+        # The points' values, interpolated linearly over a Delaunay triangulation of them
+        # with the triangles longer than 2.5 spacings left out (across the gaps and
+        # concave parts of the outline): a solid body at any scale, where markers of a
+        # pixel or two leave pale lines between the rows once rasterised. Every point's
+        # own value shows at its position, so the particle-to-particle noise stays visible.
+        mesh = matplotlib.tri.Triangulation(x[:, 0], x[:, 1])
+        corners = x[mesh.triangles]
+        longest = np.max(np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2), axis=1)
+        mesh.set_mask(longest > 2.5 * spacing)
+        sc = ax.tripcolor(mesh, syy, shading="gouraud", cmap="viridis", vmin=vmin, vmax=vmax,
+                          rasterized=True)
+        ax.set_xlim(0, x_max)
+        ax.set_ylim(0, y_max)
+        ax.set_aspect("equal")
+        title = f"{what}, t = {time:.2f} s" if stacked else f"{what}\nt = {time:.2f} s"
+        ax.set_title(title, fontsize=9 if stacked else 8, loc="left")
+        ax.grid(True, lw=0.3, alpha=0.4)
+    last = axes[len(states) - 1]
+    if quality and states[-1][0].startswith("MPM, end"):
+        what = "e = |σyy − σyy,lith| / ρgH0 at rest"
+        if stacked:  # in the empty top right corner of a runout
+            last.text(0.99, 0.95, f"{what}: " + ", ".join(quality), transform=last.transAxes,
+                      ha="right", va="top", fontsize=8,
+                      bbox=dict(boxstyle="round", fc="white", ec="0.7", alpha=0.9))
+        else:  # under the narrow panel
+            last.set_xlabel(f"x (m)\n{what}:\n" + ", ".join(quality[:2]) + ",\n"
+                            + ", ".join(quality[2:]), fontsize=8)
+    for ax in axes[-cols:]:
+        if not ax.get_xlabel():
+            ax.set_xlabel("x (m)")
+    for ax in axes[::cols]:
+        ax.set_ylabel("y (m)")
+    fig.colorbar(sc, ax=list(axes), extend="both", shrink=0.9, pad=0.01,
+                 label="σyy (kPa), compression negative")
+    fig.suptitle(f"{case['case']['name']}: σyy of the main transfer (t_T = {tt:g} s), "
+                 "FE Gauss points and material points")
+    save(fig, figures / "stress_at_transfer.png")
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: plots.py CASE.toml OUT_DIR")
@@ -395,7 +515,7 @@ def main():
     figures = out / "report"
     figures.mkdir(parents=True, exist_ok=True)
     for plot in (plot_profiles, plot_histories, plot_fem_quality, plot_rmse_vs_quality,
-                 plot_snapshots, plot_geostatic_transfer_error):
+                 plot_snapshots, plot_geostatic_transfer_error, plot_stress_at_transfer):
         plot(case, out, figures)
     listing = figures / "figures.txt"
     tmp = listing.with_suffix(".txt.tmp")

@@ -4,7 +4,8 @@
     /usr/bin/python3 tools/report.py cases/column-short/case.toml cases/column-short/out
 
 Run tools/plots.py first (make report does both). Inputs: fem/fem_history.csv,
-sweep.md and sweep.csv (slide-metrics sweep), the figures in OUT/report/.
+sweep.md and sweep.csv (slide-metrics sweep; its stress_quality_* columns give the
+table of the stress quality at rest), the figures in OUT/report/.
 """
 import csv
 import datetime
@@ -191,6 +192,39 @@ def reading(case, sweep, last_inside, tau_c):
     return " ".join(text)
 
 
+def stress_quality_lines(case, sweep, report_dir):
+    """The stress quality at rest of every run (sweep.csv) and the σyy figure of the main
+    transfer (plots.py), METHOD.md §6."""
+    columns = ("stress_quality_p50", "stress_quality_p90", "stress_quality_p99",
+               "stress_quality_max")
+    rows = [r for r in sweep if all(c in r for c in columns)]
+    figure = (report_dir / "stress_at_transfer.png").exists()
+    if not rows and not figure:
+        return []
+    lines = ["## Stress at the transfer and at rest", ""]
+    if rows:
+        lines += [
+            "Stress quality at rest (METHOD.md §6): over the particles of a run's final state "
+            "that are at rest (speed < 1 cm/s) and that the surface profile measures, "
+            "e = |σyy − σyy,lith| / (ρ g H0), σyy,lith = −ρ g (h_b − y) under the profile "
+            "height h_b of the particle's bin; 0 for a deposit that carries just its own "
+            "weight. Empty: no particle at rest."
+            + (" pure-fem is the FE end state on particles (element by element), with its FE "
+               "velocities." if any(r["run"] == "pure-fem" for r in rows) else ""), "",
+            "| run | t_T (s) | e p50 | e p90 | e p99 | e max |", "|---|---|---|---|---|---|"]
+        for r in rows:
+            cells = ["" if r[c] == "" else f"{number(r[c]):#.3g}" for c in columns]
+            lines.append(f"| {r['run']} | {r['tt']} | " + " | ".join(cells) + " |")
+        lines.append("")
+    if figure:
+        tt = case["transfer"].get("main_time", 0)
+        lines += [f"σyy of the main transfer (t_T = {tt:g} s): the FE Gauss points at t_T, the "
+                  "particles made from them, the particles 0.5 s later and at the end of the "
+                  "run, on one colour scale (kPa, compression negative).", "",
+                  "![σyy at the transfer, 0.5 s later and at rest](stress_at_transfer.png)", ""]
+    return lines
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: report.py CASE.toml OUT_DIR")
@@ -233,6 +267,7 @@ def main():
                             ("geostatic_transfer_error.png", "Transfer error of σyy")):
         if (report_dir / figure).exists():
             md += [f"![{caption}]({figure})", ""]
+    md += stress_quality_lines(case, sweep, report_dir)
     if sweep:
         text = reading(case, sweep, last_inside, tau_c)
         if case["fem"].get("end_time", 0) == 0:

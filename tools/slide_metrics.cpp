@@ -3,7 +3,8 @@
 //   slide-metrics case-info CASE.toml             make variables of a case
 //   slide-metrics transfer-times CASE.toml FEM_HISTORY.csv
 //                                                 the sweep's valid transfer times
-//   slide-metrics measure CASE.toml PARTICLES.h5  toe, R, R_N, H_c of one state
+//   slide-metrics measure CASE.toml PARTICLES.h5  toe, R, R_N, H_c of one state, and
+//                                                 its stress quality at rest
 //   slide-metrics sweep CASE.toml OUT/            OUT/sweep.csv and OUT/sweep.md
 //
 // `sweep` looks in OUT/ for tt<T>/mpm_final.h5, pure-mpm/mpm_final.h5 and
@@ -11,7 +12,10 @@
 // from OUT/fem/fem_history.csv. Errors and RMSE are against the tt0 run. The KE/PE0
 // peak of a run comes from its histories: for tt<T> the FE phase up to T
 // (fem/fem_history.csv) and tt<T>/mpm_history.csv, for pure-mpm its mpm_history.csv,
-// for pure-fem its fem_history.csv (a missing history leaves the cells empty). It also
+// for pure-fem its fem_history.csv (a missing history leaves the cells empty). The
+// stress quality at rest (METHOD.md §6) is that of the same final particle file; for
+// pure-fem it is the FE end state carried onto particles element by element (its
+// velocities are the FE ones), measured like the MPM deposits. It also
 // writes OUT/sweep.md (the table for the report) and OUT/profiles.csv (every run's
 // surface profile, for the plots).
 #include <algorithm>
@@ -61,6 +65,10 @@ void measure(const fs::path& case_file, const fs::path& particles) {
       "bins={} strays={}\n",
       m.measures.x_toe, m.measures.runout, m.measures.runout_normalised, m.measures.crest_height,
       m.profile.height.size(), m.profile.stray_count);
+  // e_p = |σyy − σyy,lith| / (ρ g H0) over the particles at rest (nan: none at rest).
+  const StressQuality& q = m.stress_quality;
+  fmt::print("stress_quality: deposit={} p50={:.4g} p90={:.4g} p99={:.4g} max={:.4g}\n",
+             q.deposit_count, q.p50, q.p90, q.p99, q.max);
 }
 
 void sweep(const fs::path& case_file, const fs::path& out) {

@@ -112,7 +112,8 @@ const RunMetrics* find_run(const std::vector<RunMetrics>& runs, const std::strin
 struct SweepRow {
   std::optional<double> tt, tt_over_tauc, runout, runout_normalised, runout_normalised_error,
       crest_height, crest_height_error, rmse, jacobian_ratio_min, jacobian_ratio_avg, eps_q_avg,
-      ke_over_pe0_peak, ke_over_pe0_peak_time, ke_over_pe0_peak_time_over_tauc;
+      ke_over_pe0_peak, ke_over_pe0_peak_time, ke_over_pe0_peak_time_over_tauc, stress_quality_p50,
+      stress_quality_p90, stress_quality_p99, stress_quality_max;
 };
 
 SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* reference) {
@@ -139,6 +140,11 @@ SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* refer
     row.ke_over_pe0_peak_time = run.ke_peak->time;
     row.ke_over_pe0_peak_time_over_tauc = run.ke_peak->time / critical_time(c);
   }
+  // NaN without a deposit: `cell` leaves those empty.
+  row.stress_quality_p50 = run.stress_quality.p50;
+  row.stress_quality_p90 = run.stress_quality.p90;
+  row.stress_quality_p99 = run.stress_quality.p99;
+  row.stress_quality_max = run.stress_quality.max;
   return row;
 }
 
@@ -229,12 +235,23 @@ double critical_time(const Case& c) {
 RunMetrics measure_run(const Case& c, const std::string& run, std::optional<double> tt,
                        const std::filesystem::path& particle_file) {
   const ParticleCheckpoint checkpoint = read_particle_checkpoint(particle_file);
+  const Particles& p = checkpoint.particles;
   RunMetrics metrics;
   metrics.run = run;
   metrics.tt = tt;
-  metrics.profile = surface_profile(checkpoint.particles.coordinates, c.metrics.bin_width,
+  metrics.profile = surface_profile(p.coordinates, c.metrics.bin_width,
                                     c.metrics.profile_percentile, c.metrics.foundation_level);
   metrics.measures = runout_measures(metrics.profile, c.metrics.initial_length);
+  // σyy and ρ of every particle; the file's own material table (validated on read, so
+  // every material_id indexes it).
+  std::vector<double> sigma_yy(p.count()), density(p.count());
+  for (std::size_t i = 0; i < p.count(); ++i) {
+    sigma_yy[i] = p.stress[i][1];
+    density[i] = checkpoint.materials[static_cast<std::size_t>(p.material_id[i])].density;
+  }
+  metrics.stress_quality =
+      stress_quality_at_rest(p.coordinates, p.velocity, sigma_yy, density, metrics.profile,
+                             c.metrics.initial_height, c.metrics.foundation_level);
   return metrics;
 }
 
@@ -244,15 +261,18 @@ std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,
   std::string csv =
       "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
       "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-      "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n";
+      "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
+      "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n";
   for (const auto& run : runs) {
     const SweepRow r = sweep_row(c, run, ref);
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", run.run, cell(r.tt),
-                       cell(r.tt_over_tauc), cell(r.runout), cell(r.runout_normalised),
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", run.run,
+                       cell(r.tt), cell(r.tt_over_tauc), cell(r.runout), cell(r.runout_normalised),
                        cell(r.runout_normalised_error), cell(r.crest_height),
                        cell(r.crest_height_error), cell(r.rmse), cell(r.jacobian_ratio_min),
                        cell(r.jacobian_ratio_avg), cell(r.eps_q_avg), cell(r.ke_over_pe0_peak),
-                       cell(r.ke_over_pe0_peak_time), cell(r.ke_over_pe0_peak_time_over_tauc));
+                       cell(r.ke_over_pe0_peak_time), cell(r.ke_over_pe0_peak_time_over_tauc),
+                       cell(r.stress_quality_p50), cell(r.stress_quality_p90),
+                       cell(r.stress_quality_p99), cell(r.stress_quality_max));
   }
   return csv;
 }
@@ -276,20 +296,23 @@ std::string sweep_markdown(const Case& c, const std::vector<RunMetrics>& runs,
   std::string md =
       "| run | t_T (s) | t_T/τc | R (m) | R_N | R_N error | H_c (m) | H_c error | RMSE | "
       "(\\|J_t\\|/\\|J_0\\|)_min | (\\|J_t\\|/\\|J_0\\|)_avg | εq,avg | KE/PE0 peak | "
-      "peak t (s) | peak t/τc |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "peak t (s) | peak t/τc | e p50 | e p90 | e p99 | e max |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto percent = [](std::optional<double> v) { return v ? cell(*v * 100.0, "{:+.1f} %") : ""; };
   for (const auto& run : runs) {
     const SweepRow r = sweep_row(c, run, ref);
     md += fmt::format(
-        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", run.run,
-        cell(r.tt, "{:.3g}"), cell(r.tt_over_tauc, "{:.2f}"), cell(r.runout, "{:.2f}"),
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} "
+        "| {} |\n",
+        run.run, cell(r.tt, "{:.3g}"), cell(r.tt_over_tauc, "{:.2f}"), cell(r.runout, "{:.2f}"),
         cell(r.runout_normalised, "{:.3f}"), percent(r.runout_normalised_error),
         cell(r.crest_height, "{:.2f}"), percent(r.crest_height_error), cell(r.rmse, "{:.3f}"),
         cell(r.jacobian_ratio_min, "{:.3f}"), cell(r.jacobian_ratio_avg, "{:.3f}"),
         r.eps_q_avg ? cell(*r.eps_q_avg * 100.0, "{:.1f} %") : "",
         cell(r.ke_over_pe0_peak, "{:.3g}"), cell(r.ke_over_pe0_peak_time, "{:.2f}"),
-        cell(r.ke_over_pe0_peak_time_over_tauc, "{:.2f}"));
+        cell(r.ke_over_pe0_peak_time_over_tauc, "{:.2f}"), cell(r.stress_quality_p50, "{:#.3g}"),
+        cell(r.stress_quality_p90, "{:#.3g}"), cell(r.stress_quality_p99, "{:#.3g}"),
+        cell(r.stress_quality_max, "{:#.3g}"));
   }
   return md;
 }

@@ -1,7 +1,9 @@
 // The measurements of a transfer-time sweep (METHOD.md §6, CONTRACT.md sweep.csv):
 // one row per run (tt0, tt1, ..., pure-mpm, pure-fem) with runout, crest height and
 // profile RMSE against the tt0 run, the FE mesh quality at the transfer time and,
-// after the CONTRACT columns, the run's KE/PE0 peak, its time and that time over τc.
+// after the CONTRACT columns, the run's KE/PE0 peak, its time and that time over τc,
+// then the stress quality at rest of its final state (50th, 90th, 99th percentiles and
+// maximum of e_p, common/runout_metrics.hpp).
 #pragma once
 
 #include <cmath>
@@ -73,15 +75,21 @@ struct RunMetrics {
   RunoutMeasures measures;
   std::optional<FemHistoryRow> fem_at_transfer;
   std::optional<EnergyPeak> ke_peak;  ///< over the whole run (FE phase included)
+  StressQuality stress_quality;       ///< of the final particles (NaN: none at rest)
 };
 
-/// Measures the final particles of one run (a "particles" or "mpm" checkpoint).
+/// Measures the final particles of one run (a "particles" or "mpm" checkpoint): the
+/// profile, the runout measures and the stress quality at rest (H0 =
+/// metrics.initial_height, the foundation level of the profile, ρ of each particle's
+/// material from the file's /materials).
 RunMetrics measure_run(const Case& c, const std::string& run, std::optional<double> tt,
                        const std::filesystem::path& particle_file);
 
 /// Writes sweep.csv (CONTRACT.md columns, then ke_over_pe0_peak, ke_over_pe0_peak_time,
-/// ke_over_pe0_peak_time_over_tauc) with errors and RMSE against the run called
-/// `reference` (normally "tt0"); empty cells where a value is not defined.
+/// ke_over_pe0_peak_time_over_tauc, stress_quality_p50, stress_quality_p90,
+/// stress_quality_p99, stress_quality_max) with errors and RMSE against the run called
+/// `reference` (normally "tt0"); empty cells where a value is not defined (the stress
+/// quality of a run without particles at rest).
 std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,
                       const std::string& reference);
 /// The same table in Markdown, for the report.

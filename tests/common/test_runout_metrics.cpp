@@ -1,8 +1,11 @@
-// Runout measures of METHOD.md §6 on hand-computed particle sets.
+// Runout measures and the stress quality at rest of METHOD.md §6 on hand-computed
+// particle sets.
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "common/error.hpp"
 #include "common/runout_metrics.hpp"
 
 namespace slide {
@@ -83,6 +86,136 @@ TEST(RunoutMetrics, ACrestSunkBelowTheFoundationLevelKeepsItsHeightAndTheToe) {
   // Without a foundation level (METHOD.md §6) the run starts at the wall: every bin
   // has particles out to bin 5, and the toe is the stray.
   EXPECT_DOUBLE_EQ(surface_profile(points, 2.0).x_toe, 11.5);
+}
+
+// ---- Stress quality at rest
+
+constexpr double g = gravity_acceleration;
+
+/// A stepped block of particles at rest on a 0.25 m lattice: 2 m bins of 8 columns each,
+/// bin b filled up to its top row at y = 9.875 − 1.5 b (40, 34, 28, ... rows), every
+/// particle carrying the lithostatic σyy = −ρ g (h_b − y) under its bin's top row, ρ =
+/// 1700 kg/m³ in bins 0–2 and 2100 kg/m³ in bins 3–4. The 99th-percentile profile height
+/// is then exactly the top row's y: a bin of n particles has 8 in its top row, and the
+/// rank 0.99 (n − 1) lies among the top 8 whenever 8 > 0.01 n + 0.99 (n ≤ 701; here
+/// n ≤ 320). So the expected e follows in closed form, not from the profile estimate.
+struct Block {
+  std::vector<Vec2> x, v;
+  std::vector<double> sigma_yy, density, top;  // top: h_b of each bin
+};
+
+Block stepped_block() {
+  Block b;
+  for (int bin = 0; bin < 5; ++bin) {
+    const double h = 9.875 - 1.5 * bin;
+    b.top.push_back(h);
+    const double rho = bin < 3 ? 1700.0 : 2100.0;
+    for (int column = 0; column < 8; ++column) {
+      for (double y = 0.125; y <= h + 1e-9; y += 0.25) {
+        b.x.emplace_back(2.0 * bin + 0.125 + 0.25 * column, y);
+        b.v.emplace_back(0.0, 0.0);
+        b.sigma_yy.push_back(-rho * g * (h - y));
+        b.density.push_back(rho);
+      }
+    }
+  }
+  return b;
+}
+
+TEST(StressQuality, ALithostaticDepositHasNoError) {
+  const Block b = stepped_block();
+  const SurfaceProfile profile = surface_profile(b.x, 2.0, 99.0);
+  ASSERT_EQ(profile.height.size(), 5u);
+  for (std::size_t bin = 0; bin < 5; ++bin) EXPECT_DOUBLE_EQ(profile.height[bin], b.top[bin]);
+  const StressQuality q = stress_quality_at_rest(b.x, b.v, b.sigma_yy, b.density, profile, 10.0);
+  EXPECT_EQ(q.deposit_count, b.x.size());
+  // Zero to round-off: the lithostatic stress is recomputed from the same h_b and y. The
+  // neighbouring bin's h_b (1.5 m off) would give e = 0.15, the other material's density
+  // up to 0.12 at the base.
+  EXPECT_NEAR(q.p50, 0.0, 1e-14);
+  EXPECT_NEAR(q.max, 0.0, 1e-14);
+}
+
+TEST(StressQuality, AUniformOffsetIsItsOwnErrorAtEveryPercentile) {
+  Block b = stepped_block();
+  // Δσ_p = −0.05 ρ_p g H0 (5 % of the column's weight, more compression): e = |Δσ|/(ρ g
+  // H0) = 0.05 for every particle, whatever its material.
+  const double h0 = 10.0;
+  for (std::size_t i = 0; i < b.x.size(); ++i) b.sigma_yy[i] += -0.05 * b.density[i] * g * h0;
+  const SurfaceProfile profile = surface_profile(b.x, 2.0, 99.0);
+  const StressQuality q = stress_quality_at_rest(b.x, b.v, b.sigma_yy, b.density, profile, h0);
+  EXPECT_EQ(q.deposit_count, b.x.size());
+  for (double e : {q.p50, q.p90, q.p99, q.max}) EXPECT_NEAR(e, 0.05, 1e-12);
+  // One material, a fixed offset in Pa: Δσ = 20 kPa, e = 20e3/(2100 g H0) in bins 3–4.
+  Block one = stepped_block();
+  for (std::size_t i = 0; i < one.x.size(); ++i) one.sigma_yy[i] += 20e3;
+  const std::vector<double> e =
+      stress_errors_at_rest(one.x, one.v, one.sigma_yy, one.density, profile, h0);
+  ASSERT_EQ(e.size(), one.x.size());
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    EXPECT_NEAR(e[i], 20e3 / (one.density[i] * g * h0), 1e-12);
+  }
+}
+
+TEST(StressQuality, MovingParticlesAreNotPartOfTheDeposit) {
+  Block b = stepped_block();
+  // Every third particle moves at exactly 1 cm/s (or faster) with a wrong stress; the
+  // others creep at just under 1 cm/s and are at rest.
+  std::size_t moving = 0;
+  for (std::size_t i = 0; i < b.x.size(); ++i) {
+    if (i % 3 == 0) {
+      b.v[i] = i % 2 == 0 ? Vec2(rest_speed, 0.0) : Vec2(0.0, -0.5);
+      b.sigma_yy[i] = 1e6;
+      ++moving;
+    } else {
+      b.v[i] = Vec2(0.0, 0.0099);
+    }
+  }
+  const SurfaceProfile profile = surface_profile(b.x, 2.0, 99.0);
+  const StressQuality q = stress_quality_at_rest(b.x, b.v, b.sigma_yy, b.density, profile, 10.0);
+  EXPECT_EQ(q.deposit_count, b.x.size() - moving);
+  EXPECT_NEAR(q.max, 0.0, 1e-14);
+  // All moving: no deposit, nothing to report.
+  for (auto& v : b.v) v = Vec2(0.3, 0.0);
+  const StressQuality none = stress_quality_at_rest(b.x, b.v, b.sigma_yy, b.density, profile, 10.0);
+  EXPECT_EQ(none.deposit_count, 0u);
+  EXPECT_TRUE(std::isnan(none.p50) && std::isnan(none.p90) && std::isnan(none.p99) &&
+              std::isnan(none.max));
+}
+
+TEST(StressQuality, OverAFoundationTheParticlesOfTheProfileAreMeasured) {
+  // The sunk-crest set above, stress-free (σyy = 0), ρ 1700, H0 = 1 m, median profile
+  // over a foundation at y = 1 m: heights 0.5, 0.5, 1.8, 1.2, first bin above the level
+  // 2. e_p = |0 + ρ g (h_b − y)| / (ρ g H0) = |h_b − y|.
+  //  - bins 0 and 1 (sunk crest): all their particles: 0.8 and 0.5 ×4 → 0.3, 0 ×4;
+  //    0.9 and 0.5 ×4 → 0.4, 0 ×4;
+  //  - bin 2: 2.0 and 1.6 → 0.2, 0.2 (its foundation particles at y = 0.5, e = 1.3,
+  //    are the layer, not the deposit); bin 3: 1.2 → 0;
+  //  - the stray (11.5, 1.1) and the foundation beyond the toe's bin have no h_b.
+  // 13 errors, sorted 0 ×9, 0.2, 0.2, 0.3, 0.4: median (rank 6) 0, p90 (rank 10.8)
+  // 0.2 + 0.8·0.1 = 0.28, p99 (rank 11.88) 0.3 + 0.88·0.1 = 0.388, max 0.4.
+  std::vector<Vec2> points{{0.5, 0.8}, {2.5, 0.9}, {4.5, 2.0}, {5.0, 1.6}, {7.5, 1.2}, {11.5, 1.1}};
+  for (double x = 0.25; x < 9.0; x += 0.5) points.emplace_back(x, 0.5);
+  const SurfaceProfile p = surface_profile(points, 2.0, 50.0, 1.0);
+  EXPECT_EQ(p.first_above_level, 2u);
+  const std::vector<Vec2> at_rest(points.size(), Vec2(0.0, 0.0));
+  const std::vector<double> zero(points.size(), 0.0), rho(points.size(), 1700.0);
+  const StressQuality q = stress_quality_at_rest(points, at_rest, zero, rho, p, 1.0, 1.0);
+  EXPECT_EQ(q.deposit_count, 13u);
+  EXPECT_NEAR(q.p50, 0.0, 1e-12);
+  EXPECT_NEAR(q.p90, 0.28, 1e-12);
+  EXPECT_NEAR(q.p99, 0.388, 1e-12);
+  EXPECT_NEAR(q.max, 0.4, 1e-12);
+  EXPECT_FALSE(measured_by_profile({11.5, 1.1}, p, 1.0));  // stray
+  EXPECT_FALSE(measured_by_profile({4.25, 0.5}, p, 1.0));  // foundation under debris
+  EXPECT_TRUE(measured_by_profile({0.25, 0.5}, p, 1.0));   // sunk crest
+  EXPECT_FALSE(measured_by_profile({-0.1, 0.5}, p, 1.0));  // behind the wall
+}
+
+TEST(StressQuality, FieldsOfDifferentLengthsAreAnError) {
+  const std::vector<Vec2> x{{0.5, 1.0}, {1.0, 2.0}}, v{{0.0, 0.0}};
+  const std::vector<double> s{0.0, 0.0}, rho{1700.0, 1700.0};
+  EXPECT_THROW(stress_quality_at_rest(x, v, s, rho, surface_profile(x, 2.0), 1.0), Error);
 }
 
 }  // namespace

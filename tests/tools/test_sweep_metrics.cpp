@@ -258,23 +258,27 @@ TEST(SweepTable, ErrorsAndRmseAgainstTheReferenceRun) {
   EXPECT_EQ(sweep_csv(c, runs, "tt0"),
             "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
             "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n"
-            "tt0,0,0,2.5,0.5,0,10,0,0,1,,,,,\n"
-            "tt1,1,0.495227,2.75,0.55,0.1,9,-0.1,0.127359,0.86,0.99,0.126,,,\n"
-            "pure-mpm,,,0.5,0.1,-0.8,10,0,0.470588,,,,,,\n");
+            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
+            "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n"
+            "tt0,0,0,2.5,0.5,0,10,0,0,1,,,,,,,,,\n"
+            "tt1,1,0.495227,2.75,0.55,0.1,9,-0.1,0.127359,0.86,0.99,0.126,,,,,,,\n"
+            "pure-mpm,,,0.5,0.1,-0.8,10,0,0.470588,,,,,,,,,,\n");
 
-  // Without the reference run the errors and RMSE are not defined: empty cells.
+  // Without the reference run the errors and RMSE are not defined: empty cells. (No
+  // energy history and no particles measured here: the KE/PE0 and stress-quality cells
+  // are empty too.)
   const std::string without = sweep_csv(c, runs, "tt9");
-  EXPECT_NE(without.find("tt1,1,0.495227,2.75,0.55,,9,,,0.86,0.99,0.126,,,\n"), std::string::npos)
+  EXPECT_NE(without.find("tt1,1,0.495227,2.75,0.55,,9,,,0.86,0.99,0.126,,,,,,,\n"),
+            std::string::npos)
       << without;
 
   const std::string md = sweep_markdown(c, runs, "tt0");
   EXPECT_NE(md.find("| tt1 |"), std::string::npos) << md;
   EXPECT_NE(md.find("+10.0 %"), std::string::npos) << md;  // R_N error of tt1
   EXPECT_NE(md.find("-80.0 %"), std::string::npos) << md;  // R_N error of pure-mpm
-  // The header's |J_t|/|J_0| is escaped: 15 header cells like the 15 delimiter cells.
+  // The header's |J_t|/|J_0| is escaped: 19 header cells like the 19 delimiter cells.
   EXPECT_NE(md.find("(\\|J_t\\|/\\|J_0\\|)_min"), std::string::npos) << md;
-  EXPECT_EQ(markdown_cells(md.substr(0, md.find('\n'))).size(), 15U);
+  EXPECT_EQ(markdown_cells(md.substr(0, md.find('\n'))).size(), 19U);
   expect_well_formed_markdown_table(md);
 }
 
@@ -349,10 +353,18 @@ TEST(EnergyHistory, PeaksOfFemAndMpmHistoriesAndTheirErrors) {
   }
 }
 
+/// The fields of a final state besides the positions: σyy and velocity of every particle
+/// (empty: 0 and at rest) and the density of the file's material 0.
+struct ParticleFields {
+  std::vector<double> sigma_yy;
+  std::vector<Vec2> velocity;
+  double density = 1700.0;
+};
+
 /// A final particle state written as a checkpoint, as mpm-solve ("mpm") or the pure-FE
 /// run ("particles") would leave it.
 fs::path write_particles(const Case& c, const std::string& name, CheckpointKind kind,
-                         const std::vector<Vec2>& points) {
+                         const std::vector<Vec2>& points, const ParticleFields& fields = {}) {
   ParticleCheckpoint checkpoint;
   checkpoint.header.kind = kind;
   checkpoint.header.producer = "tests_tools";
@@ -360,11 +372,16 @@ fs::path write_particles(const Case& c, const std::string& name, CheckpointKind 
   checkpoint.header.case_name = c.name;
   checkpoint.header.pe0 = 3.4e9;
   checkpoint.materials = c.materials;
+  checkpoint.materials[0].density = fields.density;
   if (kind == CheckpointKind::particles) checkpoint.transfer = {8.0, "4x4", "rbf", "none", 0, 0};
   Particles& p = checkpoint.particles;
   p.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     p.coordinates[i] = points[i];
+    // σxx, σzz and σxy far from anything lithostatic: only σyy may be measured.
+    const double syy = fields.sigma_yy.empty() ? 0.0 : fields.sigma_yy[i];
+    p.stress[i] = Vec4(-1e6, syy, -2e6, 3e5);
+    if (!fields.velocity.empty()) p.velocity[i] = fields.velocity[i];
     p.volume[i] = 0.0625;
     p.mass[i] = 1700.0 * 0.0625;
     p.size[i] = Vec2(0.25, 0.25);
@@ -388,24 +405,43 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
   // tt0 (reference): bin 0 holds y = 9 and 10 → 99th percentile 9 + 0.99·(10 − 9) = 9.99;
   //   bins 1–3: 8, 6, 4 (toe 7.5 m). (9, 0.25) lies under the foundation level, so bin 4
   //   stays empty and (11, 1) is a stray. R = 7.5 − 5 = 2.5, R_N = 0.5, H_c = 9.99.
-  const fs::path tt0 = write_particles(
-      c, "tt0.h5", CheckpointKind::mpm,
-      {{0.5, 9.0}, {1.5, 10.0}, {3.0, 8.0}, {5.0, 6.0}, {7.5, 4.0}, {9.0, 0.25}, {11.0, 1.0}});
+  //   Stress quality at rest (H0 = 40 m): every particle has σyy = −0.2 ρ g H0, so
+  //   e_p = |−0.2 + (h_b − y)/H0| over the five measured particles (not (9, 0.25) nor the
+  //   stray): (h_b − y)/H0 = 0.99/40, −0.01/40, 0, 0, 0 → e = 0.17525, 0.20025, 0.2 ×3;
+  //   median 0.2, p90 (rank 3.6) 0.2 + 0.6·0.00025 = 0.20015, p99 (rank 3.96) 0.20024,
+  //   max 0.20025.
+  const std::vector<Vec2> tt0_points{{0.5, 9.0}, {1.5, 10.0}, {3.0, 8.0}, {5.0, 6.0},
+                                     {7.5, 4.0}, {9.0, 0.25}, {11.0, 1.0}};
+  const double column_weight = 1700.0 * gravity_acceleration * 40.0;  // ρ g H0, Pa
+  const fs::path tt0 =
+      write_particles(c, "tt0.h5", CheckpointKind::mpm, tt0_points,
+                      {std::vector<double>(tt0_points.size(), -0.2 * column_weight), {}});
   // tt1: heights 9, 8, 6, 5, 2 (toe 8.5): R = 3.5, R_N = 0.7 (error (0.7 − 0.5)/0.5 = 0.4),
   //   H_c = 9 (error (9 − 9.99)/9.99 = −0.0990991). RMSE over the reference's bins 0–3
   //   (toe 7.5 in bin 3), y_ref + p = 10.24, 8.25, 6.25, 4.25:
   //   sqrt((((9 − 9.99)/10.24)² + ((5 − 4)/4.25)²)/4) = sqrt((0.0093470 + 0.0553633)/4)
   //   = 0.127191.
-  const fs::path tt1 =
-      write_particles(c, "tt1.h5", CheckpointKind::mpm,
-                      {{1.0, 9.0}, {3.0, 8.0}, {5.0, 6.0}, {6.5, 5.0}, {8.5, 2.0}});
+  //   Stress quality: the file's material has ρ = 2000 kg/m³ (used, not the case's 1700);
+  //   each bin holds one particle, its own surface (h_b = y), and σyy = −0.1 ρ g H0, so
+  //   e = 0.1 at every percentile; the toe particle moves (2 m/s, σyy tensile 0.5 MPa)
+  //   and is left out.
+  const double tt1_weight = 2000.0 * gravity_acceleration * 40.0;
+  const fs::path tt1 = write_particles(
+      c, "tt1.h5", CheckpointKind::mpm,
+      {{1.0, 9.0}, {3.0, 8.0}, {5.0, 6.0}, {6.5, 5.0}, {8.5, 2.0}},
+      {{-0.1 * tt1_weight, -0.1 * tt1_weight, -0.1 * tt1_weight, -0.1 * tt1_weight, 5e5},
+       {{0, 0}, {0, 0}, {0.001, -0.002}, {0, 0}, {2.0, 0.0}},
+       2000.0});
   // pure-fem: bin 0 holds 11 and 12 → 11.99, bin 1: 7 (toe 2.5), bin 2 empty so (6, 3) is
   //   a stray. R = −2.5, R_N = −0.5 (error −2), H_c = 11.99 (error 2/9.99 = 0.2002).
   //   RMSE: bins 2 and 3 count as height 0: errors 2/10.24 = 0.1953125, −1/8.25 =
   //   −0.121212, −6/6.25 = −0.96, −4/4.25 = −0.941176; squares sum to 1.8602525;
   //   sqrt(1.8602525/4) = 0.681955.
-  const fs::path pure_fem = write_particles(c, "pure-fem.h5", CheckpointKind::particles,
-                                            {{1.0, 12.0}, {1.2, 11.0}, {2.5, 7.0}, {6.0, 3.0}});
+  //   Every particle still moves (≥ 1 cm/s): no deposit, empty stress-quality cells.
+  const fs::path pure_fem =
+      write_particles(c, "pure-fem.h5", CheckpointKind::particles,
+                      {{1.0, 12.0}, {1.2, 11.0}, {2.5, 7.0}, {6.0, 3.0}},
+                      {{}, {{0.01, 0.0}, {0.0, -0.01}, {0.5, 0.1}, {0.02, 0.0}}, 1700.0});
 
   // The FE history: the mesh inverts between 2 and 3 s, so the sweep is 0, 1, 2 s.
   const fs::path history_file =
@@ -444,6 +480,15 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
   EXPECT_EQ(runs[2].profile.stray_count, 1U);
   EXPECT_DOUBLE_EQ(runs[2].measures.runout_normalised, -0.5);
   EXPECT_NEAR(runs[2].measures.crest_height, 11.99, 1e-12);
+  EXPECT_EQ(runs[0].stress_quality.deposit_count, 5U);
+  EXPECT_NEAR(runs[0].stress_quality.p50, 0.2, 1e-12);
+  EXPECT_NEAR(runs[0].stress_quality.p90, 0.20015, 1e-12);
+  EXPECT_NEAR(runs[0].stress_quality.p99, 0.20024, 1e-12);
+  EXPECT_NEAR(runs[0].stress_quality.max, 0.20025, 1e-12);
+  EXPECT_EQ(runs[1].stress_quality.deposit_count, 4U);
+  EXPECT_NEAR(runs[1].stress_quality.max, 0.1, 1e-12);
+  EXPECT_EQ(runs[2].stress_quality.deposit_count, 0U);
+  EXPECT_TRUE(std::isnan(runs[2].stress_quality.p50));
   {
     // The bins and percentile come from the case: with 4 m bins and the median, tt0 has
     // bin 0 = {8, 9, 10} → 9, bin 1 = {4, 6} → 5, bin 2 = {1} (the former stray) → 1;
@@ -483,21 +528,24 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
   EXPECT_DOUBLE_EQ(runs[1].ke_peak->ke_over_pe0, 0.012);
   EXPECT_DOUBLE_EQ(runs[1].ke_peak->time, 1.5);
 
-  // sweep.csv: the CONTRACT columns, then the three KE/PE0 peak columns; tt0 has zero
+  // sweep.csv: the CONTRACT columns, the three KE/PE0 peak columns, then the four
+  // stress-quality columns (empty for pure-fem, nothing at rest); tt0 has zero
   // errors and RMSE, the NaN averages of the t = 0 history row and everything FE- or
   // tt-related of pure-fem are empty. tt_over_tauc of tt1 = 1/2.01928 = 0.495227.
   const std::string csv = sweep_csv(c, runs, "tt0");
   EXPECT_EQ(csv,
             "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
             "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n"
-            "tt0,0,0,2.5,0.5,0,9.99,0,0,1,,,0.02,0.5,0.247614\n"
-            "tt1,1,0.495227,3.5,0.7,0.4,9,-0.0990991,0.127191,0.9,0.97,0.051,0.012,1.5,0.742841\n"
-            "pure-fem,,,-2.5,-0.5,-2,11.99,0.2002,0.681955,,,,,,\n");
-  // Every row has as many cells as the header (15 columns, 14 commas).
+            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
+            "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n"
+            "tt0,0,0,2.5,0.5,0,9.99,0,0,1,,,0.02,0.5,0.247614,0.2,0.20015,0.20024,0.20025\n"
+            "tt1,1,0.495227,3.5,0.7,0.4,9,-0.0990991,0.127191,0.9,0.97,0.051,0.012,1.5,0.742841,"
+            "0.1,0.1,0.1,0.1\n"
+            "pure-fem,,,-2.5,-0.5,-2,11.99,0.2002,0.681955,,,,,,,,,,\n");
+  // Every row has as many cells as the header (19 columns, 18 commas).
   std::istringstream lines(csv);
   for (std::string line; std::getline(lines, line);) {
-    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 14) << line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 18) << line;
   }
 
   // No reference run (slide-metrics passes "" when there is no tt0): the three error
@@ -505,21 +553,22 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
   EXPECT_EQ(sweep_csv(c, runs, ""),
             "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
             "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc\n"
-            "tt0,0,0,2.5,0.5,,9.99,,,1,,,0.02,0.5,0.247614\n"
-            "tt1,1,0.495227,3.5,0.7,,9,,,0.9,0.97,0.051,0.012,1.5,0.742841\n"
-            "pure-fem,,,-2.5,-0.5,,11.99,,,,,,,,\n");
+            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
+            "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n"
+            "tt0,0,0,2.5,0.5,,9.99,,,1,,,0.02,0.5,0.247614,0.2,0.20015,0.20024,0.20025\n"
+            "tt1,1,0.495227,3.5,0.7,,9,,,0.9,0.97,0.051,0.012,1.5,0.742841,0.1,0.1,0.1,0.1\n"
+            "pure-fem,,,-2.5,-0.5,,11.99,,,,,,,,,,,,\n");
 
   // The Markdown table: same numbers, rounded for the report; errors in %, εq,avg in %.
   const std::string md = sweep_markdown(c, runs, "tt0");
   EXPECT_EQ(md.substr(md.find('\n') + 1),
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
             "| tt0 | 0 | 0.00 | 2.50 | 0.500 | +0.0 % | 9.99 | +0.0 % | 0.000 | 1.000 |  |  | "
-            "0.02 | 0.50 | 0.25 |\n"
+            "0.02 | 0.50 | 0.25 | 0.200 | 0.200 | 0.200 | 0.200 |\n"
             "| tt1 | 1 | 0.50 | 3.50 | 0.700 | +40.0 % | 9.00 | -9.9 % | 0.127 | 0.900 | 0.970 | "
-            "5.1 % | 0.012 | 1.50 | 0.74 |\n"
+            "5.1 % | 0.012 | 1.50 | 0.74 | 0.100 | 0.100 | 0.100 | 0.100 |\n"
             "| pure-fem |  |  | -2.50 | -0.500 | -200.0 % | 11.99 | +20.0 % | 0.682 |  |  |  |  "
-            "|  |  |\n");
+            "|  |  |  |  |  |  |\n");
   expect_well_formed_markdown_table(md);
 }
 
