@@ -32,9 +32,10 @@ struct ParticleWeights {
     inv_h = 1.0 / grid.cell_size;
     xi = (position.x() - grid.origin.x()) * inv_h;
     eta = (position.y() - grid.origin.y()) * inv_h;
-    // At most ½: a domain never spans more than a cell.
-    ax = std::min(0.5 * size.x() * inv_h, 0.5);
-    ay = std::min(0.5 * size.y() * inv_h, 0.5);
+    // At most ½: a domain never spans more than a cell; and no further than the grid's
+    // edge (clipped_half_size).
+    ax = clipped_half_size(xi, grid.cells_x, std::min(0.5 * size.x() * inv_h, 0.5));
+    ay = clipped_half_size(eta, grid.cells_y, std::min(0.5 * size.y() * inv_h, 0.5));
     x = Shape::weights(xi, ax);
     y = Shape::weights(eta, ay);
   }

@@ -49,9 +49,12 @@ struct Reference {
   double time, x_toe, ke_over_pe0;
 };
 constexpr Reference references[] = {
-    {1.0, 55.1499417, 0.0331931774},
-    {2.0, 68.5885506, 0.0783261703},
-    {3.0, 86.3373650, 0.0830936375},
+    // Re-measured when uGIMP domains stopped reaching through the base onto the ghost
+    // nodes (clipped_half_size): x_toe moved by −0.12 %, +0.001 %, +0.20 % and KE/PE0 by
+    // −0.40 %, −0.10 %, −0.28 % at 1, 2, 3 s.
+    {1.0, 55.0854761, 0.033058918},
+    {2.0, 68.5878247, 0.078248985},
+    {3.0, 86.5122213, 0.082858373},
 };
 constexpr double tolerance = 1e-4;
 

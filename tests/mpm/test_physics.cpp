@@ -227,13 +227,15 @@ TEST(GeostaticColumn, StressErrorPerShapeFunction) {
       gimp.max_error, gimp.mean_error, gimp.interior_max, linear.max_error, linear.mean_error);
   // At rest the particles stay at the Gauss points of their cells, where linear shape
   // functions integrate the linear stress field exactly: linear keeps it to round-off.
-  // uGIMP's uniform domains (h/4) do not match the Gauss weights, and the bottom row's
-  // domains reach through the base onto the ghost nodes: a few per cent of ρgH, most of
-  // it in the bottom cell row.
+  // uGIMP's uniform domains (h/4) do not match the Gauss weights: 6e-4 of ρgH at most.
+  // While the bottom row's domains reached through the base onto the ghost nodes, the
+  // error was 0.0435 (mean 0.0081), almost all of it in the bottom cell row (above it
+  // 0.0113); clipped at the base (clipped_half_size) the bottom row is as good as the
+  // rest. The bound 2e-3 fails by a factor of 20 if the clipping goes.
   EXPECT_LT(linear.max_error, 1e-9);
-  EXPECT_LT(gimp.max_error, 0.10);
-  EXPECT_LT(gimp.mean_error, 0.02);
-  EXPECT_LT(gimp.interior_max, gimp.max_error);
+  EXPECT_LT(gimp.max_error, 2e-3);
+  EXPECT_LT(gimp.mean_error, 5e-4);
+  EXPECT_LE(gimp.max_error, gimp.interior_max * 1.5) << "the bottom row no worse than the rest";
 }
 
 struct CompactionResult {

@@ -112,5 +112,39 @@ TEST(ShapeFunctions, ApicInertiaAndAffineWeights) {
   EXPECT_NEAR(GimpShape::inertia(3.5, 0.125), 0.25, 1e-15);    // ¼ at a cell centre
 }
 
+TEST(ShapeFunctions, AParticleInsideTheGridNeverTouchesAGhostNode) {
+  // The basal artefact's cause: a uGIMP domain reaching through the base put a sliver of
+  // mass, and a tenth of the gradient, on the ghost node below it. With the half-length
+  // clipped at the grid's edge, every particle inside the grid gives the ghost nodes
+  // (k = −1 and k = cells + 1) exactly zero weight and zero gradient, while the weights
+  // keep the partition of unity and reproduce linear fields.
+  const int cells = 10;
+  for (double a : {0.087, 0.125, 0.25, 0.5}) {
+    for (double xi = 1e-3; xi < cells - 1e-3; xi += 0.0137) {
+      const double clipped = clipped_half_size(xi, cells, a);
+      EXPECT_LE(clipped, a);
+      const Weights1d<3> w = GimpShape::weights(xi, clipped);
+      double sum = 0.0, first = 0.0, slope = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const int node = w.base + k;
+        if (node < 0 || node > cells) {
+          EXPECT_EQ(w.value[k], 0.0) << "ghost node " << node << " at ξ = " << xi << ", a = " << a;
+          EXPECT_EQ(w.derivative[k], 0.0) << node << " " << xi << " " << a;
+        }
+        sum += w.value[k];
+        first += w.value[k] * node;
+        slope += w.derivative[k];
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-14);
+      EXPECT_NEAR(first, xi, 1e-13);
+      EXPECT_NEAR(slope, 0.0, 1e-13);
+    }
+  }
+  // Away from the edges the particle keeps its own domain.
+  EXPECT_EQ(clipped_half_size(5.3, cells, 0.087), 0.087);
+  // column-short's lowest row: 0.069 h above the base, a = 0.087 clipped to 0.069.
+  EXPECT_NEAR(clipped_half_size(0.069, cells, 0.087), 0.069, 1e-15);
+}
+
 }  // namespace
 }  // namespace slide::mpm
