@@ -432,10 +432,6 @@ std::size_t surfaces_needed(const MaterialTable& materials, Phase phase) {
   return n;
 }
 
-std::size_t surfaces_needed(const MaterialTable& materials) {
-  return std::max(surfaces_needed(materials, Phase::fem), surfaces_needed(materials, Phase::mpm));
-}
-
 double mean_stress(const Vec4& stress) {
   return -(stress[0] + stress[1] + stress[2]) / 3.0;
 }

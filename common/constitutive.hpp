@@ -60,8 +60,6 @@ struct SurfaceStresses {
 
 /// The largest number of surfaces any model of `materials` needs in `phase`.
 std::size_t surfaces_needed(const MaterialTable& materials, Phase phase);
-/// The same over both phases (what a checkpoint or a transfer must carry).
-std::size_t surfaces_needed(const MaterialTable& materials);
 
 /// A model with its constants precomputed: a small value type that kernels copy.
 class ConstitutiveModel {
