@@ -68,6 +68,10 @@ constexpr std::array<Named<VelocityTransfer>, 2> velocity_transfer_names{{
     {"flip-pic", VelocityTransfer::flip_pic},
     {"apic", VelocityTransfer::apic},
 }};
+constexpr std::array<Named<VolumetricSmoothing>, 2> volumetric_smoothing_names{{
+    {"none", VolumetricSmoothing::none},
+    {"cell", VolumetricSmoothing::cell},
+}};
 constexpr std::array<Named<ParticleExit>, 2> particle_exit_names{{
     {"freeze", ParticleExit::freeze},
     {"remove", ParticleExit::remove},
@@ -977,13 +981,15 @@ void check_cells(const Section& s, const MpmSpec& mpm) {
   }
 }
 
-MpmSpec read_mpm(const Section& root, const MeshSpec& mesh, const TransferSpec& transfer) {
+MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const MeshSpec& mesh,
+                 const TransferSpec& transfer) {
   const Section s = root.table("mpm", Section::Keys{"domain",
                                                     "cell_size",
                                                     "shape_function",
                                                     "update_scheme",
                                                     "velocity_transfer",
                                                     "pic_fraction",
+                                                    "volumetric_smoothing",
                                                     "end_time",
                                                     "checkpoint_times",
                                                     "checkpoint_every",
@@ -1024,6 +1030,14 @@ MpmSpec read_mpm(const Section& root, const MeshSpec& mesh, const TransferSpec& 
   // policy at the top of this file), so a case switches transfer with one line.
   mpm.pic_fraction = s.number(
       "pic_fraction", Range{.min = 0.0, .min_closed = true, .max = 1.0, .max_closed = true}, 0.0);
+  // On by default where it matters: plastic flow (ψ = 0 is isochoric) locks and
+  // checkerboards; an elastic body does not need it (mpm/README.md, "Volumetric smoothing").
+  const bool plastic = std::any_of(materials.begin(), materials.end(), [](const Material& m) {
+    return m.model_of(Phase::mpm) != MaterialModel::linear_elastic;
+  });
+  mpm.volumetric_smoothing =
+      s.choice("volumetric_smoothing", volumetric_smoothing_names,
+               std::optional(plastic ? VolumetricSmoothing::cell : VolumetricSmoothing::none));
   // The MPM phase continues the clock from t_T: it must end after every transfer time.
   double latest_transfer = transfer.main_time;
   for (double t : transfer.sweep_times) latest_transfer = std::max(latest_transfer, t);
@@ -1120,7 +1134,7 @@ Case parse_case(std::string_view text, const std::filesystem::path& source_name)
   c.mesh = read_mesh(root, c.materials, source_name.parent_path());
   c.fem = read_fem(root, c.mesh);
   c.transfer = read_transfer(root, c.fem);
-  c.mpm = read_mpm(root, c.mesh, c.transfer);
+  c.mpm = read_mpm(root, c.materials, c.mesh, c.transfer);
   c.metrics = read_metrics(root);
   return c;
 }
@@ -1156,6 +1170,10 @@ std::string_view to_string(UpdateScheme scheme) {
 }
 std::string_view to_string(VelocityTransfer transfer) {
   return name_of(velocity_transfer_names, transfer);
+}
+
+std::string_view to_string(VolumetricSmoothing smoothing) {
+  return name_of(volumetric_smoothing_names, smoothing);
 }
 
 }  // namespace slide

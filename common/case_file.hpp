@@ -128,6 +128,9 @@ enum class UpdateScheme { usl, musl };
 /// FLIP with an optional PIC share (`pic_fraction`), or APIC (affine particle-in-cell:
 /// each particle carries an affine velocity matrix; no PIC share needed).
 enum class VelocityTransfer { flip_pic, apic };
+/// Volumetric anti-locking (METHOD.md §5, mpm/README.md "Volumetric smoothing"): none, or
+/// the particles of a cell share its averaged mean stress and volumetric strain rate.
+enum class VolumetricSmoothing { none, cell };
 enum class ParticleExit { freeze, remove };
 enum class InitialStress { k0, gravity };
 
@@ -141,6 +144,7 @@ struct MpmSpec {
   /// 0: pure FLIP, 1: pure PIC; read with any transfer, used by flip-pic only (apic
   /// ignores it, so that switching the transfer is a one-line edit)
   double pic_fraction = 0.0;
+  VolumetricSmoothing volumetric_smoothing = VolumetricSmoothing::none;
   double end_time = 0.0;  ///< s
   std::vector<double> checkpoint_times;
   double checkpoint_every = 0.0;  ///< s
@@ -204,5 +208,6 @@ std::string_view to_string(RbfPolynomial polynomial);
 std::string_view to_string(ShapeFunction shape_function);
 std::string_view to_string(UpdateScheme scheme);
 std::string_view to_string(VelocityTransfer transfer);
+std::string_view to_string(VolumetricSmoothing smoothing);
 
 }  // namespace slide

@@ -84,12 +84,14 @@ void GridState::resize(const GridGeometry& grid) {
   sums.assign(grid.node_count(), NodeSums{});
   motion.assign(grid.node_count(), NodeMotion{});
   remapped_velocity.assign(grid.node_count(), Vec2::Zero());
+  cell_averages.assign(grid.node_count(), CellAverages{});
   active_begin = active_end = 0;
 }
 
 std::size_t GridState::bytes() const {
   return sums.capacity() * sizeof(NodeSums) + motion.capacity() * sizeof(NodeMotion) +
-         remapped_velocity.capacity() * sizeof(Vec2);
+         remapped_velocity.capacity() * sizeof(Vec2) +
+         cell_averages.capacity() * sizeof(CellAverages);
 }
 
 }  // namespace slide::mpm

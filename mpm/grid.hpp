@@ -31,6 +31,20 @@ struct NodeSums {
   double force_x, force_y;  ///< internal + external (gravity), without reactions
 };
 
+/// Sums of volumetric smoothing over the particles of one cell: Σ V_p, Σ V_p tr L_p and
+/// Σ V_p p_p (p: mean stress).
+struct CellSums {
+  double volume = 0.0;
+  double volumetric_rate = 0.0;
+  double mean_stress = 0.0;
+};
+
+/// A cell's volume-weighted averages of the particles' volumetric rate tr L and mean stress.
+struct CellAverages {
+  double volumetric_rate = 0.0;
+  double mean_stress = 0.0;
+};
+
 /// What a grid-to-particle pass reads at one node: the velocity change rate a_i used
 /// by FLIP and the end-of-step (Lagrangian) velocity v_i^L.
 struct NodeMotion {
@@ -106,6 +120,9 @@ struct GridState {
   std::vector<NodeMotion> motion;  ///< a_i and v_i^L after damping and constraints
   /// MUSL: velocity re-projected from the updated particle momenta (constrained).
   std::vector<Vec2> remapped_velocity;
+  /// Volumetric smoothing: each cell's averages, at the storage index of the node at its
+  /// lower-left corner.
+  std::vector<CellAverages> cell_averages;
   int active_begin = 0, active_end = 0;  ///< node columns
   bool parallel = false;                 ///< enough work for several threads
 

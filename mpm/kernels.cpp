@@ -308,10 +308,11 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
 /// One particle's stress update from its velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x,
 /// ∂vy/∂y]: strain increment Δε = Δt sym(l), spin ω = ½ Δt (∂vx/∂y − ∂vy/∂x), Jaumann
 /// rotation, the constitutive update (one model per material id), accumulated strain and
-/// its εq, and the volume from the particle's own deformation-gradient increment:
-/// V_{n+1} = det(I + Δt l) V_n. Not inlined into the gather: it then compiles to the
-/// arithmetic of the former separate stress pass (inlined, -march=native contracts some
-/// products into FMAs differently), so results stay bit-identical to that pass's.
+/// its εq, and the volume from the deformation-gradient increment: V_{n+1} = det(I + Δt l)
+/// V_n (with volumetric smoothing, l carries the cell's volumetric rate). Not inlined into
+/// the gather: it then compiles to the arithmetic of the former separate stress pass
+/// (inlined, -march=native contracts some products into FMAs differently), so results
+/// stay bit-identical to that pass's.
 [[gnu::noinline]] void update_stress(Particles& particles,
                                      std::span<const ConstitutiveModel> models, double dt,
                                      const Vec4& l, std::size_t p) {
@@ -330,11 +331,35 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   particles.volume[p] *= jacobian;
 }
 
-template <class Shape, UpdateScheme Scheme, VelocityTransfer Transfer>
+/// The mean stress ⅓ (σxx + σyy + σzz).
+inline double mean_stress(const Vec4& s) {
+  return (s[0] + s[1] + s[2]) / 3.0;
+}
+
+/// Where the cell averages of a particle are kept: the storage index of the node at the
+/// lower-left corner of its cell (⌊ξ⌋, ⌊η⌋). That node is in the particle's stencil
+/// (linear: nodes ⌊ξ⌋, ⌊ξ⌋ + 1; uGIMP: the nearest node ± 1), hence in its block's
+/// window. A particle in the grid's half-cell margin has a cell of its own there.
+std::size_t cell_slot(const GridGeometry& grid, const Vec2& position) {
+  const double inv_h = 1.0 / grid.cell_size;
+  return grid.node_index(static_cast<int>(std::floor((position.x() - grid.origin.x()) * inv_h)),
+                         static_cast<int>(std::floor((position.y() - grid.origin.y()) * inv_h)));
+}
+
+/// The final pass's gather over one block (kernels.hpp, grid_to_particles). Without
+/// smoothing it moves the particles and updates their stresses; with it, it keeps L_p and
+/// the displacement and adds the particle's V_p, V_p tr L_p and V_p p_p to its cell in the
+/// block's window; smooth_block finishes the step.
+template <class Shape, UpdateScheme Scheme, VelocityTransfer Transfer,
+          VolumetricSmoothing Smoothing>
 double gather_block(Particles& particles, const GridGeometry& grid, const GridState& state,
                     const StepLengths& step, double pic_fraction,
-                    std::span<const ConstitutiveModel> models, std::size_t begin, std::size_t end) {
+                    std::span<const ConstitutiveModel> models, std::size_t begin, std::size_t end,
+                    ParticleBlocks& blocks, std::size_t block) {
   constexpr int n = Shape::support;
+  [[maybe_unused]] const std::size_t offset = static_cast<std::size_t>(blocks.column_begin[block]) *
+                                              static_cast<std::size_t>(grid.node_rows());
+  [[maybe_unused]] CellSums* window = blocks.cell_window[block].data();
   constexpr bool apic = Transfer == VelocityTransfer::apic;
   const double flip = 1.0 - pic_fraction;
   double kinetic = 0.0;
@@ -388,14 +413,47 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
       v.y() = flip * (v.y() + step.dt_velocity * ay) + pic_fraction * vy;
     }
     const Vec2 dx(step.dt * vx, step.dt * vy);
-    particles.coordinates[p] += dx;
-    particles.displacement[p] += dx;
     kinetic += 0.5 * particles.mass[p] * v.squaredNorm();
-    // The stress update while the particle is in registers: no per-particle scratch
-    // array for the velocity gradient.
-    update_stress(particles, models, step.dt, Vec4(lxx, lxy, lyx, lyy) * w.inv_h, p);
+    const Vec4 l = Vec4(lxx, lxy, lyx, lyy) * w.inv_h;
+    if constexpr (Smoothing == VolumetricSmoothing::none) {
+      particles.coordinates[p] += dx;
+      particles.displacement[p] += dx;
+      // The stress update while the particle is in registers: no per-particle scratch
+      // array for the velocity gradient.
+      update_stress(particles, models, step.dt, l, p);
+    } else {
+      blocks.step_displacement[p] = dx;
+      blocks.velocity_gradient[p] = l;
+      const double volume = particles.volume[p];
+      CellSums& cell = window[cell_slot(grid, particles.coordinates[p]) - offset];
+      cell.volume += volume;
+      cell.volumetric_rate += volume * (l[0] + l[3]);
+      cell.mean_stress += volume * mean_stress(particles.stress[p]);
+    }
   }
   return kinetic;
+}
+
+/// The second half of a smoothed final pass over one block: the particle takes its cell's
+/// mean stress and, in L_p, its cell's volumetric rate; then the stress and volume update
+/// and the move.
+void smooth_block(Particles& particles, const GridGeometry& grid, const GridState& state, double dt,
+                  std::span<const ConstitutiveModel> models, const ParticleBlocks& blocks,
+                  std::size_t begin, std::size_t end) {
+  for (std::size_t p = begin; p < end; ++p) {
+    const CellAverages& cell = state.cell_averages[cell_slot(grid, particles.coordinates[p])];
+    Vec4& stress = particles.stress[p];
+    const double pressure_shift = cell.mean_stress - mean_stress(stress);
+    stress[0] += pressure_shift;
+    stress[1] += pressure_shift;
+    stress[2] += pressure_shift;
+    const Vec4& l = blocks.velocity_gradient[p];
+    const double rate_shift = 0.5 * (cell.volumetric_rate - (l[0] + l[3]));
+    update_stress(particles, models, dt, Vec4(l[0] + rate_shift, l[1], l[2], l[3] + rate_shift), p);
+    const Vec2& dx = blocks.step_displacement[p];
+    particles.coordinates[p] += dx;
+    particles.displacement[p] += dx;
+  }
 }
 
 // Every field of Particles, so that a permutation moves whole particles. A new field
@@ -508,6 +566,7 @@ void ParticleBlocks::partition(std::size_t active_count) {
   column_end.assign(n_blocks, 0);
   sums_window.resize(n_blocks);
   momentum_window.resize(n_blocks);
+  cell_window.resize(n_blocks);
   kinetic_energy.assign(n_blocks, 0.0);
 }
 
@@ -517,6 +576,9 @@ std::size_t ParticleBlocks::bytes() const {
                       kinetic_energy.capacity() * sizeof(double);
   for (const auto& w : sums_window) total += w.capacity() * sizeof(NodeSums);
   for (const auto& w : momentum_window) total += w.capacity() * sizeof(Vec2);
+  for (const auto& w : cell_window) total += w.capacity() * sizeof(CellSums);
+  total +=
+      velocity_gradient.capacity() * sizeof(Vec4) + step_displacement.capacity() * sizeof(Vec2);
   return total;
 }
 
@@ -684,13 +746,50 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
 namespace {
 
 using Gather = double (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&,
-                          double, std::span<const ConstitutiveModel>, std::size_t, std::size_t);
+                          double, std::span<const ConstitutiveModel>, std::size_t, std::size_t,
+                          ParticleBlocks&, std::size_t);
+
+template <class Shape, UpdateScheme Scheme, VelocityTransfer Transfer>
+Gather gather_for(VolumetricSmoothing smoothing) {
+  return smoothing == VolumetricSmoothing::cell
+             ? gather_block<Shape, Scheme, Transfer, VolumetricSmoothing::cell>
+             : gather_block<Shape, Scheme, Transfer, VolumetricSmoothing::none>;
+}
 
 template <class Shape, UpdateScheme Scheme>
-Gather gather_for(VelocityTransfer transfer) {
+Gather gather_for(VelocityTransfer transfer, VolumetricSmoothing smoothing) {
   return transfer == VelocityTransfer::apic
-             ? gather_block<Shape, Scheme, VelocityTransfer::apic>
-             : gather_block<Shape, Scheme, VelocityTransfer::flip_pic>;
+             ? gather_for<Shape, Scheme, VelocityTransfer::apic>(smoothing)
+             : gather_for<Shape, Scheme, VelocityTransfer::flip_pic>(smoothing);
+}
+
+template <class Shape>
+Gather gather_for(UpdateScheme scheme, VelocityTransfer transfer, VolumetricSmoothing smoothing) {
+  return scheme == UpdateScheme::musl ? gather_for<Shape, UpdateScheme::musl>(transfer, smoothing)
+                                      : gather_for<Shape, UpdateScheme::usl>(transfer, smoothing);
+}
+
+/// The cell averages of the blocks' windows, column by column (sums in block order).
+/// A slot no particle sits in keeps zeros; no particle reads it.
+void average_cells(const GridGeometry& grid, const ParticleBlocks& blocks, GridState& state) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  std::vector<CellSums> column_sums(rows);
+#pragma omp parallel for schedule(static) firstprivate(column_sums) if (state.parallel)
+  for (int column = state.active_begin; column < state.active_end; ++column) {
+    sum_column(blocks, blocks.cell_window, column, rows, column_sums.data(), CellSums{},
+               [](CellSums& to, const CellSums& from) {
+                 to.volume += from.volume;
+                 to.volumetric_rate += from.volumetric_rate;
+                 to.mean_stress += from.mean_stress;
+               });
+    CellAverages* target = state.cell_averages.data() + static_cast<std::size_t>(column) * rows;
+    for (std::size_t row = 0; row < rows; ++row) {
+      const CellSums& sums = column_sums[row];
+      target[row] = sums.volume > 0.0 ? CellAverages{sums.volumetric_rate / sums.volume,
+                                                     sums.mean_stress / sums.volume}
+                                      : CellAverages{};
+    }
+  }
 }
 
 }  // namespace
@@ -698,30 +797,50 @@ Gather gather_for(VelocityTransfer transfer) {
 LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
                                UpdateScheme scheme, VelocityTransfer transfer,
                                const StepLengths& step, double pic_fraction,
+                               VolumetricSmoothing smoothing,
                                std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
-                               const GridState& state) {
+                               GridState& state) {
   const auto nblocks = static_cast<int>(blocks.count());
-  Gather gather = nullptr;
-  if (shape == ShapeFunction::gimp) {
-    gather = scheme == UpdateScheme::musl ? gather_for<GimpShape, UpdateScheme::musl>(transfer)
-                                          : gather_for<GimpShape, UpdateScheme::usl>(transfer);
-  } else {
-    gather = scheme == UpdateScheme::musl ? gather_for<LinearShape, UpdateScheme::musl>(transfer)
-                                          : gather_for<LinearShape, UpdateScheme::usl>(transfer);
-  }
-  auto locate = shape == ShapeFunction::gimp ? locate_block<GimpShape> : locate_block<LinearShape>;
+  const bool gimp = shape == ShapeFunction::gimp;
+  const Gather gather = gimp ? gather_for<GimpShape>(scheme, transfer, smoothing)
+                             : gather_for<LinearShape>(scheme, transfer, smoothing);
+  auto locate = gimp ? locate_block<GimpShape> : locate_block<LinearShape>;
   std::vector<std::int64_t> non_finite(blocks.count(), -1);
   std::vector<std::vector<std::size_t>> outside(blocks.count());
-  // Block by block: the gather with each particle's stress update, then the location for
-  // the next step while the block's particles are still in cache.
+  const bool smoothed = smoothing != VolumetricSmoothing::none;
+  const std::size_t active = blocks.offsets.empty() ? 0 : blocks.offsets.back();
+  if (smoothed) {
+    blocks.step_displacement.resize(active);
+    blocks.velocity_gradient.resize(active);
+  }
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  // Block by block: the gather with each particle's stress update, then (unsmoothed) the
+  // location for the next step while the block's particles are still in cache.
 #pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
   for (int b = 0; b < nblocks; ++b) {
     const auto k = static_cast<std::size_t>(b);
     const std::size_t begin = blocks.offsets[k], end = blocks.offsets[k + 1];
+    if (smoothed) {
+      const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
+      blocks.cell_window[k].assign(width * rows, CellSums{});
+    }
     blocks.kinetic_energy[k] =
-        gather(particles, grid, state, step, pic_fraction, models, begin, end);
-    locate(particles, grid, begin, end, blocks.column_begin[k], blocks.column_end[k], non_finite[k],
-           outside[k]);
+        gather(particles, grid, state, step, pic_fraction, models, begin, end, blocks, k);
+    if (!smoothed) {
+      locate(particles, grid, begin, end, blocks.column_begin[k], blocks.column_end[k],
+             non_finite[k], outside[k]);
+    }
+  }
+  if (smoothed) {
+    average_cells(grid, blocks, state);
+#pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
+    for (int b = 0; b < nblocks; ++b) {
+      const auto k = static_cast<std::size_t>(b);
+      const std::size_t begin = blocks.offsets[k], end = blocks.offsets[k + 1];
+      smooth_block(particles, grid, state, step.dt, models, blocks, begin, end);
+      locate(particles, grid, begin, end, blocks.column_begin[k], blocks.column_end[k],
+             non_finite[k], outside[k]);
+    }
   }
   LocateResult result;
   for (std::size_t b = 0; b < blocks.count(); ++b) {

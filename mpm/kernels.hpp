@@ -76,8 +76,13 @@ struct ParticleBlocks {
   std::vector<int> column_begin, column_end;  ///< node-column band block b touches
   std::vector<std::vector<NodeSums>> sums_window;
   std::vector<std::vector<Vec2>> momentum_window;  ///< MUSL re-projection
-  std::vector<double> kinetic_energy;              ///< partial sums of ½ m v²
-  bool parallel = false;                           ///< worth running the kernels on several threads
+  std::vector<std::vector<CellSums>> cell_window;  ///< volumetric smoothing
+  // Volumetric smoothing: what the final pass keeps of each active particle between its
+  // two halves (contiguous, indexed like the particles).
+  std::vector<Vec4> velocity_gradient;  ///< L_p
+  std::vector<Vec2> step_displacement;  ///< Δt Σ N_ip v_i^L
+  std::vector<double> kinetic_energy;   ///< partial sums of ½ m v²
+  bool parallel = false;                ///< worth running the kernels on several threads
 
   /// Splits n active particles into blocks; their number depends on n only.
   void partition(std::size_t active_count);
@@ -144,11 +149,21 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
 /// deformation-gradient increment, V_{n+1} = det(I + Δt L_p) V_n. Then, while the block
 /// is in cache, its location on the grid for the next step (returned). Accumulates the
 /// kinetic energy per block.
+///
+/// Volumetric smoothing "cell" (mpm/README.md, "Volumetric smoothing") splits the pass in
+/// two around the volume-weighted averages over each cell's particles of the volumetric
+/// rate tr L_p and the mean stress p_p (at the step's start), summed in block order. The
+/// second half gives each particle its cell's mean stress, keeping its deviator, then
+/// updates stress and volume with L_p + ½ (tr L̄ − tr L_p) I: deviatoric rate and spin
+/// are the particle's own, pressure and volumetric rate the cell's (a B-bar type,
+/// constant-pressure-per-cell treatment). The particles move (and are located) in the
+/// second half, so that both halves see the cells of the step's start.
 LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
                                UpdateScheme scheme, VelocityTransfer transfer,
                                const StepLengths& step, double pic_fraction,
+                               VolumetricSmoothing smoothing,
                                std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
-                               const GridState& state);
+                               GridState& state);
 
 /// Stable counting sort of the particles by cell (x-major); particles from
 /// `active_count` on (frozen ones) keep their order at the end. In place: the only

@@ -32,6 +32,7 @@ SolverSettings settings_record(const MpmSettings& s, double time_step) {
   r["update_scheme"] = std::string(to_string(s.update_scheme));
   r["velocity_transfer"] = std::string(to_string(s.velocity_transfer));
   r["pic_fraction"] = s.pic_fraction;
+  r["volumetric_smoothing"] = std::string(to_string(s.volumetric_smoothing));
   r["local_damping"] = s.damping.local;
   r["friction_coefficient"] = s.boundaries.friction_coefficient;
   const char* edges[] = {"left", "right", "base", "top"};

@@ -325,9 +325,13 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
       settings.velocity_transfer == VelocityTransfer::apic
           ? std::string(settings.pic_fraction > 0.0 ? "APIC (pic_fraction ignored)" : "APIC")
           : fmt::format("FLIP with PIC share {}", settings.pic_fraction);
-  log.info("grid {} × {} cells of {} m, {} shape functions, {}, {}, Δt = {:.4g} s{}", grid.cells_x,
-           grid.cells_y, grid.cell_size, to_string(settings.shape_function),
-           to_string(settings.update_scheme), transfer, dt,
+  const std::string smoothing =
+      settings.volumetric_smoothing == VolumetricSmoothing::none
+          ? std::string("no volumetric smoothing")
+          : fmt::format("volumetric smoothing {}", to_string(settings.volumetric_smoothing));
+  log.info("grid {} × {} cells of {} m, {} shape functions, {}, {}, {}, Δt = {:.4g} s{}",
+           grid.cells_x, grid.cells_y, grid.cell_size, to_string(settings.shape_function),
+           to_string(settings.update_scheme), transfer, smoothing, dt,
            c.mpm.time_step > 0.0 ? " (case)" : fmt::format(" (Courant C = {})", c.mpm.courant));
 
   if (start.pure_mpm) initialise_pure_mpm(c, start.body, solver, dt, log);

@@ -32,6 +32,7 @@ MpmSettings MpmSettings::from(const MpmSpec& spec) {
   s.update_scheme = spec.update_scheme;
   s.velocity_transfer = spec.velocity_transfer;
   s.pic_fraction = spec.pic_fraction;
+  s.volumetric_smoothing = spec.volumetric_smoothing;
   s.damping.local = spec.local_damping;
   s.particle_exit = spec.particle_exit;
   return s;
@@ -146,9 +147,9 @@ StepReport MpmSolver::step(double dt) {
                                          s.velocity_transfer, lengths, s.pic_fraction, mass_floor_,
                                          blocks_, grid_state_);
   }
-  pending_ =
-      grid_to_particles(particles_, s.grid, s.shape_function, s.update_scheme, s.velocity_transfer,
-                        lengths, s.pic_fraction, models_, blocks_, grid_state_);
+  pending_ = grid_to_particles(particles_, s.grid, s.shape_function, s.update_scheme,
+                               s.velocity_transfer, lengths, s.pic_fraction, s.volumetric_smoothing,
+                               models_, blocks_, grid_state_);
   located_ = true;
 
   clock_.time += dt;

@@ -43,6 +43,7 @@ struct MpmSettings {
   UpdateScheme update_scheme = UpdateScheme::musl;
   VelocityTransfer velocity_transfer = VelocityTransfer::flip_pic;
   double pic_fraction = 0.0;  ///< flip-pic only
+  VolumetricSmoothing volumetric_smoothing = VolumetricSmoothing::none;
   NodalDamping damping;
   Vec2 gravity = gravity_vector();
   ParticleExit particle_exit = ParticleExit::freeze;

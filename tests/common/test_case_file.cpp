@@ -82,7 +82,10 @@ TEST(CaseFile, ColumnTallLoads) {
   EXPECT_EQ(c.mesh.surface[1], Vec2(20.0, 80.0));
   EXPECT_DOUBLE_EQ(c.fem.end_time, 6.0);
   EXPECT_DOUBLE_EQ(c.transfer.main_time, 3.0);  // ≈ τc: the FE mesh lives to 3.7 s
-  EXPECT_DOUBLE_EQ(c.mpm.courant, 0.45);
+  // APIC with cell smoothing runs every transfer at C = 0.5 (1 % PIC needed 0.45).
+  EXPECT_DOUBLE_EQ(c.mpm.courant, 0.5);
+  EXPECT_EQ(c.mpm.velocity_transfer, VelocityTransfer::apic);
+  EXPECT_EQ(c.mpm.volumetric_smoothing, VolumetricSmoothing::cell);
   EXPECT_EQ(c.transfer.sweep_times.back(), 6.0);
   EXPECT_EQ(c.mpm.domain_max, Vec2(300.0, 85.0));
   EXPECT_DOUBLE_EQ(c.metrics.initial_length, 20.0);
@@ -321,6 +324,35 @@ TEST(CaseFile, VelocityTransferIsFlipPicOrApicAndApicIgnoresThePicFraction) {
     EXPECT_NE(message.find("mpm.velocity_transfer"), std::string::npos) << message;
     EXPECT_NE(message.find("\"xpic\""), std::string::npos) << message;
     EXPECT_NE(message.find("flip-pic, apic"), std::string::npos) << message;
+  }
+}
+
+// mpm.volumetric_smoothing: "none" or "cell"; absent, "cell" when some material is
+// plastic in the MPM phase (the small case's Mohr–Coulomb soil), "none" when all are
+// elastic there (mpm_model = "linear-elastic").
+TEST(CaseFile, VolumetricSmoothingIsCellForPlasticMaterialsUnlessTheCaseSaysOtherwise) {
+  auto with = [](const std::string& lines, const std::string& mpm_model = "mohr-coulomb") {
+    std::string text = small_case();
+    const std::string at = "cell_size = 1.0\n";
+    text.replace(text.find(at), at.size(), at + lines);
+    const std::string model = "model = \"mohr-coulomb\"\n";
+    text.replace(text.find(model), model.size(), model + "mpm_model = \"" + mpm_model + "\"\n");
+    return parse_case(text, "case.toml");
+  };
+  EXPECT_EQ(with("").mpm.volumetric_smoothing, VolumetricSmoothing::cell);
+  EXPECT_EQ(with("", "linear-elastic").mpm.volumetric_smoothing, VolumetricSmoothing::none);
+  EXPECT_EQ(with("volumetric_smoothing = \"none\"\n").mpm.volumetric_smoothing,
+            VolumetricSmoothing::none);
+  EXPECT_EQ(with("volumetric_smoothing = \"cell\"\n", "linear-elastic").mpm.volumetric_smoothing,
+            VolumetricSmoothing::cell);
+  EXPECT_EQ(to_string(VolumetricSmoothing::cell), "cell");
+  try {
+    with("volumetric_smoothing = \"node\"\n");
+    FAIL() << "an unknown smoothing was accepted";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("mpm.volumetric_smoothing"), std::string::npos) << message;
+    EXPECT_NE(message.find("none, cell"), std::string::npos) << message;
   }
 }
 

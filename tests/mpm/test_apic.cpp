@@ -57,7 +57,7 @@ void transfer(Particles& p, const MpmSettings& s, const MaterialTable& materials
                                          blocks, state);
   }
   grid_to_particles(p, s.grid, s.shape_function, s.update_scheme, s.velocity_transfer, step,
-                    pic_fraction, models, blocks, state);
+                    pic_fraction, VolumetricSmoothing::none, models, blocks, state);
 }
 
 /// The affine field v(x) = v0 + L (x − x0), L = [lxx lxy; lyx lyy] (Vec4, row-major).
