@@ -40,7 +40,7 @@ Material column_soil() {
 }
 
 MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer transfer,
-                      double pic_fraction, int sort_interval) {
+                      double pic_fraction, VolumetricSmoothing smoothing, int sort_interval) {
   MpmSpec spec;
   spec.domain_min = Vec2(0, 0);
   spec.domain_max = Vec2(200, 45);
@@ -49,6 +49,7 @@ MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer
   spec.update_scheme = scheme;
   spec.velocity_transfer = transfer;
   spec.pic_fraction = pic_fraction;
+  spec.volumetric_smoothing = smoothing;
   spec.boundaries = {{"left", BoundaryCondition::roller},
                      {"right", BoundaryCondition::roller},
                      {"base", BoundaryCondition::friction},
@@ -70,7 +71,9 @@ int main(int argc, char** argv) {
   CLI::App app{"bench_mpm: particle-steps per second of the MPM step loop (column-short)"};
   int steps = 500, repeat = 3, sort_interval = 10, skip = 0;
   double pic_fraction = 0.0;
-  std::string threads_list = "1,2", shape = "gimp", scheme = "musl", transfer = "flip-pic";
+  // The defaults are those of the runout cases: uGIMP, MUSL, APIC, cell smoothing.
+  std::string threads_list = "1,2", shape = "gimp", scheme = "musl", transfer = "apic",
+              smoothing = "cell";
   app.add_option("--steps", steps, "timed steps per run");
   app.add_option("--repeat", repeat, "runs per thread count (the best is reported)");
   app.add_option("--threads", threads_list, "comma-separated thread counts");
@@ -79,6 +82,8 @@ int main(int argc, char** argv) {
   app.add_option("--transfer", transfer, "grid-to-particle velocity transfer: flip-pic or apic")
       ->check(CLI::IsMember({"flip-pic", "apic"}));
   app.add_option("--pic-fraction", pic_fraction, "PIC share of flip-pic (0: pure FLIP)");
+  app.add_option("--smoothing", smoothing, "volumetric smoothing: none or cell")
+      ->check(CLI::IsMember({"none", "cell"}));
   app.add_option("--sort-interval", sort_interval, "steps between two sorts by cell");
   app.add_option("--skip", skip, "untimed steps before timing");
   CLI11_PARSE(app, argc, argv);
@@ -87,6 +92,8 @@ int main(int argc, char** argv) {
   const UpdateScheme update_scheme = scheme == "usl" ? UpdateScheme::usl : UpdateScheme::musl;
   const VelocityTransfer velocity_transfer =
       transfer == "apic" ? VelocityTransfer::apic : VelocityTransfer::flip_pic;
+  const VolumetricSmoothing volumetric_smoothing =
+      smoothing == "cell" ? VolumetricSmoothing::cell : VolumetricSmoothing::none;
 
   std::vector<int> threads;
   std::stringstream list(threads_list);
@@ -95,8 +102,10 @@ int main(int argc, char** argv) {
   const std::string transfer_name =
       transfer == "apic" ? transfer : fmt::format("{} (PIC share {})", transfer, pic_fraction);
   std::printf(
-      "bench_mpm: column-short, %s, %s, %s, sort every %d steps, %d timed steps (after %d)\n",
-      shape.c_str(), scheme.c_str(), transfer_name.c_str(), sort_interval, steps, skip);
+      "bench_mpm: column-short, %s, %s, %s, smoothing %s, sort every %d steps, %d timed steps "
+      "(after %d)\n",
+      shape.c_str(), scheme.c_str(), transfer_name.c_str(), smoothing.c_str(), sort_interval, steps,
+      skip);
   double rate_one = 0.0;
   for (int t : threads) {
     omp_set_num_threads(t);
@@ -105,7 +114,7 @@ int main(int argc, char** argv) {
     MpmSolver::Memory memory;
     for (int r = 0; r < repeat; ++r) {
       MpmSolver solver = make_column(shape_function, update_scheme, velocity_transfer, pic_fraction,
-                                     sort_interval);
+                                     volumetric_smoothing, sort_interval);
       const double dt = solver.courant_time_step(0.5);
       for (int s = 0; s < skip; ++s) solver.step(dt);
       const auto begin = std::chrono::steady_clock::now();
