@@ -20,7 +20,7 @@ std::string_view exit_name(ParticleExit e) {
 }
 
 /// The settings a run used, as stored in /solver.
-SolverSettings settings_record(const MpmSettings& s, double time_step) {
+SolverSettings settings_record(const MpmSettings& s, double time_step, double courant) {
   SolverSettings r;
   r["stage"] = std::string("mpm");
   r["domain_min_x"] = s.grid.origin.x();
@@ -43,6 +43,7 @@ SolverSettings settings_record(const MpmSettings& s, double time_step) {
   r["particle_exit"] = std::string(exit_name(s.particle_exit));
   r["sort_interval"] = std::int64_t{s.sort_interval};
   r["time_step"] = time_step;
+  r["courant"] = courant;
   return r;
 }
 
@@ -76,7 +77,7 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   c.header.pe0 = references.pe0;
   c.materials = solver.materials();
   c.transfer = transfer;
-  c.solver = settings_record(solver.settings(), references.time_step);
+  c.solver = settings_record(solver.settings(), references.time_step, references.courant);
   const SolverClock& clock = solver.clock();
   c.solver["previous_time_step"] = clock.previous_dt;
   c.solver["steps_since_sort"] = clock.steps_since_sort;
@@ -119,12 +120,15 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
   references.energy_scale = setting<double>(s, "energy_scale", source);
   references.rest_timer = setting<double>(s, "rest_timer", source);
   references.time_step = setting<double>(s, "time_step", source);
+  // Checkpoints before the step followed the particles' current density stored the
+  // step itself and no Courant number.
+  if (s.contains("courant")) references.courant = setting<double>(s, "courant", source);
 }
 
 std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
-                                          double time_step) {
+                                          double time_step, double courant) {
   std::vector<std::string> changes;
-  for (const auto& [key, value] : settings_record(settings, time_step)) {
+  for (const auto& [key, value] : settings_record(settings, time_step, courant)) {
     const auto found = stored.find(key);
     if (found == stored.end()) continue;
     if (found->second != value)

@@ -25,7 +25,8 @@ struct RunReferences {
   double initial_energy = 0.0;    ///< KE + PE + elastic at the start, J/m
   double energy_scale = 0.0;      ///< the energy the body can release, J/m
   double rest_timer = 0.0;        ///< s spent with KE/PE0 below the rest threshold
-  double time_step = 0.0;         ///< the base step Δt, s
+  double time_step = 0.0;         ///< the case's fixed Δt, s (0: the Courant step)
+  double courant = 0.0;           ///< C of the Courant step (with time_step 0)
 };
 
 /// Writes the solver's state as a kind "mpm" checkpoint (atomically, common/checkpoint.hpp)
@@ -43,7 +44,7 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
 /// The settings stored in an "mpm" checkpoint that differ from `settings` ("key: old →
 /// new" entries), to report when a restart runs with an edited case.
 std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
-                                          double time_step);
+                                          double time_step, double courant);
 
 /// mpm_history.csv: one row per output step with the CONTRACT columns. On restart the
 /// rows after the restart time are dropped.

@@ -312,14 +312,21 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   validate_particles(start.particles, settings, c.materials.size(), source, start.clock.frozen);
   MpmSolver solver(settings, c.materials, std::move(start.particles), start.clock);
   RunReferences& refs = start.references;
-  const double dt =
-      c.mpm.time_step > 0.0 ? c.mpm.time_step : solver.courant_time_step(c.mpm.courant);
+  // The step: the case's, or the Courant step at the particles' current densities, taken
+  // anew every step (mpm/README.md, "Time step").
+  const bool courant_step = !(c.mpm.time_step > 0.0);
+  auto next_time_step = [&] {
+    return courant_step ? solver.courant_time_step(c.mpm.courant) : c.mpm.time_step;
+  };
+  const double dt = next_time_step();
   if (start.stored_settings) {
-    for (const auto& change : changed_settings(*start.stored_settings, settings, dt)) {
+    for (const auto& change :
+         changed_settings(*start.stored_settings, settings, c.mpm.time_step, c.mpm.courant)) {
       log.warning("restart with a changed setting (the case file's is used): {}", change);
     }
   }
-  refs.time_step = dt;
+  refs.time_step = c.mpm.time_step;
+  refs.courant = c.mpm.courant;
   const GridGeometry& grid = settings.grid;
   const std::string transfer =
       settings.velocity_transfer == VelocityTransfer::apic
@@ -393,9 +400,10 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   while (solver.clock().time < end_time - 1e-9 * std::max(1.0, end_time)) {
     const double time = solver.clock().time;
     const double event = schedule.next_event(time);
-    const bool landing = time + dt >= event;
+    const double step = next_time_step();
+    const bool landing = time + step >= event;
     particle_steps += static_cast<double>(solver.active_count());
-    const StepReport report = solver.step(landing ? event - time : dt);
+    const StepReport report = solver.step(landing ? event - time : step);
     if (landing) solver.clock().time = event;  // exactly, so restarts line up
     ++steps;
 
@@ -408,7 +416,8 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
     const double now = solver.clock().time;
     if (schedule.is_output(now) || at_rest) write_outputs(schedule.is_checkpoint(now));
     if (schedule.is_checkpoint(now)) exits.report(now);
-    progress.update(now, solver.clock().step, fmt::format("KE/PE0 {:.3g}", ke_over_pe0));
+    progress.update(now, solver.clock().step,
+                    fmt::format("KE/PE0 {:.3g} Δt {:.3g} s", ke_over_pe0, step));
     if (at_rest) {
       log.info("at rest: KE/PE0 < {} for {} s, stopping at t = {:.4f} s", c.mpm.rest_threshold,
                c.mpm.rest_duration, now);

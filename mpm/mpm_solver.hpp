@@ -127,7 +127,8 @@ class MpmSolver {
   /// Grid node mass Σ_i m_i of the last step (tests: partition of unity).
   double grid_mass() const;
 
-  /// Stable Courant step C h / max c_p over the materials that particles use.
+  /// Stable Courant step C h / max_p c_p over the active particles, with c_p² = M V_p / m_p
+  /// at each particle's current density (the materials' own speeds when none is active).
   double courant_time_step(double courant) const;
 
   /// Moves the particle arrays out of the solver and back (no copy), for a writer that

@@ -311,6 +311,26 @@ namespace {
 
 using namespace testing;
 
+// The Courant step follows the particles' current density, c_p² = M V_p / m_p: one particle
+// expanded to four times its volume (a lone particle at the Mohr–Coulomb apex) doubles the
+// fastest wave speed and halves the step; a compacted one changes nothing.
+TEST(CourantStep, FollowsTheFastestParticleAtItsCurrentDensity) {
+  MpmSettings s = settings_on(Vec2(0, 0), Vec2(10, 10), 1.0);
+  const Material soil = elastic_soil();
+  const MaterialTable materials{soil};
+  Particles p = generate_box_particles(s.grid, Vec2(2, 2), Vec2(6, 6), 2, 2, materials, 0);
+  const double nominal = 0.5 * 1.0 / soil.p_wave_speed();
+  Particles expanded = p;
+  expanded.volume[7] *= 4.0;
+  Particles compacted = p;
+  compacted.volume[3] *= 0.5;
+  EXPECT_NEAR(MpmSolver(s, materials, std::move(p)).courant_time_step(0.5) / nominal, 1.0, 1e-12);
+  EXPECT_NEAR(MpmSolver(s, materials, std::move(expanded)).courant_time_step(0.5) / nominal, 0.5,
+              1e-12);
+  EXPECT_NEAR(MpmSolver(s, materials, std::move(compacted)).courant_time_step(0.5) / nominal, 1.0,
+              1e-12);
+}
+
 // Mass: particle masses never change, and the grid receives all of it (partition of
 // unity). Momentum: a free body without gravity keeps Σ m v to round-off, whatever its
 // internal stresses do. (Linear USL is left out: a particle entering a cell whose nodes
