@@ -191,18 +191,18 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
     [[maybe_unused]] const auto affine = affine_moments<Transfer>(w);
     [[maybe_unused]] double bxx = 0.0, bxy = 0.0, byx = 0.0, byy = 0.0;
     if constexpr (apic) {
-      const Vec4& b = particles.affine_velocity[p];
-      const double mh = m * w.inv_h;  // g in physical units: fold 1/h in once
-      bxx = mh * b[0];
-      bxy = mh * b[1];
-      byx = mh * b[2];
-      byy = mh * b[3];
+      const Vec4& c = particles.affine_velocity[p];  // prototype: C_p, 1/s
+      const double mh = m * grid.cell_size;
+      bxx = mh * c[0];
+      bxy = mh * c[1];
+      byx = mh * c[2];
+      byy = mh * c[3];
     }
     for (int a = 0; a < n; ++a) {
       NodeSums* column = window.data() + (w.column_start(grid, a) - offset);
       [[maybe_unused]] double along_x = 0.0, across_x = 0.0, along_y = 0.0, across_y = 0.0;
       if constexpr (apic) {
-        const double sa = w.x.value[a], ea = affine.x.value[a];
+        const double sa = w.x.value[a], ea = affine.x.moment[a];
         along_x = sa * mvx + bxx * ea;
         along_y = sa * mvy + byx * ea;
         across_x = sa * bxy;
@@ -215,8 +215,8 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
         NodeSums& node = column[b];
         node.mass += weight * m;
         if constexpr (apic) {
-          node.momentum_x += w.y.value[b] * along_x + affine.y.value[b] * across_x;
-          node.momentum_y += w.y.value[b] * along_y + affine.y.value[b] * across_y;
+          node.momentum_x += w.y.value[b] * along_x + affine.y.moment[b] * across_x;
+          node.momentum_y += w.y.value[b] * along_y + affine.y.moment[b] * across_y;
         } else {
           node.momentum_x += weight * mvx;
           node.momentum_y += weight * mvy;
@@ -263,7 +263,7 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
       const ParticleAffine<Shape> e(w);
       const AffineGather g = gather_affine(grid, state, w, e);
       v = Vec2(g.vx, g.vy);
-      particles.affine_velocity[p] = affine_velocity_at(grid, w, particles, p, step.dt, g);
+      particles.affine_velocity[p] = Vec4(g.cxx, g.cxy, g.cyx, g.cyy) * w.inv_h;
       // The momenta of the affine field, N_ip m (v_p + C_p (x_i − x_p)), with N_ip (x_i −
       // x_p) = h (moment_a S_b, S_a moment_b) and C_p = c/h (the h cancel): per column,
       // S_b (S_a m v + m c_·x moment_a) + moment_b (S_a m c_·y).
@@ -404,7 +404,7 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
       if constexpr (Scheme == UpdateScheme::usl) {
         const AffineGather g = gather_affine(grid, state, w, ParticleAffine<Shape>(w));
         v = Vec2(g.vx, g.vy);
-        particles.affine_velocity[p] = affine_velocity_at(grid, w, particles, p, step.dt, g);
+        particles.affine_velocity[p] = Vec4(g.cxx, g.cxy, g.cyx, g.cyy) * w.inv_h;
       }
       vx = v.x();  // Σ N v^L: the position update's velocity
       vy = v.y();
