@@ -26,7 +26,9 @@ fi
 
 # name=value pairs of everything measured
 {
-  "$bin/slide-metrics" measure "$case_file" mpm/mpm_final.h5 | tr ' ' '\n'
+  # (the stress quality of the deposit at rest: not at rest this early in the run)
+  "$bin/slide-metrics" measure "$case_file" mpm/mpm_final.h5 | grep -v '^stress_quality:' |
+    tr ' ' '\n'
   awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i }
            END { print "fem_ke_over_pe0=" $c["ke_over_pe0"];
                  print "fem_jacobian_ratio_min=" $c["jacobian_ratio_min"] }' fem/fem_history.csv
