@@ -442,9 +442,9 @@ void write_particles(Writer& writer, const ParticleCheckpoint& c) {
   writer.indices(g, "element", p.element, 0, particles, source_element_range);
   writer.indices(g, "id", p.id, 0, particles, std::nullopt);
   writer.state(g, p.state, p.surface_stress, particles);
-  // APIC's affine velocity: only particles that carry it (an APIC run) write it.
+  // APIC's affine velocity C_p: only particles that carry it (an APIC run) write it.
   if (!p.affine_velocity.empty()) {
-    writer.vectors<4>(g, "affine_velocity", p.affine_velocity, particles, "m^2/s");
+    writer.vectors<4>(g, "affine_velocity_gradient", p.affine_velocity, particles, "1/s");
   }
 
   if (c.header.kind == CheckpointKind::particles || !is_default(c.transfer)) {
@@ -874,9 +874,11 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
   p.state = reader.state("/particles/state", particles);
   p.surface_stress = reader.surface_stress("/particles/state", particles);
   // Optional: absent (FLIP/PIC runs, fem2mpm) leaves it empty; an APIC run then starts
-  // its particles with B_p = 0.
-  if (reader.file().contains("particles/affine_velocity")) {
-    p.affine_velocity = reader.vectors<4>("/particles/affine_velocity", particles);
+  // its particles with C_p = 0. The B_p = C_p D_p that the first APIC version wrote as
+  // /particles/affine_velocity is not read (it needs the grid to convert): such a file
+  // restarts as one without affine velocities.
+  if (reader.file().contains("particles/affine_velocity_gradient")) {
+    p.affine_velocity = reader.vectors<4>("/particles/affine_velocity_gradient", particles);
   }
 
   // A particle file always records its transfer; an mpm checkpoint when it came from one.

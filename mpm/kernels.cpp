@@ -112,23 +112,6 @@ template <class Shape>
   return g;
 }
 
-/// The affine velocity as it is stored: B_p = C_p D_p at the particle's end-of-step
-/// position x_p + Δt v_p (kernels.hpp, "Velocity transfer": the particle keeps C_p across
-/// its move). `w`: its weights at the start of the step (same grid and domain size);
-/// `g`: v_p and C_p gathered there.
-template <class Shape>
-Vec4 affine_velocity_at(const GridGeometry& grid, const ParticleWeights<Shape>& w,
-                        const Particles& particles, std::size_t p, double dt,
-                        const AffineGather& g) {
-  const Vec2& x = particles.coordinates[p];
-  const double xi = (x.x() + dt * g.vx - grid.origin.x()) * w.inv_h;
-  const double eta = (x.y() + dt * g.vy - grid.origin.y()) * w.inv_h;
-  // B = (c/h)(D̂ h²) = c D̂ h, with c = C_p h (cell units) and D̂ = D/h².
-  const double dx = Shape::inertia(xi, w.ax) * grid.cell_size;
-  const double dy = Shape::inertia(eta, w.ay) * grid.cell_size;
-  return Vec4(g.cxx * dx, g.cxy * dy, g.cyx * dx, g.cyy * dy);
-}
-
 template <class Shape>
 int first_node(double xi) {
   return Shape::weights(xi, 0.5).base;
@@ -183,30 +166,29 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
     // −V σ·∇N with ∇N in physical units: fold V/h in once.
     const double vh = volume * w.inv_h;
     const double sxx = vh * s[0], syy = vh * s[1], sxy = vh * s[3];
-    // APIC: the momentum of the particle's affine velocity field v_p + C_p (x − x_p),
-    // C_p = B_p D_p⁻¹: N_ip m (v_p + C_p (x_i − x_p)) = m (N_ip v_p + B_p g_ip) with
-    // g_ip = N_ip D_p⁻¹ (x_i − x_p) = (e_a S_b, S_a e_b)/h (for linear hats ∇N_ip: no
-    // division by D_p). Per stencil column a: S_b (S_a m v + m B_·x e_a/h) +
-    // e_b (S_a m B_·y/h).
+    // APIC: the momentum of the particle's affine velocity field v_p + C_p (x − x_p):
+    // N_ip m (v_p + C_p (x_i − x_p)) with N_ip (x_i − x_p) = h (μ_a S_b, S_a μ_b), μ the
+    // weights' first moments in cell units (ParticleAffine::moment). Per stencil column
+    // a: S_b (S_a m v + m h C_·x μ_a) + μ_b (S_a m h C_·y).
     [[maybe_unused]] const auto affine = affine_moments<Transfer>(w);
-    [[maybe_unused]] double bxx = 0.0, bxy = 0.0, byx = 0.0, byy = 0.0;
+    [[maybe_unused]] double cxx = 0.0, cxy = 0.0, cyx = 0.0, cyy = 0.0;
     if constexpr (apic) {
-      const Vec4& c = particles.affine_velocity[p];  // prototype: C_p, 1/s
+      const Vec4& c = particles.affine_velocity[p];
       const double mh = m * grid.cell_size;
-      bxx = mh * c[0];
-      bxy = mh * c[1];
-      byx = mh * c[2];
-      byy = mh * c[3];
+      cxx = mh * c[0];
+      cxy = mh * c[1];
+      cyx = mh * c[2];
+      cyy = mh * c[3];
     }
     for (int a = 0; a < n; ++a) {
       NodeSums* column = window.data() + (w.column_start(grid, a) - offset);
       [[maybe_unused]] double along_x = 0.0, across_x = 0.0, along_y = 0.0, across_y = 0.0;
       if constexpr (apic) {
-        const double sa = w.x.value[a], ea = affine.x.moment[a];
-        along_x = sa * mvx + bxx * ea;
-        along_y = sa * mvy + byx * ea;
-        across_x = sa * bxy;
-        across_y = sa * byy;
+        const double sa = w.x.value[a], ma = affine.x.moment[a];
+        along_x = sa * mvx + cxx * ma;
+        along_y = sa * mvy + cyx * ma;
+        across_x = sa * cxy;
+        across_y = sa * cyy;
       }
       for (int b = 0; b < n; ++b) {
         const double weight = w.x.value[a] * w.y.value[b];
@@ -257,9 +239,8 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
     const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
     Vec2& v = particles.velocity[p];
     if constexpr (Transfer == VelocityTransfer::apic) {
-      // The particle takes the nodal field's value and first moment C_p: C_p goes into the
-      // re-projection below, and B_p is stored for the position the final pass moves the
-      // particle to (x + Δt v_p: v_p = Σ N v^L is the velocity of the position update).
+      // The particle takes the nodal field's value and first moment C_p, which it keeps
+      // and which goes into the re-projection below.
       const ParticleAffine<Shape> e(w);
       const AffineGather g = gather_affine(grid, state, w, e);
       v = Vec2(g.vx, g.vy);
@@ -399,8 +380,8 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
     }
     Vec2& v = particles.velocity[p];
     if constexpr (apic) {
-      // v_p and C_p from v^L (for linear hats C_p is the gradient of v^L), and B_p for the
-      // end-of-step position. MUSL: the velocity pass did this already.
+      // v_p and C_p from v^L (for linear hats C_p is the gradient of v^L). MUSL: the
+      // velocity pass did this already.
       if constexpr (Scheme == UpdateScheme::usl) {
         const AffineGather g = gather_affine(grid, state, w, ParticleAffine<Shape>(w));
         v = Vec2(g.vx, g.vy);

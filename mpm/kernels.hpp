@@ -23,39 +23,38 @@
 // particle's velocity over its cell, which dissipates any motion that varies within a
 // cell (α = 0.01 costs 10 % of column-short's runout).
 // "apic" (Jiang et al. 2015, "The affine particle-in-cell method"): each particle also
-// carries an affine velocity matrix B_p (Particles::affine_velocity), so that what it
-// hands to the grid is the affine field v_p + C_p (x − x_p), C_p = B_p D_p⁻¹, with
-// D_p = Σ_i N_ip (x_i − x_p)(x_i − x_p)ᵀ:
+// carries an affine velocity matrix C_p (Particles::affine_velocity, 1/s), so that what
+// it hands to the grid is the affine field v_p + C_p (x − x_p):
 //   P2G   p_i = Σ_p N_ip m_p (v_p + C_p (x_i − x_p)),
-//   G2P   v_p = Σ_i N_ip v_i^L,   B_p = Σ_i N_ip v_i^L (x_i − x_p)ᵀ,   x_p += Δt Σ_i N_ip v_i^L.
-// The particle takes what the grid can represent of the nodal field (its value and its
-// first moment) instead of PIC's value alone: any linear velocity field (translation,
-// rigid rotation, uniform shear) passes grid → particles → grid unchanged, and a transfer
-// conserves the angular momentum Σ_p m_p (x_p × v_p + B_p,yx − B_p,xy) exactly. There is
-// no FLIP increment, hence no null-space noise and no PIC share; what it dissipates is
-// only the motion the grid cannot represent (sub-cell variations beyond linear).
-// MUSL does the same in its velocity pass (v_p from v^L, and the re-projected momenta
-// include N_ip m_p C_p (x_i − x_p)); the stress update keeps the velocity gradient
-// L_p = Σ_i v_i ⊗ ∇N_ip of the nodal velocities (MUSL: the re-projected ones).
+//   G2P   v_p = Σ_i N_ip v_i^L,   C_p = Σ_i v_i^L (N_ip D_p⁻¹ (x_i − x_p))ᵀ,
+//         x_p += Δt Σ_i N_ip v_i^L,
+// with D_p = Σ_i N_ip (x_i − x_p)(x_i − x_p)ᵀ at the particle's position where it
+// gathers. The particle takes what the grid can represent of the nodal field (its value
+// and its first moment) instead of PIC's value alone: any linear velocity field
+// (translation, rigid rotation, uniform shear) passes grid → particles → grid unchanged,
+// and a transfer conserves the angular momentum Σ_p m_p (x_p × v_p + (C_p D_p)_yx −
+// (C_p D_p)_xy) exactly. There is no FLIP increment, hence no null-space noise and no PIC
+// share; what it dissipates is only the motion the grid cannot represent (sub-cell
+// variations beyond linear). MUSL does the same in its velocity pass (v_p and C_p from
+// v^L, and the re-projected momenta include N_ip m_p C_p (x_i − x_p)); the stress update
+// keeps the velocity gradient L_p = Σ_i v_i ⊗ ∇N_ip of the nodal velocities (MUSL: the
+// re-projected ones).
 //
 // D_p for linear and uGIMP shape functions (shape_functions.hpp): diagonal, from the
 // particle's own weights, D = h² Σ_k S_k (k − ξ)² per axis; not constant (uGIMP at 4 × 4
 // particles per cell: between h²/16 on a node line and h²/4 at a cell centre; linear:
-// h² f(1 − f), zero on a node line). Choice: the particle keeps the affine velocity C_p
-// it gathered across its position update, i.e. B_p is re-expressed at the new position,
-// B_p ← C_p D_p(x_p^{n+1}), before it is stored (the MLS-MPM form, Hu et al. 2018, which
-// carries C_p). Why: D_p depends on where the particle sits in its cell, not on the
-// material. Carrying B_p itself across the move, as Jiang et al. do with their constant
-// D = h²/4 (quadratic B-splines), would give the next P2G C_p D_p(x^n) D_p(x^{n+1})⁻¹:
-// an affine flow turned into a spurious stretching by up to a factor 4 for uGIMP and
-// without bound for linear hats near a node line (tests/mpm/test_apic.cpp: a ballistic
-// shear flow stays exact on moving particles this way and fails the other way). The
-// price: angular momentum, exact in each transfer, changes across the move by the change
-// of each particle's spin m_p ε:(C_p D_p), at most m_p |C_p| h²/4. For linear hats
-// N_ip D_p⁻¹ (x_i − x_p) = ∇N_ip, so C_p is the nodal velocity gradient and B_p (zero on
-// a node line, where no node sees it) never needs D_p⁻¹. B_p is computed where C_p is
-// gathered: in the final pass (USL) or in MUSL's velocity pass, there for the position
-// x_p + Δt v_p the final pass moves the particle to.
+// h² f(1 − f), zero on a node line). The particle carries C_p itself across its move
+// (the MLS-MPM form, Hu et al. 2018), so P2G needs no D_p at all: N_ip (x_i − x_p) is the
+// weights' first moment. Carrying B_p = C_p D_p instead, as Jiang et al. do with their
+// constant D = h²/4 (quadratic B-splines), would hand the next P2G C_p D_p(x^n)
+// D_p(x^{n+1})⁻¹: an affine flow turned into a spurious stretching by up to a factor 4 for
+// uGIMP and without bound for linear hats near a node line (tests/mpm/test_apic.cpp: a
+// ballistic shear flow stays exact on moving particles this way and fails the other
+// way). The price: angular momentum, exact in each transfer, changes across the move by
+// the change of each particle's spin m_p ε:(C_p D_p), at most m_p |C_p| h²/4. For linear
+// hats N_ip D_p⁻¹ (x_i − x_p) = ∇N_ip, so C_p is the nodal velocity gradient and the
+// gather never needs D_p⁻¹. C_p is gathered in the final pass (USL) or in MUSL's
+// velocity pass.
 #pragma once
 
 #include <cstdint>
@@ -129,7 +128,7 @@ void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
 
 /// MUSL, pass 2: the particle velocities from the grid (FLIP with a PIC share α),
 ///   v_p ← (1 − α)(v_p + Δt_v Σ N_ip a_i) + α Σ N_ip v_i^L,
-/// (APIC: v_p = Σ N_ip v_i^L, α unused, and B_p for the end-of-step position x_p + Δt v_p)
+/// (APIC: v_p = Σ N_ip v_i^L and C_p, α unused)
 /// and the updated momenta mapped back to the grid (APIC: with the affine part
 /// N_ip m_p C_p (x_i − x_p)); then the re-projected nodal velocities Σ N m v / m_i with
 /// the edges' kinematic constraints (no friction: it acted on the forces already).
@@ -142,7 +141,7 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
 /// Final pass, grid → particles, block by block: position and displacement
 /// x_p += Δt Σ N_ip v_i^L, the velocity gradient L_p = Σ v_i ⊗ ∇N_ip (v_i: re-projected
 /// in MUSL, v_i^L in USL; USL also updates the velocities here, as above, and APIC's
-/// B_p = C_p D_p(x_p^{n+1}) with C_p = Σ v_i^L (N_ip D_p⁻¹ (x_i − x_p))ᵀ), and at once,
+/// C_p = Σ v_i^L (N_ip D_p⁻¹ (x_i − x_p))ᵀ), and at once,
 /// particle by particle, the stress update: strain increment Δε = Δt sym(L), spin
 /// ω = ½ Δt (∂vx/∂y − ∂vy/∂x), Jaumann rotation, the constitutive update (one model per
 /// material id), accumulated strain and its εq, and the volume from the particle's own

@@ -222,7 +222,7 @@ void VtkWriter::write(const MpmSolver& solver) {
                                vtk_field("plastic_shear_strain", plastic_shear),
                                vtk_field("plastic_volumetric_strain", plastic_volumetric)};
   if (!p.affine_velocity.empty()) {
-    fields.push_back(vtk_field("affine_velocity", p.affine_velocity));  // APIC's B_p
+    fields.push_back(vtk_field("affine_velocity_gradient", p.affine_velocity));  // APIC's C_p
   }
   write_vtk_points(file, p.coordinates, fields);
   collection_.add(solver.clock().time, fs::path("vtk") / file.filename());

@@ -226,7 +226,8 @@ def read_particles(path, kind, time, step):
         check(float(transfer["rbf_shape"]) == 0.5, f"{kind}: rbf_shape")
         check(int(transfer["rbf_neighbours"]) == 0, f"{kind}: rbf_neighbours")
         return {name: f[name][...] for name in ("particles/coordinates", "particles/velocity",
-                                                 "particles/affine_velocity") if name in f} | {
+                                                 "particles/affine_velocity_gradient")
+                if name in f} | {
             "solver": dict(f["solver"].attrs)}
 
 
@@ -241,11 +242,12 @@ def main():
     moved = mpm["particles/coordinates"] - particles["particles/coordinates"]
     check(np.allclose(moved, [0.1, 0.0], rtol=0, atol=1e-12), "mpm: particles moved 0.1 m in x")
     check(np.array_equal(mpm["particles/velocity"], np.tile([0.1, 0.0], (8, 1))), "mpm: velocity")
-    # optional: an APIC run's affine velocity [Bxx, Bxy, Byx, Byy]; the particle file has none
-    check("particles/affine_velocity" not in particles, "particles: affine_velocity present")
-    check(np.allclose(mpm.get("particles/affine_velocity", np.zeros((8, 4))),
-                      np.tile([0.0, -0.0125, 0.0125, 0.0], (8, 1)), rtol=0, atol=1e-15),
-          "mpm: affine_velocity")
+    # optional: an APIC run's affine velocity [Cxx, Cxy, Cyx, Cyy]; the particle file has none
+    check("particles/affine_velocity_gradient" not in particles,
+          "particles: affine_velocity_gradient present")
+    check(np.allclose(mpm.get("particles/affine_velocity_gradient", np.zeros((8, 4))),
+                      np.tile([0.0, -0.2, 0.2, 0.0], (8, 1)), rtol=0, atol=1e-15),
+          "mpm: affine_velocity_gradient")
     check(mpm["solver"].get("shape_function") == "gimp", "mpm: solver shape_function")
     check(float(mpm["solver"].get("grid_spacing")) == 0.5, "mpm: solver grid_spacing")
     for message in failures:

@@ -578,7 +578,7 @@ TEST_F(Checkpoint, MpmRoundTripIsExact) {
 }
 
 // APIC's affine velocity is optional: written when the particles carry it, read back bit
-// for bit; a file without it reads as particles without it (B_p = 0 for an APIC run).
+// for bit; a file without it reads as particles without it (C_p = 0 for an APIC run).
 TEST_F(Checkpoint, AffineVelocityIsOptionalAndRoundTripsExactly) {
   ParticleCheckpoint written = sample_particles(CheckpointKind::mpm);
   Filler f;
@@ -593,9 +593,10 @@ TEST_F(Checkpoint, AffineVelocityIsOptionalAndRoundTripsExactly) {
   EXPECT_TRUE(read_particle_checkpoint(file("particles.h5")).particles.affine_velocity.empty());
 
   Damage(file("mpm_apic.h5"))
-      .replace_dataset("/particles/affine_velocity", {7, 2}, H5T_NATIVE_DOUBLE);
+      .replace_dataset("/particles/affine_velocity_gradient", {7, 2}, H5T_NATIVE_DOUBLE);
   EXPECT_EQ(particle_error(file("mpm_apic.h5")),
-            file("mpm_apic.h5").string() + ": /particles/affine_velocity: shape 7×2, expected 7×4");
+            file("mpm_apic.h5").string() +
+                ": /particles/affine_velocity_gradient: shape 7×2, expected 7×4");
 }
 
 TEST_F(Checkpoint, EmptyParticleSetRoundTrips) {

@@ -134,9 +134,9 @@ ParticleCheckpoint sample_mpm(ParticleCheckpoint c) {
     c.particles.velocity[i] = Vec2(0.1, 0.0);
   }
   // An APIC run: the affine velocity of a rigid rotation ω = 0.2 rad/s about the origin,
-  // B = C D with C = [[0, −ω], [ω, 0]] and D = (h²/4) I (h = 0.5 m).
-  const double omega = 0.2, d = 0.25 * 0.5 * 0.5;
-  c.particles.affine_velocity.assign(c.particles.count(), Vec4(0.0, -omega * d, omega * d, 0.0));
+  // C = [[0, −ω], [ω, 0]].
+  const double omega = 0.2;
+  c.particles.affine_velocity.assign(c.particles.count(), Vec4(0.0, -omega, omega, 0.0));
   c.solver = {{"grid_spacing", 0.5}, {"shape_function", std::string("gimp")}};
   return c;
 }
