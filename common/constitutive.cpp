@@ -432,10 +432,6 @@ std::size_t surfaces_needed(const MaterialTable& materials, Phase phase) {
   return n;
 }
 
-double mean_stress(const Vec4& stress) {
-  return -(stress[0] + stress[1] + stress[2]) / 3.0;
-}
-
 double deviatoric_stress(const Vec4& stress) {
   const double p = mean_stress(stress);
   const double sxx = stress[0] + p;

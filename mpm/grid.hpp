@@ -32,14 +32,15 @@ struct NodeSums {
 };
 
 /// Sums of volumetric smoothing over the particles of one cell: Σ V_p, Σ V_p tr L_p and
-/// Σ V_p p_p (p: mean stress).
+/// Σ V_p p_p (p = −tr σ/3, compression positive: common/constitutive.hpp's mean_stress).
 struct CellSums {
   double volume = 0.0;
   double volumetric_rate = 0.0;
   double mean_stress = 0.0;
 };
 
-/// A cell's volume-weighted averages of the particles' volumetric rate tr L and mean stress.
+/// A cell's volume-weighted averages of the particles' volumetric rate tr L and mean stress
+/// p (compression positive).
 struct CellAverages {
   double volumetric_rate = 0.0;
   double mean_stress = 0.0;

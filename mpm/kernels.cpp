@@ -312,11 +312,6 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   particles.volume[p] *= jacobian;
 }
 
-/// The mean stress ⅓ (σxx + σyy + σzz).
-inline double mean_stress(const Vec4& s) {
-  return (s[0] + s[1] + s[2]) / 3.0;
-}
-
 /// Where the cell averages of a particle are kept: the storage index of the node at the
 /// lower-left corner of its cell (⌊ξ⌋, ⌊η⌋). That node is in the particle's stencil
 /// (linear: nodes ⌊ξ⌋, ⌊ξ⌋ + 1; uGIMP: the nearest node ± 1), hence in its block's
@@ -424,7 +419,8 @@ void smooth_block(Particles& particles, const GridGeometry& grid, const GridStat
   for (std::size_t p = begin; p < end; ++p) {
     const CellAverages& cell = state.cell_averages[cell_slot(grid, particles.coordinates[p])];
     Vec4& stress = particles.stress[p];
-    const double pressure_shift = cell.mean_stress - mean_stress(stress);
+    // σ_ii += p_p − p̄ (p compression positive): the cell's mean stress, the deviator kept.
+    const double pressure_shift = mean_stress(stress) - cell.mean_stress;
     stress[0] += pressure_shift;
     stress[1] += pressure_shift;
     stress[2] += pressure_shift;

@@ -209,6 +209,14 @@ initial_height = 4.0
 )";
 }
 
+/// The small case with `lines` added to its [mpm] table (after cell_size).
+std::string small_case_with_mpm_lines(const std::string& lines) {
+  std::string text = small_case();
+  const std::string at = "cell_size = 1.0\n";
+  text.replace(text.find(at), at.size(), at + lines);
+  return text;
+}
+
 TEST(CaseFile, SmallCaseLoadsWithDefaults) {
   const Case c = parse_case(small_case(), "case.toml");
   EXPECT_EQ(c.file, fs::path("case.toml"));
@@ -300,10 +308,7 @@ TEST(CaseFile, EnumNamesAreTheCaseFileSpellings) {
 // selected, as the reader's policy has it, so that a case switches with one line.
 TEST(CaseFile, VelocityTransferIsFlipPicOrApicAndApicIgnoresThePicFraction) {
   auto with = [](const std::string& lines) {
-    std::string text = small_case();
-    const std::string at = "cell_size = 1.0\n";
-    text.replace(text.find(at), at.size(), at + lines);
-    return parse_case(text, "case.toml");
+    return parse_case(small_case_with_mpm_lines(lines), "case.toml");
   };
   const Case flip = with("pic_fraction = 0.01\n");
   EXPECT_EQ(flip.mpm.velocity_transfer, VelocityTransfer::flip_pic);
@@ -332,9 +337,7 @@ TEST(CaseFile, VelocityTransferIsFlipPicOrApicAndApicIgnoresThePicFraction) {
 // elastic there (mpm_model = "linear-elastic").
 TEST(CaseFile, VolumetricSmoothingIsCellForPlasticMaterialsUnlessTheCaseSaysOtherwise) {
   auto with = [](const std::string& lines, const std::string& mpm_model = "mohr-coulomb") {
-    std::string text = small_case();
-    const std::string at = "cell_size = 1.0\n";
-    text.replace(text.find(at), at.size(), at + lines);
+    std::string text = small_case_with_mpm_lines(lines);
     const std::string model = "model = \"mohr-coulomb\"\n";
     text.replace(text.find(model), model.size(), model + "mpm_model = \"" + mpm_model + "\"\n");
     return parse_case(text, "case.toml");

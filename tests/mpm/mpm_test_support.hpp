@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <numbers>
 
 #include "common/material.hpp"
 #include "mpm/mpm_solver.hpp"
@@ -44,6 +45,36 @@ inline MpmSettings settings_on(const Vec2& lower, const Vec2& upper, double h,
 
 inline void set_edge(MpmSettings& s, GridEdge edge, BoundaryCondition condition) {
   s.boundaries.edge[edge].condition = condition;
+}
+
+/// A fixed–free elastic bar in uniaxial strain (fixed at x = 0, rollers above and below),
+/// L = 25 m on 1 m cells with 2 × 2 particles per cell, started in its first mode
+/// v(x, 0) = v0 sin(πx/2L), v0 = 10⁻³ c: ω1 = (π/2L) c, c = sqrt(M/ρ).
+struct FirstModeBar {
+  MpmSettings settings;
+  MaterialTable materials;
+  Particles particles;
+  double omega = 0.0;  ///< ω1, rad/s
+};
+
+inline FirstModeBar first_mode_bar(ShapeFunction shape, UpdateScheme scheme) {
+  const double length = 25.0;
+  FirstModeBar bar;
+  bar.settings = settings_on(Vec2(0, 0), Vec2(32, 1), 1.0, shape, scheme);
+  set_edge(bar.settings, edge_left, BoundaryCondition::fixed);
+  set_edge(bar.settings, edge_base, BoundaryCondition::roller);
+  set_edge(bar.settings, edge_top, BoundaryCondition::roller);
+  const Material material = elastic_soil(1000.0, 1.0e7, 0.3);
+  bar.materials = {material};
+  bar.particles = generate_box_particles(bar.settings.grid, Vec2(0, 0), Vec2(length, 1), 2, 2,
+                                         bar.materials, 0);
+  const double c = material.p_wave_speed();
+  const double k = std::numbers::pi / (2 * length);
+  for (std::size_t p = 0; p < bar.particles.count(); ++p) {
+    bar.particles.velocity[p] = Vec2(0.001 * c * std::sin(k * bar.particles.coordinates[p].x()), 0);
+  }
+  bar.omega = k * c;
+  return bar;
 }
 
 }  // namespace slide::mpm::testing

@@ -231,23 +231,11 @@ TEST(Apic, TransferConservesAngularMomentumAboutAPoint) {
 /// `periods` periods: the least-squares slope of ln E against t, E averaged per period.
 double energy_decay_rate(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer transfer,
                          double pic_fraction, int periods) {
-  const double length = 25.0;
-  MpmSettings s = settings_on(Vec2(0, 0), Vec2(32, 1), 1.0, shape, scheme);
-  s.velocity_transfer = transfer;
-  s.pic_fraction = pic_fraction;
-  set_edge(s, edge_left, BoundaryCondition::fixed);
-  set_edge(s, edge_base, BoundaryCondition::roller);
-  set_edge(s, edge_top, BoundaryCondition::roller);
-  const Material material = elastic_soil(1000.0, 1.0e7, 0.3);
-  const MaterialTable materials{material};
-  Particles p = generate_box_particles(s.grid, Vec2(0, 0), Vec2(length, 1), 2, 2, materials, 0);
-  const double c = material.p_wave_speed();
-  const double k = std::numbers::pi / (2 * length);
-  for (std::size_t q = 0; q < p.count(); ++q) {
-    p.velocity[q] = Vec2(0.001 * c * std::sin(k * p.coordinates[q].x()), 0);
-  }
-  const double period = 2 * std::numbers::pi / (k * c);
-  MpmSolver solver(s, materials, std::move(p));
+  FirstModeBar bar = first_mode_bar(shape, scheme);
+  bar.settings.velocity_transfer = transfer;
+  bar.settings.pic_fraction = pic_fraction;
+  const double period = 2 * std::numbers::pi / bar.omega;
+  MpmSolver solver(bar.settings, bar.materials, std::move(bar.particles));
   const double dt = solver.courant_time_step(0.5);
   std::vector<double> mean(static_cast<std::size_t>(periods), 0.0);
   std::vector<int> samples(mean.size(), 0);
