@@ -28,10 +28,9 @@ struct Particles {
   std::vector<MaterialState> state;
   /// Multi-yield surface stresses (per_point = 0 when no material uses the model).
   SurfaceStresses surface_stress;
-  /// APIC's affine velocity B_p = Σ_i N_ip v_i (x_i − x_p)ᵀ as [Bxx, Bxy, Byx, Byy]
-  /// (B_ab = Σ N v_a (x_i − x_p)_b), m²/s, expressed at the particle's current position
-  /// (mpm/kernels.hpp). Empty when the run does not use APIC (FLIP/PIC carries no affine
-  /// state), else one per particle.
+  /// APIC's affine velocity gradient C_p as [Cxx, Cxy, Cyx, Cyy] (C_ab = ∂v_a/∂x_b of
+  /// the particle's affine field v_p + C_p (x − x_p)), 1/s (mpm/kernels.hpp). Empty when
+  /// the run does not use APIC (FLIP/PIC carries no affine state), else one per particle.
   std::vector<Vec4> affine_velocity;
 
   std::size_t count() const { return coordinates.size(); }
