@@ -14,10 +14,6 @@
 
 namespace slide::fem {
 
-std::string checkpoint_file_name(double time) {
-  return fmt::format("fem_t{:.3f}.h5", time);
-}
-
 FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
                               const CheckpointContext& context) {
   const std::vector<Vec2> x = current_coordinates(model, state);
@@ -134,74 +130,31 @@ bool HistoryRow::inverted() const {
 
 namespace {
 
-std::string format_row(const HistoryRow& row) {
-  return fmt::format(
-      "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{},{:.10g},{:.10g},{:.10g}"
-      "\n",
-      row.time, row.kinetic_energy, row.pe0, row.ke_over_pe0, row.jacobian_ratio_min,
-      row.jacobian_ratio_avg, row.eps_q_avg, row.eps_q_max, row.n_elements_yielding, row.area_ratio,
-      row.scaled_jacobian_min, row.scaled_jacobian_avg);
+std::vector<double> values_of(const HistoryRow& r) {
+  return {r.time,        r.kinetic_energy,      r.pe0,
+          r.ke_over_pe0, r.jacobian_ratio_min,  r.jacobian_ratio_avg,
+          r.eps_q_avg,   r.eps_q_max,           static_cast<double>(r.n_elements_yielding),
+          r.area_ratio,  r.scaled_jacobian_min, r.scaled_jacobian_avg};
 }
 
-/// One row of `columns` numbers (12, or 9 for a history without the shape columns, which
-/// then come back NaN).
-bool parse_row(const std::string& line, std::size_t columns, HistoryRow& row) {
-  std::array<double, 12> values{};
-  values.fill(std::numeric_limits<double>::quiet_NaN());
-  const char* cursor = line.c_str();
-  for (std::size_t i = 0; i < columns; ++i) {
-    char* end = nullptr;
-    values[i] = std::strtod(cursor, &end);
-    if (end == cursor) return false;
-    cursor = end;
-    if (i + 1 < columns) {
-      if (*cursor != ',') return false;
-      ++cursor;
-    }
-  }
-  row = {values[0], values[1],  values[2],
-         values[3], values[4],  values[5],
-         values[6], values[7],  static_cast<Index>(values[8]),
-         values[9], values[10], values[11]};
-  return true;
+HistoryRow row_of(const std::vector<double>& v) {
+  return {v[0], v[1],  v[2], v[3], v[4], v[5], v[6], v[7], static_cast<Index>(v[8]),
+          v[9], v[10], v[11]};
 }
 
 }  // namespace
 
-void HistoryFile::resume(double time, const Logger& logger) {
+FemHistory::FemHistory(std::filesystem::path path) : csv_(std::move(path), history_columns) {}
+
+void FemHistory::resume(double time, const Logger& logger) {
+  csv_.resume(time, logger);
   rows_.clear();
-  std::ifstream in(path_);
-  if (!in) {
-    logger.warning("{}: not found; the history restarts at t = {:.3f} s", path_.string(), time);
-    return;
-  }
-  std::string line;
-  std::size_t columns = 0;
-  if (std::getline(in, line)) {
-    if (line == history_header) columns = 12;
-    if (line == history_header_without_shape) columns = 9;
-  }
-  if (columns == 0) {
-    logger.warning("{}: not a fem-solve history; it is replaced", path_.string());
-    return;
-  }
-  while (std::getline(in, line)) {
-    HistoryRow row;
-    if (!parse_row(line, columns, row)) break;
-    if (row.time > time + 1e-9) break;
-    rows_.push_back(row);
-  }
+  for (const auto& values : csv_.rows()) rows_.push_back(row_of(values));
 }
 
-void HistoryFile::add(const HistoryRow& row) {
+void FemHistory::add(const HistoryRow& row) {
+  csv_.add(values_of(row));
   rows_.push_back(row);
-  write();
-}
-
-void HistoryFile::write() const {
-  std::string text = std::string(history_header) + "\n";
-  for (const auto& row : rows_) text += format_row(row);
-  write_text_atomically(path_, text);
 }
 
 VtkSeries::VtkSeries(const std::filesystem::path& output_dir)

@@ -8,14 +8,12 @@
 
 #include "common/checkpoint.hpp"
 #include "common/log.hpp"
+#include "common/run/history_csv.hpp"
 #include "common/vtk_output.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/mesh_quality.hpp"
 
 namespace slide::fem {
-
-/// "fem_t2.000.h5": the checkpoint file name of time t (three decimals).
-std::string checkpoint_file_name(double time);
 
 /// What a checkpoint needs besides the model and the state.
 struct CheckpointContext {
@@ -58,31 +56,29 @@ struct HistoryRow {
   bool inverted() const;
 };
 
-/// fem_history.csv, rewritten atomically after every row so that a stopped run leaves
-/// a complete file.
-class HistoryFile {
+/// fem_history.csv, one HistoryRow per output step (common/run/history_csv.hpp: written
+/// whole and atomically after every row, so that a stopped run leaves a complete file).
+class FemHistory {
  public:
-  explicit HistoryFile(std::filesystem::path path) : path_(std::move(path)) {}
+  explicit FemHistory(std::filesystem::path path);
   /// On restart: keeps the rows of an existing file up to `time`; a missing or foreign
   /// file starts an empty history (with a warning). A history written before the area
-  /// and shape columns existed (history_header_without_shape) is kept, those columns NaN.
+  /// and shape columns existed is kept, those columns NaN.
   void resume(double time, const Logger& logger);
   void add(const HistoryRow& row);
   const std::vector<HistoryRow>& rows() const { return rows_; }
 
  private:
-  void write() const;
-  std::filesystem::path path_;
+  run::HistoryCsv csv_;
   std::vector<HistoryRow> rows_;
 };
 
-inline constexpr const char* history_header =
-    "time,kinetic_energy,pe0,ke_over_pe0,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-    "eps_q_max,n_elements_yielding,area_ratio,scaled_jacobian_min,scaled_jacobian_avg";
-/// The header of the histories fem-solve wrote before area_ratio and the scaled Jacobian.
-inline constexpr const char* history_header_without_shape =
-    "time,kinetic_energy,pe0,ke_over_pe0,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-    "eps_q_max,n_elements_yielding";
+/// The columns of fem_history.csv (CONTRACT.md), in the order of HistoryRow.
+inline const std::vector<std::string> history_columns{
+    "time",        "kinetic_energy",      "pe0",
+    "ke_over_pe0", "jacobian_ratio_min",  "jacobian_ratio_avg",
+    "eps_q_avg",   "eps_q_max",           "n_elements_yielding",
+    "area_ratio",  "scaled_jacobian_min", "scaled_jacobian_avg"};
 
 /// OUT/vtk/fem_<step>.vtu (the mesh on the current coordinates) and
 /// OUT/vtk/fem_gauss_points_<step>.vtu (the Gauss points as a point cloud), collected in

@@ -12,13 +12,14 @@
 #include "common/checkpoint.hpp"
 #include "common/error.hpp"
 #include "common/mesh_generation.hpp"
+#include "common/run/output_schedule.hpp"
+#include "common/run/stage.hpp"
 #include "fem/element_kernels.hpp"
 #include "fem/explicit_dynamics.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/fem_output.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_quality.hpp"
-#include "fem/output_schedule.hpp"
 #include "fem/stability_guard.hpp"
 
 namespace slide::fem {
@@ -50,7 +51,7 @@ std::string setting_string(const SolverSettings& settings, const std::string& ke
 }
 
 /// One run of fem-solve, from a case (fresh) or from a checkpoint (restart).
-class FemRun {
+class FemRun final : public run::Stage {
  public:
   FemRun(const Case& c, const FemOptions& options, const Logger& logger);
   FemRunSummary execute();
@@ -61,7 +62,10 @@ class FemRun {
   void create_outputs(bool resume);
   void run_geostatic_stage();
   void start_failure_stage(bool switch_models);
-  void advance_to(double stop);
+  // run::Stage: the failure stage's steps and outputs.
+  double time() const override { return state_.time; }
+  bool advance_to(double stop) override;
+  void write_output(bool checkpoint) override { output(checkpoint); }
   void output(bool checkpoint);
   HistoryRow diagnose(const ElementQuality& quality);
   void track_zone(const HistoryRow& row);
@@ -81,8 +85,8 @@ class FemRun {
   std::unique_ptr<FemModel> model_;
   FemState state_;
   std::unique_ptr<ExplicitSolver> solver_;
-  OutputSchedule schedule_;
-  std::unique_ptr<HistoryFile> history_;
+  run::OutputSchedule schedule_;
+  std::unique_ptr<FemHistory> history_;
   std::unique_ptr<VtkSeries> vtk_;
   std::unique_ptr<Progress> progress_;
 
@@ -136,11 +140,8 @@ FemRunSummary FemRun::execute() {
     }
   }
   start_failure_stage(!options_.restart || restart_stage_ == geostatic_stage);
-  while (state_.time < schedule_.end_time() - OutputSchedule::time_tolerance) {
-    const double stop = schedule_.next_stop(state_.time);
-    advance_to(stop);
-    output(schedule_.is_checkpoint(stop));
-  }
+  // The end is a checkpoint: a later run continues from it.
+  run::drive(*this, schedule_, true);
   return finish();
 }
 
@@ -173,16 +174,7 @@ void FemRun::prepare_restart() {
     throw Error("{}: the checkpoint has {} elements but the case asks for {}", file.string(),
                 to_string(checkpoint.mesh.element_type), to_string(case_.mesh.element_type));
   }
-  if (checkpoint.materials.size() != case_.materials.size()) {
-    throw Error("{}: the checkpoint has {} materials, the case {}", file.string(),
-                checkpoint.materials.size(), case_.materials.size());
-  }
-  for (std::size_t i = 0; i < case_.materials.size(); ++i) {
-    if (checkpoint.materials[i].name != case_.materials[i].name) {
-      throw Error("{}: material {} is \"{}\" in the checkpoint but \"{}\" in the case",
-                  file.string(), i, checkpoint.materials[i].name, case_.materials[i].name);
-    }
-  }
+  run::check_restart_materials(checkpoint.materials, case_.materials, file.string());
   restart_stage_ = setting_string(checkpoint.solver, "stage");
   if (restart_stage_ != geostatic_stage && restart_stage_ != failure_stage) {
     throw Error("{}: /solver attribute stage is \"{}\" (expected \"geostatic\" or \"failure\")",
@@ -194,7 +186,8 @@ void FemRun::prepare_restart() {
         "continue",
         file.string());
   }
-  if (!(checkpoint.header.time < schedule_.end_time() - OutputSchedule::time_tolerance)) {
+  if (!(checkpoint.header.time < schedule_.end_time()) ||
+      schedule_.is_end(checkpoint.header.time)) {
     throw Error("{}: the checkpoint time {:.3f} s is at or after the end time {:.3f} s",
                 file.string(), checkpoint.header.time, schedule_.end_time());
   }
@@ -218,7 +211,7 @@ void FemRun::prepare_restart() {
 
 void FemRun::create_outputs(bool resume) {
   std::filesystem::create_directories(options_.output_dir);
-  history_ = std::make_unique<HistoryFile>(options_.output_dir / "fem_history.csv");
+  history_ = std::make_unique<FemHistory>(options_.output_dir / "fem_history.csv");
   if (options_.write_vtk) vtk_ = std::make_unique<VtkSeries>(options_.output_dir);
   if (!resume) return;
   history_->resume(state_.time, logger_);
@@ -237,7 +230,8 @@ void FemRun::run_geostatic_stage() {
       "relative residual {:.2g}, PE0 = {:.6g} J/m",
       model_->element_count(), to_string(model_->mesh.element_type), report.equations,
       report.max_displacement, report.relative_residual, pe0_);
-  write_fem_checkpoint(state_, geostatic_stage, options_.output_dir / checkpoint_file_name(0.0));
+  write_fem_checkpoint(state_, geostatic_stage,
+                       options_.output_dir / run::checkpoint_file_name("fem", 0.0));
 }
 
 void FemRun::start_failure_stage(bool switch_models) {
@@ -260,15 +254,17 @@ void FemRun::start_failure_stage(bool switch_models) {
       compute_energies(*model_, energy_geometry(), state_, state_.velocity, coordinates_);
   limits_.speed_limit =
       case_.fem.speed_limit_factor * std::sqrt(2.0 * gravity_acceleration * model_->height);
-  limits_.initial_energy = total_energy(energies);
-  limits_.energy_scale = releasable_potential_energy(*model_) + energies.elastic +
-                         energies.hourglass + energies.kinetic;
+  limits_.energy.initial_energy = total_energy(energies);
+  limits_.energy.energy_scale = releasable_potential_energy(*model_) + energies.elastic +
+                                energies.hourglass + energies.kinetic;
   if (!switch_models) {
-    const auto initial = setting_double(restart_settings_, "initial_total_energy");
+    // "initial_total_energy" in the checkpoints of fem-solve before the shared run loop.
+    auto initial = setting_double(restart_settings_, "initial_energy");
+    if (!initial) initial = setting_double(restart_settings_, "initial_total_energy");
     const auto scale = setting_double(restart_settings_, "energy_scale");
     if (initial && scale) {
-      limits_.initial_energy = *initial;
-      limits_.energy_scale = *scale;
+      limits_.energy.initial_energy = *initial;
+      limits_.energy.energy_scale = *scale;
     } else {
       logger_.warning("the checkpoint has no energy reference; the guard starts from its state");
     }
@@ -326,14 +322,15 @@ void FemRun::start_failure_stage(bool switch_models) {
   // The first row: at t = 0 after the switch (fem_t0.000.h5 holds the geostatic state
   // before it); a restart keeps the row its checkpoint's run wrote.
   const auto& rows = history_->rows();
-  if (rows.empty() || rows.back().time < state_.time - OutputSchedule::time_tolerance) {
+  if (rows.empty() ||
+      rows.back().time < state_.time - run::OutputSchedule::tolerance(state_.time)) {
     output(false);
   } else if (options_.checkpoint_at_zone_exit && !zone_exited_) {
     zone_state_ = state_;
   }
 }
 
-void FemRun::advance_to(double stop) {
+bool FemRun::advance_to(double stop) {
   const bool courant_every_step =
       model_->kinematics == Kinematics::updated_lagrangian && !(case_.fem.time_step > 0.0);
   while (state_.time < stop) {
@@ -342,17 +339,18 @@ void FemRun::advance_to(double stop) {
         courant_every_step ? solver_->stable_time_step(state_, case_.fem.courant) : time_step_;
     const double remaining = stop - state_.time;
     const bool last = remaining <= dt * (1.0 + 1e-6);
-    const double h = last ? remaining : dt;
-    const Index inverted = solver_->step(state_, h);
-    if (inverted >= 0) stop_at_inversion(inverted, state_.time + h);
+    const double step = last ? remaining : dt;
+    const Index inverted = solver_->step(state_, step);
+    if (inverted >= 0) stop_at_inversion(inverted, state_.time + step);
     ++steps_;
-    last_step_ = h;
+    last_step_ = step;
     if (last) {
       state_.time = stop;
       break;
     }
     if ((steps_ & 63) == 0) progress_->update(state_.time, state_.step);
   }
+  return true;  // an inversion ends the run by an Error, never early
 }
 
 /// The geometry the energies integrate with, on `coordinates_`: the kernels' own.
@@ -412,7 +410,7 @@ void FemRun::output(bool checkpoint) {
   if (vtk_) vtk_->write(*model_, state_, coordinates_, quality);
   if (checkpoint) {
     write_fem_checkpoint(state_, failure_stage,
-                         options_.output_dir / checkpoint_file_name(state_.time));
+                         options_.output_dir / run::checkpoint_file_name("fem", state_.time));
   }
   if (newly_inverted) {
     Index inverted = 0;
@@ -444,9 +442,9 @@ void FemRun::track_zone(const HistoryRow& row) {
       "εq,avg = {:.4f})",
       state_.time, row.jacobian_ratio_avg, row.eps_q_avg);
   if (!zone_state_) return;
-  const auto file = options_.output_dir / checkpoint_file_name(zone_state_->time);
+  const auto file = options_.output_dir / run::checkpoint_file_name("fem", zone_state_->time);
   // A regular checkpoint of that time, or fem_t0.000.h5 at t = 0, already serves.
-  if (written_this_run(file) || zone_state_->time <= OutputSchedule::time_tolerance) {
+  if (written_this_run(file) || zone_state_->time <= run::OutputSchedule::tolerance(0.0)) {
     logger_.info("zone-exit checkpoint: {} (already written)", file.string());
   } else {
     write_fem_checkpoint(*zone_state_, failure_stage, file);
@@ -468,9 +466,10 @@ void FemRun::stop_at_inversion(Index element, double failing_time) {
         element, state_.time, failing_time, diagnosis,
         last_checkpoint_.empty() ? "none" : last_checkpoint_.string());
   }
-  auto file = options_.output_dir / checkpoint_file_name(state_.time);
+  auto file = options_.output_dir / run::checkpoint_file_name("fem", state_.time);
   if (written_this_run(file))
-    file = options_.output_dir / fmt::format("fem_t{:.6f}.h5", state_.time);
+    file = options_.output_dir /
+           fmt::format("fem_t{:.6f}.h5", state_.time);  // finer than the schedule's
   write_fem_checkpoint(state_, failure_stage, file);
   throw Error(
       "updated Lagrangian: element {} inverts (det J ≤ 0) in the step from t = {:.6f} s to "
@@ -507,8 +506,8 @@ void FemRun::write_fem_checkpoint(const FemState& state, const std::string& stag
                                    case_.fem.courant, case_.fem.damping.rayleigh_stiffness);
   context.solver["hourglass_coefficient"] = model_->hourglass_coefficient;
   if (!geostatic) {
-    context.solver["initial_total_energy"] = limits_.initial_energy;
-    context.solver["energy_scale"] = limits_.energy_scale;
+    context.solver["initial_energy"] = limits_.energy.initial_energy;
+    context.solver["energy_scale"] = limits_.energy.energy_scale;
   }
   write_checkpoint(file, make_checkpoint(*model_, state, context));
   written_.push_back(file);

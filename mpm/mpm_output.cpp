@@ -62,10 +62,6 @@ T setting(const SolverSettings& s, const std::string& key, const std::string& so
 
 }  // namespace
 
-fs::path checkpoint_path(const fs::path& output_dir, double time) {
-  return output_dir / fmt::format("mpm_t{:.3f}.h5", time);
-}
-
 void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunReferences& references,
                           const std::string& case_name, const TransferSettings& transfer) {
   ParticleCheckpoint c;
@@ -83,8 +79,8 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   c.solver["steps_since_sort"] = clock.steps_since_sort;
   c.solver["frozen_particles"] = static_cast<std::int64_t>(clock.frozen);
   c.solver["reference_height"] = references.reference_height;
-  c.solver["initial_energy"] = references.initial_energy;
-  c.solver["energy_scale"] = references.energy_scale;
+  c.solver["initial_energy"] = references.energy.initial_energy;
+  c.solver["energy_scale"] = references.energy.energy_scale;
   c.solver["rest_timer"] = references.rest_timer;
   // Borrow the arrays (moves, no copy) and give them back whatever the write does.
   c.particles = solver.lend_particles();
@@ -116,8 +112,8 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
   clock.frozen = static_cast<std::size_t>(frozen);
   references.pe0 = checkpoint.header.pe0;
   references.reference_height = setting<double>(s, "reference_height", source);
-  references.initial_energy = setting<double>(s, "initial_energy", source);
-  references.energy_scale = setting<double>(s, "energy_scale", source);
+  references.energy.initial_energy = setting<double>(s, "initial_energy", source);
+  references.energy.energy_scale = setting<double>(s, "energy_scale", source);
   references.rest_timer = setting<double>(s, "rest_timer", source);
   references.time_step = setting<double>(s, "time_step", source);
   // Checkpoints before the step followed the particles' current density stored the
@@ -139,45 +135,20 @@ std::vector<std::string> changed_settings(const SolverSettings& stored, const Mp
 
 // ----------------------------------------------------------------------------- history
 
-HistoryWriter::HistoryWriter(fs::path path, const MetricsSpec& metrics,
-                             std::optional<double> resume_time)
-    : path_(std::move(path)), metrics_(metrics) {
-  fs::create_directories(path_.parent_path());
-  std::string kept;
-  if (resume_time && fs::exists(path_)) {
-    // Keep the header and the rows up to the restart time (a restart continues them).
-    std::ifstream in(path_);
-    std::string line;
-    bool header = true;
-    while (std::getline(in, line)) {
-      if (header) {
-        header = false;
-        continue;
-      }
-      const double t = std::strtod(line.c_str(), nullptr);
-      if (t > *resume_time + 1e-9) break;
-      kept += line + '\n';
-      last_time_ = t;
-    }
-  }
-  out_.open(path_, std::ios::trunc);
-  if (!out_) throw Error("{}: cannot write the history", path_.string());
-  out_ << "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised\n" << kept;
-  out_.flush();
-}
+MpmHistory::MpmHistory(fs::path path, const MetricsSpec& metrics)
+    : csv_(std::move(path), {"time", "kinetic_energy", "pe0", "ke_over_pe0", "x_toe", "runout",
+                             "runout_normalised"}),
+      metrics_(metrics) {}
 
-void HistoryWriter::write(const MpmSolver& solver, double pe0) {
+void MpmHistory::write(const MpmSolver& solver, double pe0) {
   const double time = solver.clock().time;
-  if (time <= last_time_) return;  // already written (restart, or the final row)
+  if (!csv_.rows().empty() && time <= csv_.rows().back().front()) return;
   const Energies e = solver.energies();
-  const SurfaceProfile profile = surface_profile(solver.particles().coordinates, metrics_.bin_width,
-                                                 metrics_.profile_percentile);
+  const SurfaceProfile profile =
+      surface_profile(solver.particles().coordinates, metrics_.bin_width,
+                      metrics_.profile_percentile, metrics_.foundation_level);
   const RunoutMeasures m = runout_measures(profile, metrics_.initial_length);
-  out_ << fmt::format("{},{},{},{},{},{},{}\n", time, e.kinetic, pe0, e.kinetic / pe0, m.x_toe,
-                      m.runout, m.runout_normalised);
-  out_.flush();
-  if (!out_) throw Error("{}: write failed", path_.string());
-  last_time_ = time;
+  csv_.add({time, e.kinetic, pe0, e.kinetic / pe0, m.x_toe, m.runout, m.runout_normalised});
 }
 
 // ----------------------------------------------------------------------------- VTK

@@ -4,26 +4,24 @@
 #pragma once
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "common/case_file.hpp"
 #include "common/checkpoint.hpp"
+#include "common/log.hpp"
+#include "common/run/history_csv.hpp"
+#include "common/run/stability_guard.hpp"
 #include "common/vtk_output.hpp"
 #include "mpm/mpm_solver.hpp"
 
 namespace slide::mpm {
-
-/// OUT/mpm_t<T>.h5 with T to three decimals (mpm_t10.000.h5).
-std::filesystem::path checkpoint_path(const std::filesystem::path& output_dir, double time);
 
 /// References of the instability guard and the rest detection, fixed at the start of the
 /// run (t = 0 for pure MPM, the particle file's time otherwise) and carried by restarts.
 struct RunReferences {
   double pe0 = 0.0;               ///< PE_0, J/m (CONTRACT)
   double reference_height = 0.0;  ///< H of the speed bound sqrt(2 g H), m
-  double initial_energy = 0.0;    ///< KE + PE + elastic at the start, J/m
-  double energy_scale = 0.0;      ///< the energy the body can release, J/m
+  run::EnergyReference energy;    ///< KE + PE + elastic at the start, the releasable energy
   double rest_timer = 0.0;        ///< s spent with KE/PE0 below the rest threshold
   double time_step = 0.0;         ///< the case's fixed Δt, s (0: the Courant step)
   double courant = 0.0;           ///< C of the Courant step (with time_step 0)
@@ -46,20 +44,21 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
 std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
                                           double time_step, double courant);
 
-/// mpm_history.csv: one row per output step with the CONTRACT columns. On restart the
-/// rows after the restart time are dropped.
-class HistoryWriter {
+/// mpm_history.csv: one row per output step with the CONTRACT columns, through
+/// common/run/history_csv.hpp. The runout is measured as sweep.csv measures it (METHOD.md
+/// §6, over the case's foundation level). On restart the rows after the restart time
+/// are dropped.
+class MpmHistory {
  public:
-  HistoryWriter(std::filesystem::path path, const MetricsSpec& metrics,
-                std::optional<double> resume_time);
+  MpmHistory(std::filesystem::path path, const MetricsSpec& metrics);
+  void resume(double time, const Logger& logger) { csv_.resume(time, logger); }
+  /// The row of the solver's current state; nothing when a row of that time (or a later
+  /// one) is there already (a restart's first output, or the final row).
   void write(const MpmSolver& solver, double pe0);
-  double last_time() const { return last_time_; }
 
  private:
-  std::filesystem::path path_;
+  run::HistoryCsv csv_;
   MetricsSpec metrics_;
-  std::ofstream out_;
-  double last_time_ = -1.0;
 };
 
 /// OUT/vtk/mpm_<step>.vtu with every particle field, registered in OUT/mpm.pvd.

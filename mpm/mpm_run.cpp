@@ -8,6 +8,9 @@
 #include "common/checkpoint.hpp"
 #include "common/error.hpp"
 #include "common/mesh_generation.hpp"
+#include "common/run/output_schedule.hpp"
+#include "common/run/stability_guard.hpp"
+#include "common/run/stage.hpp"
 #include "mpm/mpm_output.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
@@ -17,50 +20,6 @@ namespace slide::mpm {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// Output cadence on the simulation clock: history/VTK rows every `output_every`,
-/// checkpoints at the listed times and every `checkpoint_every`, and the end. Steps are
-/// shortened to land exactly on each of these times.
-class Schedule {
- public:
-  Schedule(const MpmSpec& spec, double end) : spec_(spec), end_(end) {}
-
-  double end() const { return end_; }
-  /// The first event strictly after t.
-  double next_event(double t) const {
-    double next = end_;
-    next = std::min(next, next_multiple(t, spec_.output_every));
-    next = std::min(next, next_multiple(t, spec_.checkpoint_every));
-    for (double c : spec_.checkpoint_times) {
-      if (c > t + tolerance(t)) next = std::min(next, c);
-    }
-    return next;
-  }
-  bool is_checkpoint(double t) const {
-    if (is_multiple(t, spec_.checkpoint_every)) return true;
-    return std::any_of(spec_.checkpoint_times.begin(), spec_.checkpoint_times.end(),
-                       [&](double c) { return std::abs(c - t) <= tolerance(t); });
-  }
-  /// History row and VTK frame (every checkpoint is also an output step).
-  bool is_output(double t) const {
-    return is_multiple(t, spec_.output_every) || is_checkpoint(t) || t >= end_ - tolerance(t);
-  }
-  static bool is_multiple(double t, double every) {
-    if (!(every > 0.0)) return false;
-    return std::abs(t - std::round(t / every) * every) <= tolerance(t);
-  }
-
- private:
-  static double tolerance(double t) { return 1e-9 * std::max(1.0, std::abs(t)); }
-  static double next_multiple(double t, double every) {
-    if (!(every > 0.0)) return std::numeric_limits<double>::infinity();
-    double k = std::floor(t / every) + 1.0;
-    if (k * every <= t + tolerance(t)) k += 1.0;
-    return k * every;
-  }
-  const MpmSpec& spec_;
-  double end_;
-};
 
 /// Where the run starts from.
 struct Start {
@@ -91,7 +50,11 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
   const bool restart = options.restart_file.has_value();
   const fs::path path = restart ? *options.restart_file : *options.particles_file;
   ParticleCheckpoint file = read_particle_checkpoint(path);
-  compare_materials(file.materials, c.materials, path.string(), log);
+  if (restart) {
+    run::check_restart_materials(file.materials, c.materials, path.string());
+  } else {
+    compare_materials(file.materials, c.materials, path.string(), log);
+  }
   start.transfer = file.transfer;
   if (restart) {
     read_restart_state(file, path.string(), start.clock, start.references);
@@ -131,36 +94,15 @@ void initialise_pure_mpm(const Case& c, const Mesh& body, MpmSolver& solver, dou
                       -solver.settings().gravity.y());
     log.info("pure MPM: K0 stresses of level ground (K0 = ν/(1 − ν))");
   } else {
-    // Elastic loading under gravity with local damping, then velocities, displacements
-    // and strains reset: the equilibrium state of t = 0.
-    const NodalDamping kept = solver.settings().damping;
-    solver.settings().damping.local = c.mpm.gravity_stage_damping;
-    solver.use_elastic_models(true);
-    std::int64_t steps = 0;
-    while (solver.clock().time < c.mpm.gravity_stage_duration - 1e-12) {
-      solver.step(std::min(dt, c.mpm.gravity_stage_duration - solver.clock().time));
-      ++steps;
-    }
+    // Elastic loading under gravity with local damping, then the state reset: the
+    // equilibrium state of t = 0.
+    const auto settling =
+        solver.settle_under_gravity(c.mpm.gravity_stage_duration, c.mpm.gravity_stage_damping, dt);
     log.info(
         "pure MPM: elastic gravity stage, {} s in {} steps (damping α = {}), KE {:.4g} J/m at its "
         "end",
-        c.mpm.gravity_stage_duration, steps, c.mpm.gravity_stage_damping,
-        solver.energies().kinetic);
-    solver.settings().damping = kept;
-    solver.use_elastic_models(false);
-    Particles& q = solver.particles();
-    for (std::size_t k = 0; k < q.count(); ++k) {
-      q.velocity[k].setZero();
-      if (!q.affine_velocity.empty()) q.affine_velocity[k].setZero();
-      q.displacement[k].setZero();
-      q.strain[k].setZero();
-      q.eps_q[k] = 0.0;
-      q.state[k] = MaterialState{};
-    }
-    SolverClock& clock = solver.clock();
-    clock.time = 0.0;
-    clock.step = 0;
-    clock.previous_dt = 0.0;
+        c.mpm.gravity_stage_duration, settling.steps, c.mpm.gravity_stage_damping,
+        settling.kinetic_energy);
   }
   const std::size_t returned = solver.return_to_yield_surface();
   log.info(
@@ -185,22 +127,17 @@ void set_references(const Case& c, const MpmSolver& solver, RunReferences& r, bo
     r.pe0 = e.potential;
   }
   r.reference_height = c.metrics.initial_height > 0.0 ? c.metrics.initial_height : y_max - y_min;
-  r.initial_energy = e.total();
+  r.energy.initial_energy = e.total();
   double releasable = 0.0;
   for (std::size_t k = 0; k < p.count(); ++k)
     releasable += p.mass[k] * g * (p.coordinates[k].y() - y_min);
-  r.energy_scale = releasable + e.kinetic + e.elastic;
+  r.energy.energy_scale = releasable + e.kinetic + e.elastic;
   r.rest_timer = 0.0;
 }
 
-/// The instability guard (METHOD.md §5). The energy tolerance: a stable run only loses
-/// energy (friction, plasticity, damping) up to discretisation errors of the order of
-/// one per cent (the vibrating bar drifts by < 0.1 %); a run that blows up multiplies
-/// its energy. Growth beyond 5 % of the energy the body can release (its potential
-/// energy above its lowest point, plus the initial kinetic and elastic energy) therefore
-/// separates the two with a wide margin on both sides.
-constexpr double energy_growth_tolerance = 0.05;
-
+/// The instability guard (METHOD.md §5; the checks and the tolerance are shared,
+/// common/run/stability_guard.hpp): finite particle fields, particle and node speeds
+/// below the bound, the total energy within the shared tolerance.
 std::optional<std::string> check_stability(const MpmSolver& solver, const RunReferences& r,
                                            double speed_limit_factor) {
   const Particles& p = solver.particles();
@@ -210,8 +147,8 @@ std::optional<std::string> check_stability(const MpmSolver& solver, const RunRef
                          p.id[k]);
     }
   }
-  const double g = solver.settings().gravity.norm();
-  const double limit = speed_limit_factor * std::sqrt(2.0 * g * r.reference_height);
+  const double limit =
+      run::speed_limit(speed_limit_factor, solver.settings().gravity.norm(), r.reference_height);
   const auto speeds = solver.max_speeds();
   if (limit > 0.0 && speeds.particle > limit) {
     const std::size_t k = speeds.particle_index;
@@ -229,13 +166,9 @@ std::optional<std::string> check_stability(const MpmSolver& solver, const RunRef
         r.reference_height);
   }
   const Energies e = solver.energies();
-  const double growth = e.total() - r.initial_energy;
-  if (growth > energy_growth_tolerance * std::max(r.energy_scale, 1e-300)) {
-    return fmt::format(
-        "total energy (kinetic {:.4g} + potential + elastic {:.4g} J/m) grew by {:.4g} "
-        "J/m since the start, more than {} % of the releasable energy {:.4g} J/m",
-        e.kinetic, e.elastic, growth, 100 * energy_growth_tolerance, r.energy_scale);
-  }
+  return run::energy_growth(
+      e.total(), r.energy,
+      fmt::format("kinetic {:.4g} + potential + elastic {:.4g} J/m", e.kinetic, e.elastic));
   return std::nullopt;
 }
 
@@ -287,6 +220,109 @@ class ExitLog {
   double first_exit_ = 0.0, first_unreported_ = 0.0;
 };
 
+/// mpm-solve's time loop (run::Stage): steps of the case's Δt or of the Courant step at
+/// the particles' current densities, landing on the schedule's times; the rest
+/// detection; at each output the guard, the history row, the VTK frame, the checkpoint.
+class MpmStage final : public run::Stage {
+ public:
+  MpmStage(const Case& c, const RunOptions& options, const run::OutputSchedule& schedule,
+           MpmSolver& solver, RunReferences& references, const TransferSettings& transfer,
+           MpmHistory& history, std::optional<VtkWriter>& vtk, Progress& progress, ExitLog& exits,
+           fs::path last_checkpoint, const Logger& log)
+      : case_(c),
+        options_(options),
+        schedule_(schedule),
+        solver_(solver),
+        refs_(references),
+        transfer_(transfer),
+        history_(history),
+        vtk_(vtk),
+        progress_(progress),
+        exits_(exits),
+        last_checkpoint_(std::move(last_checkpoint)),
+        log_(log) {}
+
+  double time() const override { return solver_.clock().time; }
+  std::int64_t steps() const { return steps_; }
+  double particle_steps() const { return particle_steps_; }
+
+  /// The step: the case's, or the Courant step at the particles' current densities,
+  /// taken anew every step (mpm/README.md, "Time step").
+  double next_time_step() const {
+    return case_.mpm.time_step > 0.0 ? case_.mpm.time_step
+                                     : solver_.courant_time_step(case_.mpm.courant);
+  }
+
+  bool advance_to(double stop) override {
+    for (;;) {
+      const double time = solver_.clock().time;
+      const double step = next_time_step();
+      const bool landing = time + step >= stop;
+      particle_steps_ += static_cast<double>(solver_.active_count());
+      const StepReport report = solver_.step(landing ? stop - time : step);
+      if (landing) solver_.land_on(stop);  // exactly, so restarts line up
+      ++steps_;
+
+      const double now = solver_.clock().time;
+      exits_.add(report.exited, now);
+      const double ke_over_pe0 = solver_.last_kinetic_energy() / refs_.pe0;
+      refs_.rest_timer =
+          ke_over_pe0 < case_.mpm.rest_threshold ? refs_.rest_timer + (now - time) : 0.0;
+      const bool at_rest =
+          case_.mpm.rest_duration > 0.0 && refs_.rest_timer >= case_.mpm.rest_duration;
+      progress_.update(now, solver_.clock().step,
+                       fmt::format("KE/PE0 {:.3g} Δt {:.3g} s", ke_over_pe0, step));
+      if (at_rest) {
+        log_.info("at rest: KE/PE0 < {} for {} s, stopping at t = {:.4f} s",
+                  case_.mpm.rest_threshold, case_.mpm.rest_duration, now);
+        return false;
+      }
+      // A step that ends within the schedule's tolerance of an output time is on it.
+      if (landing || schedule_.is_output(now)) return true;
+    }
+  }
+
+  void write_output(bool checkpoint) override {
+    const double now = solver_.clock().time;
+    if (now == last_output_time_ && !checkpoint) return;  // written already
+    last_output_time_ = now;
+    if (const auto problem = check_stability(solver_, refs_, case_.mpm.speed_limit_factor)) {
+      throw run::InstabilityError(
+          "instability at t = {:.6g} s (step {}): {}; last good checkpoint: {} (restart from it "
+          "with a smaller time step or more damping)",
+          now, solver_.clock().step, *problem,
+          last_checkpoint_.empty() ? "none" : last_checkpoint_.string());
+    }
+    history_.write(solver_, refs_.pe0);
+    if (vtk_ && (options_.vtk_every <= 0.0 ||
+                 run::OutputSchedule::on_grid(now, options_.vtk_every) || checkpoint)) {
+      vtk_->write(solver_);
+    }
+    if (checkpoint) {
+      last_checkpoint_ = options_.output_dir / run::checkpoint_file_name("mpm", now);
+      write_mpm_checkpoint(last_checkpoint_, solver_, refs_, case_.name, transfer_);
+      exits_.report(now);
+    }
+  }
+
+ private:
+  const Case& case_;
+  const RunOptions& options_;
+  const run::OutputSchedule& schedule_;
+  MpmSolver& solver_;
+  RunReferences& refs_;
+  const TransferSettings& transfer_;
+  MpmHistory& history_;
+  std::optional<VtkWriter>& vtk_;
+  Progress& progress_;
+  ExitLog& exits_;
+  fs::path last_checkpoint_;
+  const Logger& log_;
+  double last_output_time_ = -std::numeric_limits<double>::infinity();
+  std::int64_t steps_ = 0;
+  double particle_steps_ = 0.0;
+};
+
 }  // namespace
 
 RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) {
@@ -314,11 +350,9 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   RunReferences& refs = start.references;
   // The step: the case's, or the Courant step at the particles' current densities, taken
   // anew every step (mpm/README.md, "Time step").
-  const bool courant_step = !(c.mpm.time_step > 0.0);
-  auto next_time_step = [&] {
-    return courant_step ? solver.courant_time_step(c.mpm.courant) : c.mpm.time_step;
-  };
-  const double dt = next_time_step();
+  // The first step, for the log and the gravity stage; MpmStage takes each anew.
+  const double dt =
+      c.mpm.time_step > 0.0 ? c.mpm.time_step : solver.courant_time_step(c.mpm.courant);
   if (start.stored_settings) {
     for (const auto& change :
          changed_settings(*start.stored_settings, settings, c.mpm.time_step, c.mpm.courant)) {
@@ -358,84 +392,38 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
     throw Error("{}: the run would end at t = {} s, before its start at t = {} s{}", source,
                 end_time, solver.clock().time, options.until ? " (--until)" : " (mpm.end_time)");
   }
-  const Schedule schedule(c.mpm, end_time);
+  const run::OutputSchedule schedule(end_time, c.mpm.output_every, {c.mpm.checkpoint_every},
+                                     c.mpm.checkpoint_times);
   fs::create_directories(options.output_dir);
-  const std::optional<double> resume =
-      start.fresh ? std::nullopt : std::optional(solver.clock().time);
-  HistoryWriter history(options.output_dir / "mpm_history.csv", c.metrics, resume);
+  MpmHistory history(options.output_dir / "mpm_history.csv", c.metrics);
+  if (!start.fresh) history.resume(solver.clock().time, log);
   std::optional<VtkWriter> vtk;
-  if (options.write_vtk) vtk.emplace(options.output_dir, resume);
-  fs::path last_checkpoint = options.restart_file.value_or(fs::path());
-  double last_output_time = -std::numeric_limits<double>::infinity();
-  auto write_outputs = [&](bool checkpoint) {
-    if (solver.clock().time == last_output_time && !checkpoint) return;  // written already
-    last_output_time = solver.clock().time;
-    if (const auto problem = check_stability(solver, refs, c.mpm.speed_limit_factor)) {
-      throw InstabilityError(
-          "instability at t = {:.6g} s (step {}): {}; last good checkpoint: {} (restart from it "
-          "with a smaller time step or more damping)",
-          solver.clock().time, solver.clock().step, *problem,
-          last_checkpoint.empty() ? "none" : last_checkpoint.string());
-    }
-    history.write(solver, refs.pe0);
-    if (vtk && (options.vtk_every <= 0.0 ||
-                Schedule::is_multiple(solver.clock().time, options.vtk_every) || checkpoint)) {
-      vtk->write(solver);
-    }
-    if (checkpoint) {
-      last_checkpoint = checkpoint_path(options.output_dir, solver.clock().time);
-      write_mpm_checkpoint(last_checkpoint, solver, refs, c.name, start.transfer);
-    }
-  };
-  if (start.fresh) write_outputs(schedule.is_checkpoint(solver.clock().time));
-
-  // ---- the time loop
+  if (options.write_vtk) {
+    vtk.emplace(options.output_dir,
+                start.fresh ? std::nullopt : std::optional(solver.clock().time));
+  }
   const double start_time = solver.clock().time;
   Progress progress(log, "mpm", start_time, end_time);
-  const auto wall_start = std::chrono::steady_clock::now();
-  std::int64_t steps = 0;
-  double particle_steps = 0.0;
   ExitLog exits(log, settings.particle_exit);
-  bool at_rest = false;
-  while (solver.clock().time < end_time - 1e-9 * std::max(1.0, end_time)) {
-    const double time = solver.clock().time;
-    const double event = schedule.next_event(time);
-    const double step = next_time_step();
-    const bool landing = time + step >= event;
-    particle_steps += static_cast<double>(solver.active_count());
-    const StepReport report = solver.step(landing ? event - time : step);
-    if (landing) solver.clock().time = event;  // exactly, so restarts line up
-    ++steps;
+  MpmStage stage(c, options, schedule, solver, refs, start.transfer, history, vtk, progress, exits,
+                 options.restart_file.value_or(fs::path()), log);
+  if (start.fresh) stage.write_output(schedule.is_checkpoint(solver.clock().time));
 
-    exits.add(report.exited, solver.clock().time);
-    const double ke_over_pe0 = solver.last_kinetic_energy() / refs.pe0;
-    refs.rest_timer =
-        ke_over_pe0 < c.mpm.rest_threshold ? refs.rest_timer + (solver.clock().time - time) : 0.0;
-    at_rest = c.mpm.rest_duration > 0.0 && refs.rest_timer >= c.mpm.rest_duration;
-
-    const double now = solver.clock().time;
-    if (schedule.is_output(now) || at_rest) write_outputs(schedule.is_checkpoint(now));
-    if (schedule.is_checkpoint(now)) exits.report(now);
-    progress.update(now, solver.clock().step,
-                    fmt::format("KE/PE0 {:.3g} Δt {:.3g} s", ke_over_pe0, step));
-    if (at_rest) {
-      log.info("at rest: KE/PE0 < {} for {} s, stopping at t = {:.4f} s", c.mpm.rest_threshold,
-               c.mpm.rest_duration, now);
-      break;
-    }
-  }
+  // ---- the time loop
+  const auto wall_start = std::chrono::steady_clock::now();
+  run::drive(stage, schedule, false);  // the end's checkpoint is mpm_final.h5
   progress.finish();
   exits.finish(solver.clock().time);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  write_outputs(false);
+  stage.write_output(false);
   write_mpm_checkpoint(options.output_dir / "mpm_final.h5", solver, refs, c.name, start.transfer);
 
   RunSummary summary;
-  summary.steps = steps;
+  summary.steps = stage.steps();
   summary.particles = solver.particles().count();
   summary.wall_seconds = wall;
-  summary.particle_steps_per_second = wall > 0.0 ? particle_steps / wall : 0.0;
+  summary.particle_steps_per_second = wall > 0.0 ? stage.particle_steps() / wall : 0.0;
   summary.end_time = solver.clock().time;
   const auto memory = solver.memory();
   const auto per_particle = [&](std::size_t bytes) {

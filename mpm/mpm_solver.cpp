@@ -85,6 +85,34 @@ void MpmSolver::use_elastic_models(bool elastic) {
   }
 }
 
+MpmSolver::Settling MpmSolver::settle_under_gravity(double duration, double local_damping,
+                                                    double dt) {
+  const NodalDamping kept = settings_.damping;
+  settings_.damping.local = local_damping;
+  use_elastic_models(true);
+  Settling settling;
+  while (clock_.time < duration - 1e-12) {
+    step(std::min(dt, duration - clock_.time));
+    ++settling.steps;
+  }
+  settling.kinetic_energy = energies().kinetic;
+  settings_.damping = kept;
+  use_elastic_models(false);
+  Particles& q = particles();
+  for (std::size_t k = 0; k < q.count(); ++k) {
+    q.velocity[k].setZero();
+    if (!q.affine_velocity.empty()) q.affine_velocity[k].setZero();
+    q.displacement[k].setZero();
+    q.strain[k].setZero();
+    q.eps_q[k] = 0.0;
+    q.state[k] = MaterialState{};
+  }
+  clock_.time = 0.0;
+  clock_.step = 0;
+  clock_.previous_dt = 0.0;
+  return settling;
+}
+
 std::size_t MpmSolver::return_to_yield_surface() {
   std::size_t returned = 0;
   located_ = false;

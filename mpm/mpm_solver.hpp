@@ -98,8 +98,21 @@ class MpmSolver {
   /// Returns how many particles were outside the yield surface.
   std::size_t return_to_yield_surface();
 
+  /// Pure MPM's elastic gravity stage (METHOD.md §5): `duration` s of steps of at most
+  /// `dt` with linear-elastic models and local damping α = `local_damping`; then the
+  /// velocities, affine velocities, displacements, strains and states are reset and the
+  /// clock starts at t = 0: the equilibrium the plastic run starts from. The settings
+  /// and models are the run's own again afterwards.
+  struct Settling {
+    std::int64_t steps = 0;
+    double kinetic_energy = 0.0;  ///< at the stage's end, before the reset, J/m
+  };
+  Settling settle_under_gravity(double duration, double local_damping, double dt);
+  /// The step just taken ends at `time` instead (within a rounding of the clock's own):
+  /// a schedule's time, so that a run and its restart stop at exactly the same times.
+  void land_on(double time) { clock_.time = time; }
+
   const MpmSettings& settings() const { return settings_; }
-  MpmSettings& settings() { return settings_; }
   const MaterialTable& materials() const { return materials_; }
   const Particles& particles() const { return particles_; }
   /// Direct access for setup (initial stresses, resets); not during a step.
@@ -108,7 +121,6 @@ class MpmSolver {
     return particles_;
   }
   const SolverClock& clock() const { return clock_; }
-  SolverClock& clock() { return clock_; }
   std::size_t active_count() const { return particles_.count() - clock_.frozen; }
 
   /// Kinetic energy after the last step (block partial sums, no extra pass).

@@ -10,77 +10,11 @@
 
 #include "common/checkpoint.hpp"
 #include "common/error.hpp"
+#include "common/run/history_csv.hpp"
 
 namespace slide::tools {
 
 namespace {
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream stream(line);
-  std::string cell;
-  while (std::getline(stream, cell, ',')) {
-    const auto begin = cell.find_first_not_of(" \t\r");
-    const auto end = cell.find_last_not_of(" \t\r");
-    cells.push_back(begin == std::string::npos ? "" : cell.substr(begin, end - begin + 1));
-  }
-  return cells;
-}
-
-double parse_number(const std::string& text, const std::filesystem::path& path, int line) {
-  if (text.empty() || text == "nan" || text == "NaN") return std::nan("");
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used != text.size()) throw std::invalid_argument(text);
-    return value;
-  } catch (const std::exception&) {
-    throw Error("{}:{}: \"{}\" is not a number", path.string(), line, text);
-  }
-}
-
-/// The named columns of a history CSV (header line, then one row per output step; blank
-/// lines skipped), row by row in the order of `names`, then of `optional` (NaN where the
-/// file has no such column).
-std::vector<std::vector<double>> read_columns(const std::filesystem::path& path,
-                                              const std::string& what,
-                                              const std::vector<std::string>& names,
-                                              const std::vector<std::string>& optional = {}) {
-  std::ifstream in(path);
-  if (!in) throw Error("{}: cannot open {}", path.string(), what);
-  std::string line;
-  if (!std::getline(in, line)) throw Error("{}: empty file, expected a header line", path.string());
-  const auto header = split_csv_line(line);
-  std::vector<std::size_t> index;
-  for (const auto& name : names) {
-    const auto found = std::find(header.begin(), header.end(), name);
-    if (found == header.end()) throw Error("{}: missing column {}", path.string(), name);
-    index.push_back(static_cast<std::size_t>(found - header.begin()));
-  }
-  const std::size_t absent = header.size();
-  for (const auto& name : optional) {
-    const auto found = std::find(header.begin(), header.end(), name);
-    index.push_back(found == header.end() ? absent
-                                          : static_cast<std::size_t>(found - header.begin()));
-  }
-  std::vector<std::vector<double>> rows;
-  int line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.empty() || line == "\r") continue;
-    const auto cells = split_csv_line(line);
-    if (cells.size() != header.size()) {
-      throw Error("{}:{}: {} cells, expected {}", path.string(), line_number, cells.size(),
-                  header.size());
-    }
-    std::vector<double> values;
-    for (std::size_t i : index) {
-      values.push_back(i == absent ? std::nan("") : parse_number(cells[i], path, line_number));
-    }
-    rows.push_back(std::move(values));
-  }
-  return rows;
-}
 
 /// "-0", "-0.0 %" and the like: a value that rounds to zero is printed without a minus
 /// sign ("+" kept where the format asks for a sign).
@@ -171,7 +105,7 @@ std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path) {
     (i < required ? names : optional).push_back(fields[i].first);
   }
   std::vector<FemHistoryRow> rows;
-  for (const auto& values : read_columns(path, "the FE history", names, optional)) {
+  for (const auto& values : run::read_history(path, "the FE history", names, optional)) {
     FemHistoryRow row;
     for (std::size_t i = 0; i < fields.size(); ++i) row.*fields[i].second = values[i];
     rows.push_back(row);
@@ -181,7 +115,7 @@ std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path) {
 
 std::vector<EnergySample> read_energy_history(const std::filesystem::path& path) {
   std::vector<EnergySample> samples;
-  for (const auto& values : read_columns(path, "the history", {"time", "ke_over_pe0"})) {
+  for (const auto& values : run::read_history(path, "the history", {"time", "ke_over_pe0"})) {
     samples.push_back({values[0], values[1]});
   }
   return samples;

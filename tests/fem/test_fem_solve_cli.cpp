@@ -545,7 +545,7 @@ TEST(FemSolveCli, UpdatedLagrangianStopsCleanlyWhenAnElementInverts) {
   FemCheckpoint struck = read_fem_checkpoint(dir / "first" / "fem_t0.200.h5");
   const std::size_t node = 12;  // an interior node of the 11 × 9 node grid
   struck.velocity[node] = Vec2(-2000.0, -2000.0);
-  struck.solver["initial_total_energy"] = 1e12;
+  struck.solver["initial_energy"] = 1e12;
   write_checkpoint(dir / "struck" / "fem_t0.200.h5", struck);
   const ProgramRun run = fem_solve(case_file.string() + " --no-vtk -o " + (dir / "out").string() +
                                        " --restart " + (dir / "struck" / "fem_t0.200.h5").string(),

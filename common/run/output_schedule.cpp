@@ -1,24 +1,22 @@
-#include "fem/output_schedule.hpp"
+#include "common/run/output_schedule.hpp"
 
-#include <algorithm>
-#include <cmath>
-
-namespace slide::fem {
+namespace slide::run {
 
 namespace {
 
 /// The first grid time k·Δ strictly after t (beyond the tolerance).
 double next_on_grid(double time, double every) {
-  const double k = std::floor((time + OutputSchedule::time_tolerance) / every) + 1.0;
+  const double k = std::floor((time + OutputSchedule::tolerance(time)) / every) + 1.0;
   return k * every;
 }
 
-bool on_grid(double time, double every) {
-  const double k = std::round(time / every);
-  return std::abs(time - k * every) <= OutputSchedule::time_tolerance;
-}
-
 }  // namespace
+
+bool OutputSchedule::on_grid(double time, double every) {
+  if (!(every > 0.0)) return false;
+  const double k = std::round(time / every);
+  return std::abs(time - k * every) <= tolerance(time);
+}
 
 OutputSchedule::OutputSchedule(double end_time, double output_every,
                                std::vector<double> checkpoint_every,
@@ -28,14 +26,14 @@ OutputSchedule::OutputSchedule(double end_time, double output_every,
     if (every > 0.0) checkpoint_every_.push_back(every);
   }
   for (double t : checkpoint_times) {
-    if (t > 0.0 && t < end_time) checkpoint_times_.push_back(t);
+    if (t > 0.0 && t <= end_time) checkpoint_times_.push_back(t);
   }
   std::sort(checkpoint_times_.begin(), checkpoint_times_.end());
 }
 
 double OutputSchedule::next_stop(double time) const {
   double stop = end_time_;
-  const double after = time + time_tolerance;
+  const double after = time + tolerance(time);
   if (output_every_ > 0.0) stop = std::min(stop, next_on_grid(time, output_every_));
   for (double every : checkpoint_every_) stop = std::min(stop, next_on_grid(time, every));
   for (double t : checkpoint_times_) {
@@ -45,16 +43,19 @@ double OutputSchedule::next_stop(double time) const {
     }
   }
   // A stop within the tolerance of the end time is the end time.
-  return end_time_ - stop <= time_tolerance ? end_time_ : stop;
+  return is_end(stop) ? end_time_ : stop;
 }
 
 bool OutputSchedule::is_checkpoint(double time) const {
-  if (std::abs(time - end_time_) <= time_tolerance) return true;
   for (double every : checkpoint_every_) {
     if (on_grid(time, every)) return true;
   }
   return std::any_of(checkpoint_times_.begin(), checkpoint_times_.end(),
-                     [&](double t) { return std::abs(time - t) <= time_tolerance; });
+                     [&](double t) { return std::abs(time - t) <= tolerance(time); });
 }
 
-}  // namespace slide::fem
+bool OutputSchedule::is_output(double time) const {
+  return on_grid(time, output_every_) || is_checkpoint(time) || is_end(time);
+}
+
+}  // namespace slide::run

@@ -1,9 +1,9 @@
 // Where fem-solve stops: output grid, checkpoint cadences and lists, the end time.
 #include <gtest/gtest.h>
 
-#include "fem/output_schedule.hpp"
+#include "common/run/output_schedule.hpp"
 
-namespace slide::fem {
+namespace slide::run {
 namespace {
 
 TEST(OutputSchedule, StopsOnTheOutputGridAndTheCheckpointTimes) {
@@ -48,4 +48,4 @@ TEST(OutputSchedule, WithoutOutputCadenceStopsAtCheckpointsOnly) {
 }
 
 }  // namespace
-}  // namespace slide::fem
+}  // namespace slide::run

@@ -1,0 +1,46 @@
+// The run loop both stages share (fem-solve's failure stage, mpm-solve): stop at every
+// time of the output schedule, write what is due there, end at the end time or when the
+// stage says it is done (at rest). What a stage is made of, its fields, its time step,
+// its files, stays with the stage; the loop, the schedule, the guard's energy check, the
+// history format and the checkpoint names are here, once (common/run/README.md).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/material.hpp"
+#include "common/run/output_schedule.hpp"
+
+namespace slide::run {
+
+/// What the loop needs of a stage.
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  /// The time of the current state, s.
+  virtual double time() const = 0;
+  /// Steps up to `stop` and lands on it exactly. False when the stage stopped earlier
+  /// because it is done (a body at rest): the loop then writes that state and ends.
+  virtual bool advance_to(double stop) = 0;
+  /// Checks the state (the instability guard; InstabilityError) and writes the history
+  /// row, the VTK frame and, when `checkpoint`, a checkpoint of the current state.
+  virtual void write_output(bool checkpoint) = 0;
+};
+
+/// Runs `stage` from its time to the schedule's end: at every stop of the schedule it
+/// writes the output, with a checkpoint where the schedule has one (and at the end when
+/// `checkpoint_at_end`). Returns false when the stage ended early (at rest).
+bool drive(Stage& stage, const OutputSchedule& schedule, bool checkpoint_at_end);
+
+/// "fem_t2.000.h5": the checkpoint file name of a stage (`prefix` "fem" or "mpm") at
+/// time t, three decimals (CONTRACT.md).
+std::string checkpoint_file_name(std::string_view prefix, double time);
+
+/// On restart the materials must be the case's own: Error naming `source` and the first
+/// difference (count, name, model or density) otherwise.
+void check_restart_materials(const MaterialTable& from_checkpoint, const MaterialTable& from_case,
+                             const std::string& source);
+
+}  // namespace slide::run
