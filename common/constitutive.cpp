@@ -379,6 +379,23 @@ double ConstitutiveModel::yield_function(const Vec4& stress, const MaterialState
   return yield_value(n_phi_, two_c_sqrt_n_phi_, tension_cutoff_, bounds.sigma_1, bounds.sigma_3);
 }
 
+Eigen::Matrix3d plane_strain_elasticity(const Material& material) {
+  const double lambda = material.lame_lambda();
+  const double g = material.shear_modulus();
+  Eigen::Matrix3d c;
+  c << lambda + 2.0 * g, lambda, 0.0,  //
+      lambda, lambda + 2.0 * g, 0.0,   //
+      0.0, 0.0, g;
+  return c;
+}
+
+double elastic_energy_density(const Material& material, const Vec4& s) {
+  const double trace = s[0] + s[1] + s[2];
+  const double contracted = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3];
+  return ((1.0 + material.poisson_ratio) * contracted - material.poisson_ratio * trace * trace) /
+         (2.0 * material.youngs_modulus);
+}
+
 void rotate_jaumann(Vec4& stress, double spin_increment) {
   const double sxx = stress[0];
   const double syy = stress[1];
@@ -386,6 +403,21 @@ void rotate_jaumann(Vec4& stress, double spin_increment) {
   stress[0] = sxx + 2.0 * spin_increment * sxy;
   stress[1] = syy - 2.0 * spin_increment * sxy;
   stress[3] = sxy + spin_increment * (syy - sxx);
+}
+
+bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
+                   bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
+                   Vec4& strain) {
+  const Vec4& l = velocity_gradient;
+  const Vec4 increment(dt * l[0], dt * l[3], 0.0, dt * (l[1] + l[2]));
+  if (objective) {
+    const double spin = 0.5 * dt * (l[1] - l[2]);
+    rotate_jaumann(stress, spin);
+    for (Vec4& s : surfaces) rotate_jaumann(s, spin);
+  }
+  const bool yielded = model.update(stress, state, increment, surfaces);
+  strain += increment;
+  return yielded;
 }
 
 std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stress,

@@ -117,10 +117,30 @@ class ConstitutiveModel {
   double peak_shear_strain_ = 0.0;
 };
 
+/// The plane-strain elasticity matrix on [εxx, εyy, γxy]: [[λ+2G, λ, 0], [λ, λ+2G, 0],
+/// [0, 0, G]] (FE stiffness matrices; ConstitutiveModel applies the same λ and G to the
+/// full stress vector).
+Eigen::Matrix3d plane_strain_elasticity(const Material& material);
+
+/// The stored elastic energy density ½ σ:C⁻¹:σ of an isotropic material on the full
+/// stress [σxx, σyy, σzz, σxy] (σzz counts): ((1 + ν) σ:σ − ν (tr σ)²)/(2E), J/m³. Both
+/// solvers' energies (the instability guard, the transfer's report).
+double elastic_energy_density(const Material& material, const Vec4& stress);
+
 /// Objective (Jaumann) rotation of the stress by the spin increment
 /// ω = ½ (∂v_x/∂y − ∂v_y/∂x) Δt, applied before `update` in updated Lagrangian FE and
 /// in MPM: Δσxx = 2ωσxy, Δσyy = −2ωσxy, Δσxy = ω(σyy − σxx).
 void rotate_jaumann(Vec4& stress, double spin_increment);
+
+/// Advances one point, an FE Gauss point or a material point, over a step Δt from its
+/// velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y] (plane strain): the strain
+/// increment Δε = Δt sym(l) as [Δεxx, Δεyy, 0, Δγxy]; when `objective` (updated
+/// Lagrangian FE, MPM) the Jaumann rotation of the stress and of the multi-yield surfaces
+/// by ω = ½ Δt (∂vx/∂y − ∂vy/∂x); the constitutive update; Δε added to `strain`. The one
+/// point update of both solvers. Returns true when the point yielded.
+bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
+                   bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
+                   Vec4& strain);
 
 /// Updates a range of points that share one model; `yielded[i]` (optional, may be
 /// empty) receives 1 where point i yielded; `surfaces` holds model.surfaces() entries

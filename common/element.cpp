@@ -234,4 +234,20 @@ double element_area(ElementShape shape, const ElementNodes& nodes) {
   return 0.5 * twice_area;
 }
 
+ShapeValues lumped_element_mass(ElementShape shape, const ElementNodes& nodes, double density) {
+  ShapeValues mass{};
+  if (shape == ElementShape::tri3) {
+    mass.fill(0.0);
+    const double share = density * element_area(shape, nodes) / 3.0;
+    for (int k = 0; k < 3; ++k) mass[static_cast<std::size_t>(k)] = share;
+    return mass;
+  }
+  for (const auto& point : quadrature_rule(ElementType::quad4_2x2)) {
+    const ShapeValues n = shape_functions(shape, point.xi);
+    const double w = point.weight * jacobian(shape, nodes, point.xi).determinant();
+    for (std::size_t k = 0; k < 4; ++k) mass[k] += density * n[k] * w;
+  }
+  return mass;
+}
+
 }  // namespace slide

@@ -81,6 +81,12 @@ ShapeGradients physical_gradients(ElementShape shape, const ElementNodes& nodes,
 /// straight-sided elements.
 double element_area(ElementShape shape, const ElementNodes& nodes);
 
+/// Row-sum lumped mass of an element of density ρ: m_k = ρ ∫ N_k dA per node k (ρA/3
+/// for triangles; quads by the 2×2 rule, exact for N_k det J on straight sides). The one
+/// lumped mass of the project: fem-solve's nodal masses and fem2mpm's report of the FE
+/// momentum and kinetic energy.
+ShapeValues lumped_element_mass(ElementShape shape, const ElementNodes& nodes, double density);
+
 /// The reference coordinates (ξ, η) of the element's corner nodes, in node order.
 std::span<const Vec2> reference_corners(ElementShape shape);
 /// The square of the element's longest edge: the scale its det J is measured against.

@@ -162,18 +162,12 @@ std::size_t stress_update_kernel(const FemModel& model, const ElementGeometry& g
         lyx += vk.y() * b(k, 0);
         lyy += vk.y() * b(k, 1);
       }
-      const Vec4 increment(dt * lxx, dt * lyy, 0.0, dt * (lxy + lyx));
-      Vec4& stress = state.stress[gp];
-      // Objective stress rate: rotate by the spin increment ω = ½ (∂v_x/∂y − ∂v_y/∂x) Δt.
-      if constexpr (JAUMANN) rotate_jaumann(stress, 0.5 * dt * (lxy - lyx));
-      const std::span<Vec4> surfaces = state.surface_stress.of(gp);
-      if constexpr (JAUMANN) {
-        for (Vec4& s : surfaces) rotate_jaumann(s, 0.5 * dt * (lxy - lyx));
-      }
-      const bool yielded = material.update(stress, state.material_state[gp], increment, surfaces);
+      // The point update MPM's particles share (objective in updated Lagrangian).
+      const bool yielded =
+          advance_point(material, Vec4(lxx, lxy, lyx, lyy), dt, JAUMANN, state.stress[gp],
+                        state.material_state[gp], state.surface_stress.of(gp), state.strain[gp]);
       state.yielded[gp] = yielded ? 1 : 0;
       yielded_count += yielded ? 1 : 0;
-      state.strain[gp] += increment;
     }
     if constexpr (HOURGLASS) {
       // Q ← Q + K_q Δq, Δq = Δt Σ_k γ_k v_k.

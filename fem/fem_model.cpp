@@ -9,35 +9,14 @@
 
 namespace slide::fem {
 
-Mat3 plane_strain_elasticity(const Material& material) {
-  const double lambda = material.lame_lambda();
-  const double g = material.shear_modulus();
-  Mat3 c;
-  c << lambda + 2.0 * g, lambda, 0.0,  //
-      lambda, lambda + 2.0 * g, 0.0,   //
-      0.0, 0.0, g;
-  return c;
-}
-
 namespace {
 
-/// Row-sum lumped mass of element e: m_k = ∫ N_k ρ dA. Quads integrate it exactly with
-/// the 2×2 rule (N bilinear, det J linear); for triangles it is ρA/3 at every node.
 void add_element_mass(const Mesh& mesh, Index e, double density, std::vector<double>& nodal_mass) {
-  const ElementShape shape = mesh.shape();
-  const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
+  const ShapeValues mass =
+      lumped_element_mass(mesh.shape(), mesh.element_nodes(e, mesh.nodes), density);
   const auto nodes = mesh.element(e);
-  if (shape == ElementShape::tri3) {
-    const double share = density * element_area(shape, x) / 3.0;
-    for (Index node : nodes) nodal_mass[static_cast<std::size_t>(node)] += share;
-    return;
-  }
-  for (const auto& point : quadrature_rule(ElementType::quad4_2x2)) {
-    const ShapeValues n = shape_functions(shape, point.xi);
-    const double w = point.weight * jacobian(shape, x, point.xi).determinant();
-    for (std::size_t k = 0; k < nodes.size(); ++k) {
-      nodal_mass[static_cast<std::size_t>(nodes[k])] += density * n[k] * w;
-    }
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    nodal_mass[static_cast<std::size_t>(nodes[k])] += mass[k];
   }
 }
 

@@ -29,9 +29,7 @@
 
 namespace slide::fem {
 
-/// Plane-strain elastic matrix on [εxx, εyy, γxy]: [[λ+2G, λ, 0], [λ, λ+2G, 0], [0, 0, G]].
-using Mat3 = Eigen::Matrix3d;
-Mat3 plane_strain_elasticity(const Material& material);
+using Mat3 = Eigen::Matrix3d;  // the elasticity matrix (common/constitutive.hpp)
 
 /// What the kernels integrate with. Small strain evaluates it once on the reference
 /// geometry; updated Lagrangian re-evaluates it on the current geometry every step.

@@ -79,18 +79,6 @@ bool inside_recommended_zone(const QualitySummary& summary) {
          summary.eps_q_avg <= zone_eps_q_avg_max;
 }
 
-namespace {
-
-/// ½ σ:C⁻¹:σ for isotropic elasticity on the full stress [σxx, σyy, σzz, σxy].
-double elastic_energy_density(const Material& material, const Vec4& s) {
-  const double e = material.youngs_modulus, nu = material.poisson_ratio;
-  const double normal = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] -
-                        2.0 * nu * (s[0] * s[1] + s[1] * s[2] + s[2] * s[0]);
-  return normal / (2.0 * e) + s[3] * s[3] / (2.0 * material.shear_modulus());
-}
-
-}  // namespace
-
 Energies compute_energies(const FemModel& model, const ElementGeometry& geometry,
                           const FemState& state, std::span<const Vec2> velocity,
                           std::span<const Vec2> coordinates) {

@@ -287,25 +287,19 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
 }
 
 /// One particle's stress update from its velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x,
-/// ∂vy/∂y]: strain increment Δε = Δt sym(l), spin ω = ½ Δt (∂vx/∂y − ∂vy/∂x), Jaumann
-/// rotation, the constitutive update (one model per material id), accumulated strain and
-/// its εq, and the volume from the deformation-gradient increment: V_{n+1} = det(I + Δt l)
-/// V_n (with volumetric smoothing, l carries the cell's volumetric rate). Not inlined into
-/// the gather: it then compiles to the arithmetic of the former separate stress pass
-/// (inlined, -march=native contracts some products into FMAs differently), so results
-/// stay bit-identical to that pass's.
+/// ∂vy/∂y]: the point update FE Gauss points share (advance_point: strain increment,
+/// Jaumann rotation, the constitutive update of the particle's material), the εq of the
+/// accumulated strain, and the volume from the deformation-gradient increment: V_{n+1} = det(I + Δt
+/// l) V_n (with volumetric smoothing, l carries the cell's volumetric rate). Not inlined into the
+/// gather: it then compiles to the arithmetic of the former separate stress pass (inlined,
+/// -march=native contracts some products into FMAs differently), so results stay bit-identical to
+/// that pass's.
 [[gnu::noinline]] void update_stress(Particles& particles,
                                      std::span<const ConstitutiveModel> models, double dt,
                                      const Vec4& l, std::size_t p) {
-  const Vec4 strain_increment(dt * l[0], dt * l[3], 0.0, dt * (l[1] + l[2]));
-  const double spin = 0.5 * dt * (l[1] - l[2]);
-  Vec4& stress = particles.stress[p];
-  rotate_jaumann(stress, spin);
-  const std::span<Vec4> surfaces = particles.surface_stress.of(p);
-  for (Vec4& s : surfaces) rotate_jaumann(s, spin);
   const auto material = static_cast<std::size_t>(particles.material_id[p]);
-  models[material].update(stress, particles.state[p], strain_increment, surfaces);
-  particles.strain[p] += strain_increment;
+  advance_point(models[material], l, dt, true, particles.stress[p], particles.state[p],
+                particles.surface_stress.of(p), particles.strain[p]);
   particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
   // det(I + Δt L): the particle's own volume ratio over the step.
   const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];

@@ -8,15 +8,6 @@ namespace slide::mpm {
 
 namespace {
 
-/// Elastic energy density ½ σ:C⁻¹:σ of an isotropic material, from the full stress set
-/// (σzz included): (1/2E) [(1 + ν) σ:σ − ν (tr σ)²].
-double elastic_energy_density(const Vec4& s, const Material& material) {
-  const double trace = s[0] + s[1] + s[2];
-  const double contracted = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3];
-  return ((1.0 + material.poisson_ratio) * contracted - material.poisson_ratio * trace * trace) /
-         (2.0 * material.youngs_modulus);
-}
-
 template <class T>
 std::size_t bytes_of(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
@@ -196,7 +187,7 @@ Energies MpmSolver::energies() const {
     e.kinetic += 0.5 * m * particles_.velocity[p].squaredNorm();
     e.potential -= m * settings_.gravity.dot(particles_.coordinates[p]);
     const auto& material = materials_[static_cast<std::size_t>(particles_.material_id[p])];
-    e.elastic += particles_.volume[p] * elastic_energy_density(particles_.stress[p], material);
+    e.elastic += particles_.volume[p] * elastic_energy_density(material, particles_.stress[p]);
   }
   return e;
 }

@@ -318,30 +318,18 @@ std::vector<Index> find_inverted_elements(const FemCheckpoint& fem, CornerJacobi
 
 // ---------------------------------------------------------------- FE momentum and energy
 
-/// Lumped nodal masses by row sums of the consistent mass matrix on the reference
-/// configuration, m_k = Σ_e ρ_e ∫ N_k dV_0, scaled so each element's shares add up to
-/// its checkpoint mass ρ_e V_0^e. The quadrature (2×2 Gauss for quads, the 3-point rule
-/// for triangles) is exact for N_k det J.
+/// Lumped nodal masses (lumped_element_mass: row sums of the consistent mass matrix on
+/// the reference configuration, as fem-solve lumps them), scaled so each element's
+/// shares add up to its checkpoint mass ρ_e V_0^e.
 std::vector<double> lumped_nodal_masses(const FemCheckpoint& fem) {
   const Mesh& mesh = fem.mesh;
-  const ElementShape shape = mesh.shape();
-  const std::vector<QuadraturePoint> rule =
-      shape == ElementShape::quad4 ? tensor_gauss_legendre(2, 2) : triangle_layout(3).points;
   std::vector<double> mass(mesh.nodes.size(), 0.0);
   const int npe = mesh.nodes_per_element();
   for (Index e = 0; e < mesh.element_count(); ++e) {
-    const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
-    std::array<double, max_nodes_per_element> share{};
+    const ShapeValues share =
+        lumped_element_mass(mesh.shape(), mesh.element_nodes(e, mesh.nodes), 1.0);
     double total = 0.0;
-    for (const auto& q : rule) {
-      const double det = jacobian(shape, x, q.xi).determinant();
-      const ShapeValues n = shape_functions(shape, q.xi);
-      for (int k = 0; k < npe; ++k) {
-        const auto kk = static_cast<std::size_t>(k);
-        share[kk] += n[kk] * det * q.weight;
-        total += n[kk] * det * q.weight;
-      }
-    }
+    for (int k = 0; k < npe; ++k) total += share[static_cast<std::size_t>(k)];
     const auto ee = static_cast<std::size_t>(e);
     const double element_mass =
         fem.materials[static_cast<std::size_t>(mesh.material_id[ee])].density *
