@@ -25,45 +25,29 @@
 
 #include "common/case_file.hpp"
 #include "common/checkpoint.hpp"
-#include "fem_test_support.hpp"
+#include "tests/support/column_case.hpp"
+#include "tests/support/programs.hpp"
+#include "tests/support/soil.hpp"
 
 namespace slide::fem {
 namespace {
 
 namespace fs = std::filesystem;
 using testing::ColumnCase;
+using testing::ProgramRun;
+using testing::read_text;
 using testing::write_file;
 
 const fs::path source_dir = SLIDE_SOURCE_DIR;
 
 /// A clean scratch folder for one test.
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(SLIDE_BINARY_DIR) / "tests" / "fem" / "cli" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return testing::fresh_folder(fs::path(SLIDE_BINARY_DIR) / "tests" / "fem" / "cli" / name);
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-struct ProgramRun {
-  int status = 0;
-  std::string out;
-  std::string err;
-};
-
-/// Runs fem-solve with `arguments`, capturing stdout and stderr.
+/// Runs fem-solve with `arguments`, capturing stdout and stderr in `dir`.
 ProgramRun fem_solve(const std::string& arguments, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command =
-      std::string(FEM_SOLVE) + " " + arguments + " > " + out.string() + " 2> " + err.string();
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+  return testing::run_program(std::string(FEM_SOLVE) + " " + arguments, dir);
 }
 
 fs::path write_case(const fs::path& dir, const std::string& text) {

@@ -17,7 +17,8 @@
 #include <hdf5.h>
 
 #include "common/checkpoint.hpp"
-#include "mpm_test_support.hpp"
+#include "tests/support/mpm_builders.hpp"
+#include "tests/support/programs.hpp"
 
 namespace slide::mpm {
 namespace {
@@ -89,38 +90,21 @@ initial_height = 8.0
                      end_time, mpm_extra);
 }
 
-struct Outcome {
-  int status = 0;
-  std::string out, err;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using slide::testing::ProgramRun;
+using slide::testing::read_text;
 
 /// Runs mpm-solve with `arguments` in `folder`, capturing stdout and stderr.
-Outcome run_solver(const fs::path& folder, const std::string& arguments) {
-  const fs::path out = folder / "stdout.txt", err = folder / "stderr.txt";
-  const std::string command = fmt::format("{} {} > {} 2> {}", solver_program.string(), arguments,
-                                          out.string(), err.string());
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+ProgramRun run_solver(const fs::path& folder, const std::string& arguments) {
+  return slide::testing::run_program(solver_program.string() + " " + arguments, folder);
 }
 
 fs::path fresh_folder(const std::string& name) {
-  const fs::path folder = fs::path(SLIDE_BINARY_DIR) / "tests" / "mpm" / "cli" / name;
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
+  return slide::testing::fresh_folder(fs::path(SLIDE_BINARY_DIR) / "tests" / "mpm" / "cli" / name);
 }
 
 fs::path write_case(const fs::path& folder, const std::string& text) {
-  const fs::path path = folder / "case.toml";
-  std::ofstream(path) << text;
-  return path;
+  slide::testing::write_file(folder / "case.toml", text);
+  return folder / "case.toml";
 }
 
 template <class T>
@@ -130,10 +114,10 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
 
 /// The run of case `c` in two parts, to 0.25 s and then on from its checkpoint, into `split`.
 void run_split(const fs::path& folder, const fs::path& c, const fs::path& split) {
-  const Outcome first =
+  const ProgramRun first =
       run_solver(folder, fmt::format("{} -o {} --until 0.25 --quiet", c.string(), split.string()));
   ASSERT_EQ(first.status, 0) << first.err;
-  const Outcome second =
+  const ProgramRun second =
       run_solver(folder, fmt::format("{} -o {} --restart {} --quiet", c.string(), split.string(),
                                      (split / "mpm_t0.250.h5").string()));
   ASSERT_EQ(second.status, 0) << second.err;
@@ -142,7 +126,7 @@ void run_split(const fs::path& folder, const fs::path& c, const fs::path& split)
 TEST(MpmSolveCli, RestartContinuesBitForBit) {
   const fs::path folder = fresh_folder("restart");
   const fs::path c = write_case(folder, small_case());
-  const Outcome straight = run_solver(
+  const ProgramRun straight = run_solver(
       folder, fmt::format("{} -o {} --quiet", c.string(), (folder / "straight").string()));
   ASSERT_EQ(straight.status, 0) << straight.err;
   EXPECT_NE(straight.out.find("summary: steps="), std::string::npos) << straight.out;
@@ -178,7 +162,7 @@ TEST(MpmSolveCli, MultiYieldInMpmKeepsItsSurfacesAndRestartsBitForBit) {
   const std::string from = "model = \"mohr-coulomb\"";
   text.replace(text.find(from), from.size(), "model = \"pressure-independent-multi-yield\"");
   const fs::path c = write_case(folder, text);
-  const Outcome straight = run_solver(
+  const ProgramRun straight = run_solver(
       folder, fmt::format("{} -o {} --quiet", c.string(), (folder / "straight").string()));
   ASSERT_EQ(straight.status, 0) << straight.err;
   const fs::path split = folder / "split";
@@ -225,17 +209,17 @@ std::string parallel_case(const std::string& mpm_extra = "", double end_time = 0
 TEST(MpmSolveCli, RestartContinuesBitForBitOnTheParallelPath) {
   const fs::path folder = fresh_folder("restart_parallel");
   const fs::path c = write_case(folder, parallel_case());
-  const Outcome straight =
+  const ProgramRun straight =
       run_solver(folder, fmt::format("{} -o {} --threads 2 --no-vtk --quiet", c.string(),
                                      (folder / "straight").string()));
   ASSERT_EQ(straight.status, 0) << straight.err;
   EXPECT_NE(straight.out.find("particles=10240"), std::string::npos) << straight.out;
   const fs::path split = folder / "split";
-  const Outcome first =
+  const ProgramRun first =
       run_solver(folder, fmt::format("{} -o {} --until 0.25 --threads 2 --no-vtk --quiet",
                                      c.string(), split.string()));
   ASSERT_EQ(first.status, 0) << first.err;
-  const Outcome second = run_solver(
+  const ProgramRun second = run_solver(
       folder, fmt::format("{} -o {} --restart {} --threads 2 --no-vtk --quiet", c.string(),
                           split.string(), (split / "mpm_t0.250.h5").string()));
   ASSERT_EQ(second.status, 0) << second.err;
@@ -264,14 +248,14 @@ TEST(MpmSolveCli, ApicRestartContinuesBitForBit) {
     const fs::path folder = fresh_folder(parallel ? "restart_apic_parallel" : "restart_apic");
     const fs::path c = write_case(folder, parallel ? parallel_case(apic) : small_case(apic));
     const std::string options = "--threads 2 --no-vtk --quiet";
-    const Outcome straight = run_solver(
+    const ProgramRun straight = run_solver(
         folder, fmt::format("{} -o {} {}", c.string(), (folder / "straight").string(), options));
     ASSERT_EQ(straight.status, 0) << straight.err;
     const fs::path split = folder / "split";
-    const Outcome first = run_solver(
+    const ProgramRun first = run_solver(
         folder, fmt::format("{} -o {} --until 0.25 {}", c.string(), split.string(), options));
     ASSERT_EQ(first.status, 0) << first.err;
-    const Outcome second =
+    const ProgramRun second =
         run_solver(folder, fmt::format("{} -o {} --restart {} {}", c.string(), split.string(),
                                        (split / "mpm_t0.250.h5").string(), options));
     ASSERT_EQ(second.status, 0) << second.err;
@@ -292,7 +276,7 @@ TEST(MpmSolveCli, ApicRestartContinuesBitForBit) {
     if (parallel) continue;
     // The same checkpoint continued under flip-pic: a warning, and no affine state written.
     const fs::path flip = write_case(folder, small_case());
-    const Outcome switched = run_solver(
+    const ProgramRun switched = run_solver(
         folder, fmt::format("{} -o {} --restart {} --no-vtk --quiet", flip.string(),
                             (folder / "flip").string(), (split / "mpm_t0.250.h5").string()));
     ASSERT_EQ(switched.status, 0) << switched.err;
@@ -344,8 +328,9 @@ TEST(MpmSolveCli, BadParticleFilesAreOneLineErrorsNamingTheParticle) {
   };
   auto expect_rejected = [&](const fs::path& file, const std::string& what,
                              const std::string& particle) {
-    const Outcome r = run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk", c.string(),
-                                                     (folder / "out").string(), file.string()));
+    const ProgramRun r =
+        run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk", c.string(),
+                                       (folder / "out").string(), file.string()));
     EXPECT_NE(r.status, 0) << what;
     // One error line (a warning may precede it), naming the particle and the problem.
     std::istringstream lines(r.err);
@@ -413,7 +398,7 @@ TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
     }
     ASSERT_GT(thrown, 0u);
     write_checkpoint(folder / "thrown.h5", file);
-    const Outcome r =
+    const ProgramRun r =
         run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk --quiet", c.string(),
                                        (folder / "out").string(), (folder / "thrown.h5").string()));
     ASSERT_EQ(r.status, 0) << r.err;
@@ -454,7 +439,7 @@ TEST(MpmSolveCli, InstabilityStopsWithADiagnosisAndKeepsTheLastCheckpoint) {
   const fs::path folder = fresh_folder("unstable");
   // Ten times the stable step.
   const fs::path c = write_case(folder, small_case("time_step = 0.04"));
-  const Outcome r = run_solver(
+  const ProgramRun r = run_solver(
       folder, fmt::format("{} -o {} --no-vtk --quiet", c.string(), (folder / "out").string()));
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("instability"), std::string::npos) << r.err;
@@ -484,7 +469,7 @@ TEST(MpmSolveCli, GravityStageGivesARestingLithostaticStart) {
     text.erase(text.find(key), std::string(key).size());
   }
   const fs::path c = write_case(folder, text);
-  const Outcome r = run_solver(
+  const ProgramRun r = run_solver(
       folder, fmt::format("{} -o {} --until 0 --no-vtk", c.string(), (folder / "out").string()));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("elastic gravity stage"), std::string::npos) << r.out;
@@ -514,8 +499,8 @@ namespace {
 /// The particles case `c` starts from at t = 0 (mpm-solve --until 0 into `folder`/t0), as
 /// a particle file to be edited and written for --particles.
 ParticleCheckpoint initial_particle_file(const fs::path& folder, const fs::path& c) {
-  const Outcome t0 = run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk",
-                                                    c.string(), (folder / "t0").string()));
+  const ProgramRun t0 = run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk",
+                                                       c.string(), (folder / "t0").string()));
   EXPECT_EQ(t0.status, 0) << t0.err;
   ParticleCheckpoint file = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
   file.header.kind = CheckpointKind::particles;
@@ -559,7 +544,7 @@ TEST(MpmSolveCli, StopsWhenAtRest) {
   ParticleCheckpoint launched = initial_particle_file(folder, c);
   for (Vec2& v : launched.particles.velocity) v = Vec2(3.0, 0.0);
   write_checkpoint(folder / "launched.h5", launched);
-  const Outcome r =
+  const ProgramRun r =
       run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk", c.string(),
                                      (folder / "out").string(), (folder / "launched.h5").string()));
   ASSERT_EQ(r.status, 0) << r.err;
@@ -675,7 +660,7 @@ TEST(MpmSolveCli, RestTimerRestartsWhenTheKineticEnergyRisesAgain) {
   };
 
   const double long_duration = 1.5 * window;
-  const Outcome reset = run(long_duration, "long");
+  const ProgramRun reset = run(long_duration, "long");
   ASSERT_EQ(reset.status, 0) << reset.err;
   EXPECT_EQ(reset.out.find("at rest"), std::string::npos) << reset.out;
   EXPECT_EQ(read_particle_checkpoint(folder / "long" / "mpm_final.h5").header.time, 1.0);
@@ -686,7 +671,7 @@ TEST(MpmSolveCli, RestTimerRestartsWhenTheKineticEnergyRisesAgain) {
   EXPECT_NEAR((w.first_end - w.first_start) / window, 1.0, 0.03);
 
   const double short_duration = 0.5 * window;
-  const Outcome rest = run(short_duration, "short");
+  const ProgramRun rest = run(short_duration, "short");
   ASSERT_EQ(rest.status, 0) << rest.err;
   EXPECT_NE(rest.out.find("at rest"), std::string::npos) << rest.out;
   // The same motion up to there: it stops in the first window, `short_duration` after
