@@ -373,7 +373,7 @@ bool ConstitutiveModel::start(Vec4& stress, MaterialState& state, std::span<Vec4
 double ConstitutiveModel::yield_function(const Vec4& stress, const MaterialState& state) const {
   if (model_ == MaterialModel::linear_elastic) return -infinity;
   if (model_ == MaterialModel::pressure_independent_multi_yield) {
-    return deviatoric_stress(stress) - state.peak_strength;
+    return von_mises_stress(stress) - state.peak_strength;
   }
   const PrincipalBounds bounds = principal_bounds(stress);
   return yield_value(n_phi_, two_c_sqrt_n_phi_, tension_cutoff_, bounds.sigma_1, bounds.sigma_3);
@@ -464,7 +464,7 @@ std::size_t surfaces_needed(const MaterialTable& materials, Phase phase) {
   return n;
 }
 
-double deviatoric_stress(const Vec4& stress) {
+double von_mises_stress(const Vec4& stress) {
   const double p = mean_stress(stress);
   const double sxx = stress[0] + p;
   const double syy = stress[1] + p;

@@ -150,11 +150,13 @@ std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stre
                             std::span<MaterialState> state, std::span<const Vec4> strain_increment,
                             std::span<std::uint8_t> yielded = {}, std::span<Vec4> surfaces = {});
 
-/// Mean stress p = −(σxx+σyy+σzz)/3 (compression positive) and q = sqrt(3/2 s:s).
+/// Mean stress p = −(σxx+σyy+σzz)/3 (compression positive).
 inline double mean_stress(const Vec4& stress) {
   return -(stress[0] + stress[1] + stress[2]) / 3.0;
 }
-double deviatoric_stress(const Vec4& stress);
+/// Von Mises equivalent stress q = sqrt(3/2 s:s) = sqrt(3 J2), a scalar invariant of the
+/// deviator s (not the deviator itself); q = |σ| in uniaxial stress.
+double von_mises_stress(const Vec4& stress);
 /// Deviatoric strain invariant εq = sqrt(2/3 e:e) of a strain vector with γxy = 2εxy.
 double deviatoric_strain(const Vec4& strain);
 

@@ -60,7 +60,6 @@ struct Material {
   bool uses(MaterialModel m) const { return model == m || model_of(Phase::mpm) == m; }
 
   double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
-  double bulk_modulus() const { return youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)); }
   /// Lamé's first parameter λ.
   double lame_lambda() const;
   /// P-wave (constrained) modulus M = E(1−ν)/((1+ν)(1−2ν)).

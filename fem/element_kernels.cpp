@@ -140,12 +140,10 @@ void dispatch_element_forces(const FemModel& model, const ElementGeometry& geome
 }
 
 template <int NPE, int NGP, bool HOURGLASS, bool JAUMANN>
-std::size_t stress_update_kernel(const FemModel& model, const ElementGeometry& geometry,
-                                 std::span<const ConstitutiveModel> models, double dt,
-                                 FemState& state) {
+void stress_update_kernel(const FemModel& model, const ElementGeometry& geometry,
+                          std::span<const ConstitutiveModel> models, double dt, FemState& state) {
   const Index n_elements = model.element_count();
   const Index* connectivity = model.mesh.connectivity.data();
-  std::size_t yielded_count = 0;
   for (Index e = 0; e < n_elements; ++e) {
     const auto v = gather<NPE>(connectivity + e * NPE, state.velocity);
     const ConstitutiveModel& material =
@@ -167,7 +165,6 @@ std::size_t stress_update_kernel(const FemModel& model, const ElementGeometry& g
           advance_point(material, Vec4(lxx, lxy, lyx, lyy), dt, JAUMANN, state.stress[gp],
                         state.material_state[gp], state.surface_stress.of(gp), state.strain[gp]);
       state.yielded[gp] = yielded ? 1 : 0;
-      yielded_count += yielded ? 1 : 0;
     }
     if constexpr (HOURGLASS) {
       // Q ← Q + K_q Δq, Δq = Δt Σ_k γ_k v_k.
@@ -178,25 +175,25 @@ std::size_t stress_update_kernel(const FemModel& model, const ElementGeometry& g
           geometry.hourglass_stiffness[static_cast<std::size_t>(e)] * (dt * dq);
     }
   }
-  return yielded_count;
 }
 
 template <bool JAUMANN>
-std::size_t dispatch_stress_update(const FemModel& model, const ElementGeometry& geometry,
-                                   std::span<const ConstitutiveModel> models, double dt,
-                                   FemState& state) {
+void dispatch_stress_update(const FemModel& model, const ElementGeometry& geometry,
+                            std::span<const ConstitutiveModel> models, double dt, FemState& state) {
   switch (model.mesh.element_type) {
     case ElementType::quad4_1gp:
       if (model.hourglass_coefficient != 0.0) {
-        return stress_update_kernel<4, 1, true, JAUMANN>(model, geometry, models, dt, state);
+        stress_update_kernel<4, 1, true, JAUMANN>(model, geometry, models, dt, state);
+      } else {
+        stress_update_kernel<4, 1, false, JAUMANN>(model, geometry, models, dt, state);
       }
-      return stress_update_kernel<4, 1, false, JAUMANN>(model, geometry, models, dt, state);
+      return;
     case ElementType::quad4_2x2:
-      return stress_update_kernel<4, 4, false, JAUMANN>(model, geometry, models, dt, state);
+      stress_update_kernel<4, 4, false, JAUMANN>(model, geometry, models, dt, state);
+      return;
     case ElementType::tri3:
-      return stress_update_kernel<3, 1, false, JAUMANN>(model, geometry, models, dt, state);
+      stress_update_kernel<3, 1, false, JAUMANN>(model, geometry, models, dt, state);
   }
-  return 0;
 }
 
 }  // namespace
@@ -249,11 +246,14 @@ void compute_element_forces(const FemModel& model, const ElementGeometry& geomet
   }
 }
 
-std::size_t update_stresses(const FemModel& model, const ElementGeometry& geometry,
-                            std::span<const ConstitutiveModel> models, double dt, bool jaumann,
-                            FemState& state) {
-  return jaumann ? dispatch_stress_update<true>(model, geometry, models, dt, state)
-                 : dispatch_stress_update<false>(model, geometry, models, dt, state);
+void update_stresses(const FemModel& model, const ElementGeometry& geometry,
+                     std::span<const ConstitutiveModel> models, double dt, bool jaumann,
+                     FemState& state) {
+  if (jaumann) {
+    dispatch_stress_update<true>(model, geometry, models, dt, state);
+  } else {
+    dispatch_stress_update<false>(model, geometry, models, dt, state);
+  }
 }
 
 ElementMatrix element_stiffness(const FemModel& model, const ElementGeometry& geometry, Index e) {

@@ -64,11 +64,10 @@ void compute_element_forces(const FemModel& model, const ElementGeometry& geomet
 /// Advances strain, stress, material state and hourglass forces by one step of length
 /// `dt` from the nodal velocities in `state` (the mid-step velocity). With `jaumann` the
 /// stress is first rotated by the spin increment (updated Lagrangian). `models` is
-/// indexed by material id. Returns the number of Gauss points that yielded; the
-/// per-point flags go to state.yielded.
-std::size_t update_stresses(const FemModel& model, const ElementGeometry& geometry,
-                            std::span<const ConstitutiveModel> models, double dt, bool jaumann,
-                            FemState& state);
+/// indexed by material id. Whether each Gauss point yielded goes to state.yielded.
+void update_stresses(const FemModel& model, const ElementGeometry& geometry,
+                     std::span<const ConstitutiveModel> models, double dt, bool jaumann,
+                     FemState& state);
 
 /// Elastic element stiffness (2n × 2n, DOFs ordered [u_0x, u_0y, u_1x, …]) of element
 /// `e`: Σ_gp w Bᵀ C B plus, for one-point quads, the hourglass stiffness γγᵀ ⊗ K_q.

@@ -146,7 +146,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
                          damping_.rayleigh_stiffness);
   if (!updated_lagrangian_) {
     update_nodes(state, dt);
-    yielded_count_ = update_stresses(model_, model_.reference, models_, dt, false, state);
+    update_stresses(model_, model_.reference, models_, dt, false, state);
   } else {
     saved_displacement_ = state.displacement;
     saved_velocity_ = state.velocity;
@@ -161,7 +161,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
       geometry_step_ = -1;
       return inverted;
     }
-    yielded_count_ = update_stresses(model_, current_, models_, dt, true, state);
+    update_stresses(model_, current_, models_, dt, true, state);
     geometry_step_ = state.step + 1;
   }
   state.time += dt;

@@ -68,16 +68,11 @@ class ExplicitSolver {
   /// step would invert (det J ≤ 0), in which case `state` is left unchanged.
   Index step(FemState& state, double dt);
 
-  /// Number of Gauss points that yielded in the last step.
-  std::size_t last_yielded_count() const { return yielded_count_; }
-
   /// The velocity at the state's time, v(t_n) = v_{n−1/2} + (dt/2) F_n/m: a half step of
   /// the same constrained nodal update with the forces of the current state (`dt` the
   /// length of the step that led to it). Energies use it so that kinetic and potential
   /// energy refer to the same instant.
   void synchronised_velocity(const FemState& state, double dt, std::vector<Vec2>& velocity);
-
-  const NodalConstraints& constraints() const { return constraints_; }
 
   /// The straight line of the frictional base nodes, if they lie on one.
   struct BasePlane {
@@ -105,7 +100,6 @@ class ExplicitSolver {
   bool updated_lagrangian_;
 
   std::vector<Vec2> element_force_;  ///< n_elements × nodes_per_element
-  std::size_t yielded_count_ = 0;
   // Updated Lagrangian: the current geometry, valid for state step `geometry_step_`,
   // and the nodal state saved before a step that might invert an element.
   ElementGeometry current_;

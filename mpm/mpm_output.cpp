@@ -170,28 +170,21 @@ void VtkWriter::write(const MpmSolver& solver) {
     element[k] = static_cast<double>(p.element[k]);
     active[k] = k < solver.active_count() ? 1.0 : 0.0;
     mean[k] = mean_stress(p.stress[k]);
-    deviatoric[k] = deviatoric_stress(p.stress[k]);
+    deviatoric[k] = von_mises_stress(p.stress[k]);
     plastic_shear[k] = p.state[k].plastic_shear_strain;
     plastic_volumetric[k] = p.state[k].plastic_volumetric_strain;
   }
   const fs::path file = folder_ / fmt::format("mpm_{:06d}.vtu", solver.clock().step);
-  std::vector<VtkField> fields{vtk_field("displacement", p.displacement),
-                               vtk_field("velocity", p.velocity),
-                               vtk_field("stress", p.stress),
-                               vtk_field("strain", p.strain),
-                               vtk_field("eps_q", p.eps_q),
-                               vtk_field("mean_stress", mean),
-                               vtk_field("deviatoric_stress", deviatoric),
-                               vtk_field("pore_pressure", p.pore_pressure),
-                               vtk_field("volume", p.volume),
-                               vtk_field("mass", p.mass),
-                               vtk_field("size", p.size),
-                               vtk_field("material_id", material),
-                               vtk_field("id", id),
-                               vtk_field("element", element),
-                               vtk_field("active", active),
-                               vtk_field("plastic_shear_strain", plastic_shear),
-                               vtk_field("plastic_volumetric_strain", plastic_volumetric)};
+  std::vector<VtkField> fields{
+      vtk_field("displacement", p.displacement), vtk_field("velocity", p.velocity),
+      vtk_field("stress", p.stress), vtk_field("strain", p.strain), vtk_field("eps_q", p.eps_q),
+      vtk_field("mean_stress", mean),
+      // a file-format name users read; the values are q
+      vtk_field("deviatoric_stress", deviatoric), vtk_field("pore_pressure", p.pore_pressure),
+      vtk_field("volume", p.volume), vtk_field("mass", p.mass), vtk_field("size", p.size),
+      vtk_field("material_id", material), vtk_field("id", id), vtk_field("element", element),
+      vtk_field("active", active), vtk_field("plastic_shear_strain", plastic_shear),
+      vtk_field("plastic_volumetric_strain", plastic_volumetric)};
   if (!p.affine_velocity.empty()) {
     fields.push_back(vtk_field("affine_velocity_gradient", p.affine_velocity));  // APIC's C_p
   }

@@ -26,39 +26,78 @@ Case load_repository_case(std::string_view name) {
 
 // ----------------------------------------------------------------------------- the five cases
 
-TEST(CaseFile, ColumnShortLoads) {
+// column-short as the programs receive it: what the reader fills in for the keys the
+// file leaves out, and the quantities the file's comments derive from its values, each
+// recomputed here from first principles (not read back from the file). A reader that
+// dropped a key, applied another default or read an angle in the wrong unit fails here;
+// so does an edit of the case that leaves its comments (Vs, f1, β_K, K0, τc) behind.
+TEST(CaseFile, ColumnShortDerivedValuesAndDefaults) {
   const Case c = load_repository_case("column-short");
-  EXPECT_EQ(c.name, "column-short");
   ASSERT_EQ(c.materials.size(), 1u);
   const Material& soil = c.materials[0];
-  // The reference workflow's pair: multi-yield in FE, Mohr–Coulomb in MPM.
-  EXPECT_EQ(soil.model, MaterialModel::pressure_independent_multi_yield);
-  EXPECT_EQ(soil.model_of(Phase::mpm), MaterialModel::mohr_coulomb);
-  EXPECT_DOUBLE_EQ(soil.peak_shear_strain, 0.1);
-  EXPECT_EQ(soil.yield_surfaces, 20);
-  EXPECT_DOUBLE_EQ(soil.density, 1700.0);
-  EXPECT_DOUBLE_EQ(soil.youngs_modulus, 23.8e6);
-  EXPECT_DOUBLE_EQ(soil.friction_angle, 22.2);
-  EXPECT_DOUBLE_EQ(soil.tension_cutoff, soil.apex_stress());  // default: the apex
-  EXPECT_EQ(c.mesh.generator, MeshGenerator::profile);
-  EXPECT_EQ(c.mesh.element_type, ElementType::quad4_1gp);
-  ASSERT_EQ(c.mesh.surface.size(), 2u);
-  EXPECT_EQ(c.mesh.surface[1], Vec2(50.0, 40.0));
+
+  // Unit: φ is in degrees. The left-out tension cut-off defaults to the Mohr–Coulomb apex
+  // c·cot φ = 1000 Pa / tan(22.2°) = 2450 Pa (22.2 read as radians would give 4718 Pa).
+  EXPECT_NEAR(soil.tension_cutoff, 1000.0 / std::tan(22.2 * std::numbers::pi / 180.0), 1e-9);
+  EXPECT_NEAR(soil.tension_cutoff, 2450.4, 0.1);
+  // K0 = ν/(1 − ν) = 0.30 (the file's comment), the geostatic stage's lateral ratio.
+  EXPECT_NEAR(soil.k0(), 0.30, 0.005);
+
+  // The damping comment: Vs = sqrt(G/ρ) = 75.4 m/s, f1 = Vs/(4 H0) = 0.471 Hz, and ξ = 5 %
+  // between f1 and 5 f1 gives β_K = 0.005626 s (the value given) and α_M = 0.247 1/s
+  // (left out, so zero); the ratio form itself was not used.
+  const double shear_modulus = soil.youngs_modulus / (2.0 * (1.0 + soil.poisson_ratio));
+  const double vs = std::sqrt(shear_modulus / soil.density);
+  EXPECT_NEAR(vs, 75.4, 0.05);
+  const double f1 = vs / (4.0 * c.metrics.initial_height);
+  EXPECT_NEAR(f1, 0.471, 0.0005);
+  const RayleighCoefficients five_percent =
+      rayleigh_coefficients({.ratio = 0.05, .frequencies = {f1, 5.0 * f1}});
+  EXPECT_NEAR(c.fem.damping.rayleigh_stiffness, five_percent.stiffness,
+              1e-4 * five_percent.stiffness);
+  EXPECT_NEAR(five_percent.mass, 0.247, 0.0005);
+  EXPECT_EQ(c.fem.damping.rayleigh_mass, 0.0);
+  EXPECT_EQ(c.fem.damping.local, 0.0);
+  EXPECT_FALSE(c.fem.damping.ratio.has_value());
+
+  // The main transfer at t_T = 2 s is τc = sqrt(H0/g) = 2.02 s to 1 %.
+  const double tau_c = std::sqrt(c.metrics.initial_height / gravity_acceleration);
+  EXPECT_NEAR(c.transfer.main_time / tau_c, 1.0, 0.01);
+
+  // Defaults of the keys the file leaves out.
+  EXPECT_EQ(c.fem.time_step, 0.0);  // Courant steps
+  EXPECT_EQ(c.fem.hourglass_coefficient, 1.0);
+  EXPECT_EQ(c.fem.speed_limit_factor, 5.0);
+  EXPECT_TRUE(c.fem.checkpoint_times.empty());
   EXPECT_TRUE(c.fem.failure_stage);
-  EXPECT_DOUBLE_EQ(c.fem.end_time, 8.0);
-  EXPECT_DOUBLE_EQ(c.fem.friction_coefficient, 0.466);
-  EXPECT_EQ(c.fem.geostatic_boundaries.at("right"), BoundaryCondition::roller);
-  EXPECT_EQ(c.fem.failure_boundaries.at("right"), BoundaryCondition::free);
-  EXPECT_EQ(c.fem.failure_boundaries.at("base"), BoundaryCondition::friction);
-  EXPECT_EQ(c.transfer.particles_x, 4);
-  EXPECT_EQ(c.transfer.particles_y, 4);
-  EXPECT_EQ(c.transfer.sweep_times.size(), 9u);
-  EXPECT_EQ(c.mpm.domain_max, Vec2(200.0, 45.0));
-  EXPECT_DOUBLE_EQ(c.mpm.end_time, 20.0);
-  EXPECT_EQ(c.mpm.boundaries.at("base"), BoundaryCondition::friction);
-  EXPECT_DOUBLE_EQ(c.metrics.initial_length, 50.0);
-  EXPECT_DOUBLE_EQ(c.metrics.initial_height, 40.0);
-  EXPECT_EQ(c.material_index("soil"), 0);
+  EXPECT_FALSE(c.transfer.rbf_polynomial.has_value());  // none for the global RBF
+  EXPECT_EQ(c.transfer.rbf_shape, 0.0);                 // sqrt(A_box/N_g) at transfer
+  EXPECT_EQ(c.mpm.pic_fraction, 0.0);
+  EXPECT_EQ(c.mpm.time_step, 0.0);
+  EXPECT_EQ(c.mpm.rest_threshold, 0.0);  // no rest stop: the MPM runs to 20 s
+  EXPECT_EQ(c.mpm.rest_duration, 0.0);
+  EXPECT_EQ(c.mpm.gravity_stage_duration, 0.0);
+  EXPECT_EQ(c.metrics.foundation_level, 0.0);
+
+  // The sections describe one column: the FE surface is the L0 × H0 cross-section of
+  // [metrics] over the base y = 0, it lies inside the MPM grid, and every transfer time
+  // lies within the FE run and before the MPM end time (the clock continues from t_T).
+  ASSERT_EQ(c.mesh.surface.size(), 2u);
+  EXPECT_EQ(c.mesh.surface.front(), Vec2(0.0, c.metrics.initial_height));
+  EXPECT_EQ(c.mesh.surface.back(), Vec2(c.metrics.initial_length, c.metrics.initial_height));
+  EXPECT_LE(c.mpm.domain_min.x(), 0.0);
+  EXPECT_EQ(c.mpm.domain_min.y(), 0.0);  // the MPM base is the FE base
+  EXPECT_GE(c.mpm.domain_max.x(), c.metrics.initial_length);
+  EXPECT_GE(c.mpm.domain_max.y(), c.metrics.initial_height);
+  ASSERT_FALSE(c.transfer.sweep_times.empty());
+  EXPECT_TRUE(std::is_sorted(c.transfer.sweep_times.begin(), c.transfer.sweep_times.end()));
+  EXPECT_GE(c.transfer.sweep_times.front(), 0.0);
+  EXPECT_LE(c.transfer.sweep_times.back(), c.fem.end_time);
+  EXPECT_LT(c.transfer.sweep_times.back(), c.mpm.end_time);
+  EXPECT_NE(
+      std::find(c.transfer.sweep_times.begin(), c.transfer.sweep_times.end(), c.transfer.main_time),
+      c.transfer.sweep_times.end());
+  EXPECT_EQ(c.material_index(c.mesh.material), 0);
   EXPECT_THROW(c.material_index("rock"), Error);
 }
 

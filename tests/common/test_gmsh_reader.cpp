@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "common/gmsh_reader.hpp"
 #include "common/mesh_generation.hpp"
+#include "tests/support/errors.hpp"
 
 namespace slide {
 namespace {
@@ -27,14 +28,7 @@ MaterialTable materials() {
   return {rock, soil};
 }
 
-std::string error_of(const auto& function) {
-  try {
-    function();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "no error";
-}
+using testing::error_of;
 
 /// Writes `text` to a scratch file named `name` and returns its path.
 std::filesystem::path scratch_file(const std::string& name, const std::string& text) {

@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "common/mesh_generation.hpp"
+#include "tests/support/errors.hpp"
 
 namespace slide {
 namespace {
@@ -103,14 +104,7 @@ void expect_boundary_sets(const Mesh& mesh, double x_max, std::size_t left, std:
   EXPECT_EQ(b->normal, Vec2(0.0, -1.0));
 }
 
-std::string error_of(const auto& function) {
-  try {
-    function();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "no error";
-}
+using testing::error_of;
 
 // ---------------------------------------------------------------------------- profile
 

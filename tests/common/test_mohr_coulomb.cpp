@@ -661,10 +661,10 @@ TEST(Constitutive, JaumannRotationOfUniaxialStressMatchesTheRotationFormula) {
 
 TEST(Constitutive, StressAndStrainInvariants) {
   EXPECT_DOUBLE_EQ(mean_stress(Vec4{-1e5, -2e5, -3e5, 7e4}), 2e5);
-  EXPECT_NEAR(deviatoric_stress(Vec4{-1e5, -1e5, -1e5, 0.0}), 0.0, 1e-9);
-  EXPECT_NEAR(deviatoric_stress(Vec4{-6e5, 0.0, 0.0, 0.0}), 6e5, 1e-9);  // uniaxial: q = |σ|
+  EXPECT_NEAR(von_mises_stress(Vec4{-1e5, -1e5, -1e5, 0.0}), 0.0, 1e-9);
+  EXPECT_NEAR(von_mises_stress(Vec4{-6e5, 0.0, 0.0, 0.0}), 6e5, 1e-9);  // uniaxial: q = |σ|
   // Pure shear τ: q = sqrt(3) τ.
-  EXPECT_NEAR(deviatoric_stress(Vec4{0.0, 0.0, 0.0, 5e4}), std::sqrt(3.0) * 5e4, 1e-9);
+  EXPECT_NEAR(von_mises_stress(Vec4{0.0, 0.0, 0.0, 5e4}), std::sqrt(3.0) * 5e4, 1e-9);
   // Pure shear strain γxy: εq = |γ|/sqrt(3) (εxy = γ/2 counts twice in e:e).
   for (double gamma : {0.03, -0.2}) {
     EXPECT_NEAR(deviatoric_strain(Vec4{0.0, 0.0, 0.0, gamma}), std::abs(gamma) / std::sqrt(3.0),

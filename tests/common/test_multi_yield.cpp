@@ -127,13 +127,13 @@ void expect_backbone(const Vec4& direction, double eps_q_per_step, const char* p
     at_peak = point.step(increment);
     strain += increment;
     const double eps = deviatoric_strain(strain);
-    worst = std::max(worst, std::abs(deviatoric_stress(point.stress) - backbone_q(vertices, eps)));
+    worst = std::max(worst, std::abs(von_mises_stress(point.stress) - backbone_q(vertices, eps)));
     EXPECT_NEAR(mean_stress(point.stress), 200e3, 1e-6) << "isochoric: p′ stays";
   }
   EXPECT_GT(deviatoric_strain(strain), vertices.back()[0]) << "the path passed γ_peak";
   EXPECT_LT(worst, 1e-9 * q_f) << path;
   EXPECT_TRUE(at_peak);
-  EXPECT_NEAR(deviatoric_stress(point.stress), q_f, 1e-9 * q_f) << path;
+  EXPECT_NEAR(von_mises_stress(point.stress), q_f, 1e-9 * q_f) << path;
 }
 
 TEST(MultiYield, SimpleShearFollowsTheBackboneThroughItsVerticesToThePeak) {
@@ -240,7 +240,7 @@ TEST(MultiYield, AChangeOfConfinementAfterTheSwitchLeavesTheStrength) {
   EXPECT_LT(mean_stress(point.stress), 0.0) << "the point is now in mean tension";
   EXPECT_EQ(point.state.peak_strength, q_f);
   for (int k = 0; k < 4000; ++k) point.step(Vec4(0.0, 0.0, 0.0, 1e-4));
-  EXPECT_NEAR(deviatoric_stress(point.stress), q_f, 1e-9 * q_f);
+  EXPECT_NEAR(von_mises_stress(point.stress), q_f, 1e-9 * q_f);
   // A second switch (as at the start of an MPM run) keeps the frozen strength.
   point.start();
   EXPECT_EQ(point.state.peak_strength, q_f);
@@ -253,7 +253,7 @@ TEST(MultiYield, TheSwitchBringsAStressOutsideOntoTheFrozenSurfaceAndLeavesOneIn
   Point outside(m, Vec4(0.3 * sv, sv, 0.3 * sv, 0.0));
   const double p0 = mean_stress(outside.stress);
   EXPECT_TRUE(outside.start());
-  EXPECT_NEAR(deviatoric_stress(outside.stress), outside.state.peak_strength, 1e-9 * p0);
+  EXPECT_NEAR(von_mises_stress(outside.stress), outside.state.peak_strength, 1e-9 * p0);
   EXPECT_NEAR(mean_stress(outside.stress), p0, 1e-9 * p0) << "the mean stress is kept";
   // Inside: unchanged, and the surfaces add up to its deviator.
   const Vec4 inside_stress(0.8 * sv, sv, 0.8 * sv, 0.0);
@@ -268,7 +268,7 @@ TEST(MultiYield, TheSwitchBringsAStressOutsideOntoTheFrozenSurfaceAndLeavesOneIn
   EXPECT_LT((sum - deviator).cwiseAbs().maxCoeff(), 1e-9 * std::abs(sv));
   // ... and it sits on the backbone: reloading along the same direction continues it.
   const auto vertices = backbone(m, inside.state.peak_strength);
-  EXPECT_GT(deviatoric_stress(inside.stress), vertices[1][1]) << "past the first surface";
+  EXPECT_GT(von_mises_stress(inside.stress), vertices[1][1]) << "past the first surface";
 }
 
 }  // namespace

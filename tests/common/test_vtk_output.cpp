@@ -16,17 +16,17 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "common/vtk_output.hpp"
+#include "tests/support/programs.hpp"
 
 namespace slide {
 namespace {
 
 namespace fs = std::filesystem;
 
+using testing::read_text;
+
 fs::path scratch(const std::string& name) {
-  const fs::path folder = fs::path(SLIDE_BINARY_DIR) / "tests" / "common" / "vtk" / name;
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
+  return testing::fresh_folder(fs::path(SLIDE_BINARY_DIR) / "tests" / "common" / "vtk" / name);
 }
 
 struct Grid {
@@ -137,13 +137,6 @@ TEST(VtkOutput, FieldOfTheWrongSizeIsAnErrorNamingIt) {
     EXPECT_NE(std::string(e.what()).find("mass"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(folder / "p.vtu"));
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 std::size_t count(const std::string& text, const std::string& what) {

@@ -13,7 +13,9 @@
 
 #include "fem/element_kernels.hpp"
 #include "fem/fem_model.hpp"
-#include "fem_test_support.hpp"
+#include "tests/support/eigen_checks.hpp"
+#include "tests/support/meshes.hpp"
+#include "tests/support/soil.hpp"
 
 namespace slide::fem {
 namespace {

@@ -11,7 +11,8 @@
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_quality.hpp"
-#include "fem_test_support.hpp"
+#include "tests/support/meshes.hpp"
+#include "tests/support/soil.hpp"
 
 namespace slide::fem {
 namespace {

@@ -23,46 +23,31 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "common/case_file.hpp"
 #include "common/checkpoint.hpp"
-#include "fem_test_support.hpp"
+#include "tests/support/column_case.hpp"
+#include "tests/support/programs.hpp"
+#include "tests/support/soil.hpp"
 
 namespace slide::fem {
 namespace {
 
 namespace fs = std::filesystem;
 using testing::ColumnCase;
+using testing::ProgramRun;
+using testing::read_text;
 using testing::write_file;
 
 const fs::path source_dir = SLIDE_SOURCE_DIR;
 
 /// A clean scratch folder for one test.
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(SLIDE_BINARY_DIR) / "tests" / "fem" / "cli" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return testing::fresh_folder(fs::path(SLIDE_BINARY_DIR) / "tests" / "fem" / "cli" / name);
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-struct ProgramRun {
-  int status = 0;
-  std::string out;
-  std::string err;
-};
-
-/// Runs fem-solve with `arguments`, capturing stdout and stderr.
+/// Runs fem-solve with `arguments`, capturing stdout and stderr in `dir`.
 ProgramRun fem_solve(const std::string& arguments, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command =
-      std::string(FEM_SOLVE) + " " + arguments + " > " + out.string() + " 2> " + err.string();
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+  return testing::run_program(std::string(FEM_SOLVE) + " " + arguments, dir);
 }
 
 fs::path write_case(const fs::path& dir, const std::string& text) {
@@ -330,19 +315,51 @@ TEST(FemSolveCli, VtkFramesHoldTheFieldsOfTheCheckpoints) {
   }
 }
 
-TEST(FemSolveCli, GeostaticOnlyCaseWritesTheTimeZeroCheckpoint) {
+// geostatic-4x4 stops after stage 1, so its only checkpoint is the geostatic state as
+// fem-solve writes it. On the roller column that state is the closed form
+//   σyy = −ρ g (H − y),  σxx = σzz = K0 σyy,  K0 = ν/(1 − ν),  σxy = 0,
+// and the one-point quads carry it exactly at their centres (tests/fem/test_geostatic.cpp
+// explains why), so every Gauss point read back from the file must match it to
+// round-off: 1e-12 ρ g H for the normal stresses, 1e-9 ρ g H for the shear. ρ and ν
+// come from the case file, H from the checkpoint's mesh; a wrong gravity, boundary
+// table, K0 or dataset layout in the file shows up here.
+TEST(FemSolveCli, GeostaticOnlyCaseCheckpointsTheClosedFormColumn) {
   const fs::path dir = scratch("geostatic-only");
-  const ProgramRun run = fem_solve((source_dir / "cases" / "geostatic-4x4" / "case.toml").string() +
-                                       " -o " + (dir / "out").string() + " --quiet --no-vtk",
-                                   dir);
+  const fs::path case_file = source_dir / "cases" / "geostatic-4x4" / "case.toml";
+  const ProgramRun run =
+      fem_solve(case_file.string() + " -o " + (dir / "out").string() + " --quiet --no-vtk", dir);
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_EQ(run.out.rfind("summary: steps=0 elements=256 ", 0), 0U) << run.out;
-  EXPECT_TRUE(fs::exists(dir / "out" / "fem_t0.000.h5"));
   std::size_t checkpoints = 0;
   for (const auto& entry : fs::directory_iterator(dir / "out")) {
     checkpoints += entry.path().extension() == ".h5" ? 1 : 0;
   }
   EXPECT_EQ(checkpoints, 1U);
+
+  const FemCheckpoint geostatic = read_fem_checkpoint(dir / "out" / "fem_t0.000.h5");
+  EXPECT_EQ(std::get<std::string>(geostatic.solver.at("stage")), "geostatic");
+  EXPECT_EQ(geostatic.header.time, 0.0);
+  const Material soil = load_case(case_file).materials.at(0);
+  double height = 0.0;
+  for (const Vec2& x : geostatic.mesh.nodes) height = std::max(height, x.y());
+  ASSERT_DOUBLE_EQ(height, 4.0);
+  const double rho_g = soil.density * gravity_acceleration;
+  const double k0 = soil.poisson_ratio / (1.0 - soil.poisson_ratio);
+  ASSERT_EQ(geostatic.stress.size(), 256U);  // one Gauss point per element
+  ASSERT_EQ(geostatic.gauss_coordinates.size(), geostatic.stress.size());
+  double normal_error = 0.0, shear = 0.0;
+  for (std::size_t gp = 0; gp < geostatic.stress.size(); ++gp) {
+    const Vec4& stress = geostatic.stress[gp];
+    const double syy = -rho_g * (height - geostatic.gauss_coordinates[gp].y());
+    normal_error = std::max({normal_error, std::abs(stress[0] - k0 * syy),
+                             std::abs(stress[1] - syy), std::abs(stress[2] - k0 * syy)});
+    shear = std::max(shear, std::abs(stress[3]));
+  }
+  EXPECT_LT(normal_error, 1e-12 * rho_g * height);
+  EXPECT_LT(shear, 1e-9 * rho_g * height);
+  // t = 0 is the undeformed column at rest: the geostatic stage keeps no displacement.
+  for (const Vec2& u : geostatic.displacement) ASSERT_EQ(u, Vec2::Zero());
+  for (const Vec2& v : geostatic.velocity) ASSERT_EQ(v, Vec2::Zero());
 }
 
 /// The rows of a fem_history.csv by time in tenths of a second.

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "mpm_test_support.hpp"
+#include "tests/support/mpm_builders.hpp"
 
 namespace slide::mpm {
 namespace {

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "mpm/kernels.hpp"
-#include "mpm_test_support.hpp"
+#include "tests/support/mpm_builders.hpp"
 
 namespace slide::mpm {
 namespace {

@@ -2,7 +2,7 @@
 // surface heights of the K0 stresses.
 #include <gtest/gtest.h>
 
-#include "mpm_test_support.hpp"
+#include "tests/support/mpm_builders.hpp"
 
 namespace slide::mpm {
 namespace {

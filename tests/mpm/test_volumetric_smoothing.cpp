@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "mpm/kernels.hpp"
-#include "mpm_test_support.hpp"
+#include "tests/support/mpm_builders.hpp"
 
 namespace slide::mpm {
 namespace {

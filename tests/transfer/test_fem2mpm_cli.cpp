@@ -18,25 +18,16 @@
 #include <sys/wait.h>
 
 #include "common/checkpoint.hpp"
-#include "tests/transfer/fem_fixture.hpp"
+#include "tests/support/fem_checkpoints.hpp"
+#include "tests/support/programs.hpp"
 
 namespace slide {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::ProgramRun;
+using testing::read_text;
 
 std::size_t count_lines(const std::string& text) {
   std::size_t lines = 0;
@@ -49,23 +40,15 @@ class Fem2mpm : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    folder_ = fs::path(SLIDE_BINARY_DIR) / "tests" / "transfer" / "cli" / info->name();
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    folder_ = testing::fresh_folder(fs::path(SLIDE_BINARY_DIR) / "tests" / "transfer" / "cli" /
+                                    info->name());
   }
 
   fs::path file(const std::string& name) const { return folder_ / name; }
 
-  Outcome run(const std::string& arguments) const {
-    const fs::path out = file("stdout.txt"), err = file("stderr.txt");
-    const std::string command = std::string(SLIDE_BINARY_DIR) + "/bin/fem2mpm " + arguments +
-                                " > " + out.string() + " 2> " + err.string();
-    Outcome result;
-    const int raw = std::system(command.c_str());
-    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    result.out = read_text(out);
-    result.err = read_text(err);
-    return result;
+  ProgramRun run(const std::string& arguments) const {
+    return testing::run_program(std::string(SLIDE_BINARY_DIR) + "/bin/fem2mpm " + arguments,
+                                folder_);
   }
 
   /// Files in the folder other than the captured output (temporary files must not stay).
@@ -81,7 +64,7 @@ class Fem2mpm : public ::testing::Test {
   /// Runs with bad input: a one-line error, a non-zero status, no particle file.
   void expect_refused(const std::string& arguments, const std::string& message_part) {
     const std::size_t before = files_besides_logs();
-    const Outcome r = run(arguments);
+    const ProgramRun r = run(arguments);
     EXPECT_NE(r.status, 0) << r.err;
     EXPECT_EQ(count_lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find(message_part), std::string::npos) << r.err;
@@ -102,7 +85,7 @@ FemCheckpoint geostatic_checkpoint() {
 
 TEST_F(Fem2mpm, WritesTheParticleFileAndTheReport) {
   write_checkpoint(file("fem.h5"), geostatic_checkpoint());
-  const Outcome r = run(file("fem.h5").string() + " -o " + file("particles.h5").string());
+  const ProgramRun r = run(file("fem.h5").string() + " -o " + file("particles.h5").string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;
   EXPECT_NE(r.out.find("mass"), std::string::npos) << r.out;
@@ -122,9 +105,9 @@ TEST_F(Fem2mpm, WritesTheParticleFileAndTheReport) {
 
 TEST_F(Fem2mpm, OptionsReachTheParticleFileAndQuietPrintsNothing) {
   write_checkpoint(file("fem.h5"), geostatic_checkpoint());
-  const Outcome r = run(file("fem.h5").string() + " -o " + file("particles.h5").string() +
-                        " --particles-per-element 3x2 --stress-interpolation rbf-local"
-                        " --rbf-neighbours 9 --rbf-polynomial none --rbf-shape 0.3 --quiet");
+  const ProgramRun r = run(file("fem.h5").string() + " -o " + file("particles.h5").string() +
+                           " --particles-per-element 3x2 --stress-interpolation rbf-local"
+                           " --rbf-neighbours 9 --rbf-polynomial none --rbf-shape 0.3 --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   const ParticleCheckpoint particles = read_particle_checkpoint(file("particles.h5"));
@@ -139,8 +122,8 @@ TEST_F(Fem2mpm, OptionsReachTheParticleFileAndQuietPrintsNothing) {
 TEST_F(Fem2mpm, CaseFileGivesDefaultsAndFlagsOverrideThem) {
   write_checkpoint(file("fem.h5"), geostatic_checkpoint());
   const std::string case_file = std::string(SLIDE_SOURCE_DIR) + "/cases/column-short/case.toml";
-  const Outcome r = run(file("fem.h5").string() + " -o " + file("particles.h5").string() +
-                        " --case " + case_file + " --stress-interpolation element --quiet");
+  const ProgramRun r = run(file("fem.h5").string() + " -o " + file("particles.h5").string() +
+                           " --case " + case_file + " --stress-interpolation element --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   const ParticleCheckpoint particles = read_particle_checkpoint(file("particles.h5"));
   EXPECT_EQ(particles.transfer.particles_per_element, "4x4");     // from the case
@@ -197,8 +180,8 @@ TEST_F(Fem2mpm, RefusesAnInvertedElementUnlessAllowed) {
   write_checkpoint(file("fem.h5"), fem);
   expect_refused(file("fem.h5").string() + " -o " + file("particles.h5").string(),
                  "element 4 is inverted");
-  const Outcome r = run(file("fem.h5").string() + " -o " + file("particles.h5").string() +
-                        " --allow-inverted --quiet");
+  const ProgramRun r = run(file("fem.h5").string() + " -o " + file("particles.h5").string() +
+                           " --allow-inverted --quiet");
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("inverted element(s) transferred"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::exists(file("particles.h5")));
@@ -247,7 +230,7 @@ TEST_F(Fem2mpm, GeostaticCaseThroughFemSolveAndFem2mpm) {
     double interior = 0.0, everywhere = 0.0;
   };
   auto transfer = [&](const std::string& name, const std::string& options) {
-    const Outcome r = run(checkpoint.string() + " -o " + file(name).string() + " " + options);
+    const ProgramRun r = run(checkpoint.string() + " -o " + file(name).string() + " " + options);
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(r.err.empty()) << "no warning expected: " << r.err;
     return read_particle_checkpoint(file(name)).particles;
@@ -387,8 +370,8 @@ TEST_F(Fem2mpm, RbfAndRbfLocalOnColumnShort) {
   auto compare = [&](const std::string& time, const std::string& extra) {
     const fs::path checkpoint = file("fem") / ("fem_t" + time + ".h5");
     auto particles = [&](const std::string& method, const std::string& name) {
-      const Outcome r = run(checkpoint.string() + " -o " + file(name).string() +
-                            " --quiet --stress-interpolation " + method + " " + extra);
+      const ProgramRun r = run(checkpoint.string() + " -o " + file(name).string() +
+                               " --quiet --stress-interpolation " + method + " " + extra);
       EXPECT_EQ(r.status, 0) << r.err;
       return read_particle_checkpoint(file(name)).particles;
     };

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "common/error.hpp"
-#include "tests/transfer/fem_fixture.hpp"
+#include "tests/support/fem_checkpoints.hpp"
 #include "transfer/transfer.hpp"
 
 namespace slide::transfer {

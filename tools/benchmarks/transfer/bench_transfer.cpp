@@ -27,7 +27,7 @@
 
 #include "common/checkpoint.hpp"
 #include "common/error.hpp"
-#include "tests/transfer/fem_fixture.hpp"
+#include "tests/support/fem_checkpoints.hpp"
 #include "transfer/rbf_interpolation.hpp"
 #include "transfer/transfer.hpp"
 

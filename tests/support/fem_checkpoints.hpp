@@ -13,6 +13,7 @@
 #include "common/checkpoint.hpp"
 #include "common/constitutive.hpp"
 #include "common/element.hpp"
+#include "tests/support/soil.hpp"
 
 namespace slide::testing {
 
@@ -26,20 +27,6 @@ struct BlockFields {
   std::function<Vec4(const Vec2&)> strain = [](const Vec2&) { return Vec4::Zero(); };
   std::function<MaterialState(const Vec2&)> state = [](const Vec2&) { return MaterialState{}; };
 };
-
-inline Material test_soil(double density = 1700.0) {
-  Material soil;
-  soil.name = "soil";
-  soil.model = MaterialModel::mohr_coulomb;
-  soil.density = density;
-  soil.youngs_modulus = 23.8e6;
-  soil.poisson_ratio = 0.23;
-  soil.friction_angle = 22.2;
-  soil.cohesion = 1000.0;
-  soil.dilation_angle = 0.0;
-  soil.tension_cutoff = soil.apex_stress();
-  return soil;
-}
 
 /// A width × height block with its lower-left corner at the origin.
 inline FemCheckpoint make_block(int nx, int ny, double width, double height, ElementType type,
@@ -111,7 +98,7 @@ inline FemCheckpoint make_block(int nx, int ny, double width, double height, Ele
       fem.state.push_back(fields.state(xg));
     }
   }
-  fem.materials.push_back(test_soil(density));
+  fem.materials.push_back(soil(MaterialModel::mohr_coulomb, density));
   return fem;
 }
 

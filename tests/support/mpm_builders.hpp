@@ -2,11 +2,13 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "common/material.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
+#include "tests/support/soil.hpp"
 
 namespace slide::mpm::testing {
 
@@ -21,11 +23,11 @@ inline Material elastic_soil(double density = 1700.0, double youngs_modulus = 23
   return m;
 }
 
+/// The case soil in Mohr–Coulomb without a tension cut-off (the Material default, +∞):
+/// the soil the mpm tests have always run, not the case-file default at the apex.
 inline Material frictional_soil() {
-  Material m = elastic_soil();
-  m.model = MaterialModel::mohr_coulomb;
-  m.friction_angle = 22.2;
-  m.cohesion = 1000.0;
+  Material m = slide::testing::soil(MaterialModel::mohr_coulomb);
+  m.tension_cutoff = std::numeric_limits<double>::infinity();
   return m;
 }
 
