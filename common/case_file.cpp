@@ -9,8 +9,6 @@
 // parameters of a linear elastic material, failure-stage settings of a geostatic-only
 // case); tuning keys of an option not selected are accepted and ignored (rbf_neighbours
 // with "rbf", gravity_stage_* with "k0"), so that switching an option is a one-line edit.
-#include "common/case_file.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -21,6 +19,7 @@
 
 #include <toml++/toml.h>
 
+#include "common/case_file.hpp"
 #include "common/error.hpp"
 
 namespace slide {
@@ -30,65 +29,13 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 
 // ----------------------------------------------------------------------------- names
 
-/// The spelling of an enumerator in case files. One table per enum serves parsing,
-/// to_string and the "expected one of" lists of the messages.
-template <typename E>
-struct Named {
-  std::string_view name;
-  E value;
-};
-
+/// The spellings of the mesh generators (those of the solvers' algorithms are in
+/// algorithms.hpp).
 constexpr std::array<Named<MeshGenerator>, 3> generator_names{{
     {"profile", MeshGenerator::profile},
     {"blocks", MeshGenerator::blocks},
     {"gmsh", MeshGenerator::gmsh},
 }};
-constexpr std::array<Named<Kinematics>, 2> kinematics_names{{
-    {"small-strain", Kinematics::small_strain},
-    {"updated-lagrangian", Kinematics::updated_lagrangian},
-}};
-constexpr std::array<Named<StressInterpolation>, 3> interpolation_names{{
-    {"rbf", StressInterpolation::rbf},
-    {"rbf-local", StressInterpolation::rbf_local},
-    {"element", StressInterpolation::element},
-}};
-constexpr std::array<Named<RbfPolynomial>, 2> polynomial_names{{
-    {"none", RbfPolynomial::none},
-    {"linear", RbfPolynomial::linear},
-}};
-constexpr std::array<Named<ShapeFunction>, 2> shape_function_names{{
-    {"gimp", ShapeFunction::gimp},
-    {"linear", ShapeFunction::linear},
-}};
-constexpr std::array<Named<UpdateScheme>, 2> update_scheme_names{{
-    {"usl", UpdateScheme::usl},
-    {"musl", UpdateScheme::musl},
-}};
-constexpr std::array<Named<VelocityTransfer>, 2> velocity_transfer_names{{
-    {"flip-pic", VelocityTransfer::flip_pic},
-    {"apic", VelocityTransfer::apic},
-}};
-constexpr std::array<Named<VolumetricSmoothing>, 2> volumetric_smoothing_names{{
-    {"none", VolumetricSmoothing::none},
-    {"cell", VolumetricSmoothing::cell},
-}};
-constexpr std::array<Named<ParticleExit>, 2> particle_exit_names{{
-    {"freeze", ParticleExit::freeze},
-    {"remove", ParticleExit::remove},
-}};
-constexpr std::array<Named<InitialStress>, 2> initial_stress_names{{
-    {"k0", InitialStress::k0},
-    {"gravity", InitialStress::gravity},
-}};
-
-template <typename E, std::size_t N>
-std::string_view name_of(const std::array<Named<E>, N>& names, E value) {
-  for (const auto& named : names) {
-    if (named.value == value) return named.name;
-  }
-  return "unknown";
-}
-
 /// Point counts of the symmetric triangle rules the transfer offers.
 constexpr std::array<int, 8> triangle_rule_sizes{1, 3, 4, 6, 7, 12, 13, 16};
 
@@ -1151,29 +1098,6 @@ Case load_case(const std::filesystem::path& path) {
   text << in.rdbuf();
   if (in.bad()) throw Error("{}: cannot read the case file", path.string());
   return parse_case(text.str(), path);
-}
-
-std::string_view to_string(Kinematics kinematics) {
-  return name_of(kinematics_names, kinematics);
-}
-std::string_view to_string(StressInterpolation interpolation) {
-  return name_of(interpolation_names, interpolation);
-}
-std::string_view to_string(RbfPolynomial polynomial) {
-  return name_of(polynomial_names, polynomial);
-}
-std::string_view to_string(ShapeFunction shape_function) {
-  return name_of(shape_function_names, shape_function);
-}
-std::string_view to_string(UpdateScheme scheme) {
-  return name_of(update_scheme_names, scheme);
-}
-std::string_view to_string(VelocityTransfer transfer) {
-  return name_of(velocity_transfer_names, transfer);
-}
-
-std::string_view to_string(VolumetricSmoothing smoothing) {
-  return name_of(volumetric_smoothing_names, smoothing);
 }
 
 }  // namespace slide
