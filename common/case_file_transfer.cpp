@@ -1,15 +1,9 @@
 // The case reader's [transfer] table: the particles and interpolation of fem2mpm.
 // Section, the ranges and the shared readers are in case_file_reader.hpp.
 #include "common/case_file_reader.hpp"
+#include "common/triangle_rules.hpp"
 
 namespace slide::case_reader {
-
-namespace {
-
-/// Point counts of the symmetric triangle rules the transfer offers.
-constexpr std::array<int, 8> triangle_rule_sizes{1, 3, 4, 6, 7, 12, 13, 16};
-
-}  // namespace
 
 TransferSpec read_transfer(const Section& root, const FemSpec& fem) {
   TransferSpec transfer;
@@ -23,11 +17,11 @@ TransferSpec read_transfer(const Section& root, const FemSpec& fem) {
   if (s->has("particles_per_triangle")) {
     const int n = s->integer("particles_per_triangle", 1, std::numeric_limits<int>::max(),
                              transfer.particles_triangle);
-    if (std::find(triangle_rule_sizes.begin(), triangle_rule_sizes.end(), n) ==
-        triangle_rule_sizes.end()) {
+    // The transfer's own rule, so that the case file accepts what fem2mpm does.
+    if (!has_triangle_rule(n)) {
       s->reader().inadmissible(s->node("particles_per_triangle"),
                                s->dotted("particles_per_triangle"), fmt::format("{}", n),
-                               fmt::format("one of: {}", join(triangle_rule_sizes)));
+                               supported_triangle_counts());
     }
     transfer.particles_triangle = n;
   }
