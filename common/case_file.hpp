@@ -8,20 +8,17 @@
 
 #include <array>
 #include <filesystem>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "common/algorithms.hpp"
 #include "common/element.hpp"
 #include "common/material.hpp"
 #include "common/mesh.hpp"
 #include "common/types.hpp"
 
 namespace slide {
-
-/// A boundary name ("left", "right", "base", "top" or a Gmsh physical group) → condition.
-using BoundaryTable = std::map<std::string, BoundaryCondition>;
 
 // ----------------------------------------------------------------------------- mesh
 
@@ -54,8 +51,6 @@ struct MeshSpec {
 };
 
 // ----------------------------------------------------------------------------- FEM
-
-enum class Kinematics { small_strain, updated_lagrangian };
 
 /// Rayleigh damping given as a damping ratio ξ at two frequencies f1 < f2 (the usual
 /// OpenSees input).
@@ -103,9 +98,6 @@ struct FemSpec {
 
 // ----------------------------------------------------------------------------- transfer
 
-enum class StressInterpolation { rbf, rbf_local, element };
-enum class RbfPolynomial { none, linear };
-
 struct TransferSpec {
   int particles_x = 4;          ///< N_px (quads)
   int particles_y = 4;          ///< N_py (quads)
@@ -121,18 +113,6 @@ struct TransferSpec {
 };
 
 // ----------------------------------------------------------------------------- MPM
-
-enum class ShapeFunction { gimp, linear };
-enum class UpdateScheme { usl, musl };
-/// Grid → particle velocity transfer (METHOD.md §5, mpm/README.md "Velocity transfer"):
-/// FLIP with an optional PIC share (`pic_fraction`), or APIC (affine particle-in-cell:
-/// each particle carries an affine velocity matrix; no PIC share needed).
-enum class VelocityTransfer { flip_pic, apic };
-/// Volumetric anti-locking (METHOD.md §5, mpm/README.md "Volumetric smoothing"): none, or
-/// the particles of a cell share its averaged mean stress and volumetric strain rate.
-enum class VolumetricSmoothing { none, cell };
-enum class ParticleExit { freeze, remove };
-enum class InitialStress { k0, gravity };
 
 struct MpmSpec {
   Vec2 domain_min = Vec2::Zero();  ///< lower-left corner of the grid, m
@@ -201,13 +181,5 @@ struct Case {
 Case load_case(const std::filesystem::path& path);
 /// Same, from text (tests); `source_name` stands in for the file name in messages.
 Case parse_case(std::string_view text, const std::filesystem::path& source_name);
-
-std::string_view to_string(Kinematics kinematics);
-std::string_view to_string(StressInterpolation interpolation);
-std::string_view to_string(RbfPolynomial polynomial);
-std::string_view to_string(ShapeFunction shape_function);
-std::string_view to_string(UpdateScheme scheme);
-std::string_view to_string(VelocityTransfer transfer);
-std::string_view to_string(VolumetricSmoothing smoothing);
 
 }  // namespace slide

@@ -3,6 +3,7 @@
 // it (mesher or Gmsh import), checkpoints carry it, the transfer reads it back.
 #pragma once
 
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,9 @@ enum class BoundaryCondition {
 };
 std::string_view to_string(BoundaryCondition condition);
 BoundaryCondition parse_boundary_condition(std::string_view text, std::string_view where);
+
+/// A boundary name ("left", "right", "base", "top" or a Gmsh physical group) → condition.
+using BoundaryTable = std::map<std::string, BoundaryCondition>;
 
 /// A named set of boundary nodes ("left", "right", "base", or a Gmsh physical group),
 /// straight, with its outward unit normal.

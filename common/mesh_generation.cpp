@@ -18,6 +18,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -51,6 +52,21 @@ std::int32_t material_id_of(const MaterialTable& materials, std::string_view nam
 
 double cross(const Vec2& a, const Vec2& b) {
   return a.x() * b.y() - a.y() * b.x();
+}
+
+std::string point_text(const Vec2& p) {
+  return fmt::format("({}, {})", p.x(), p.y());
+}
+
+/// Nodes of a block edge (side k from corner k to corner k+1): evenly spaced, as the
+/// transfinite map places them.
+std::vector<Vec2> edge_nodes(const MeshBlock& block, int side) {
+  const Vec2& a = block.corners[static_cast<std::size_t>(side)];
+  const Vec2& b = block.corners[static_cast<std::size_t>((side + 1) % 4)];
+  const int cells = side % 2 == 0 ? block.cells_u : block.cells_v;
+  std::vector<Vec2> nodes;
+  for (int i = 0; i <= cells; ++i) nodes.push_back(a + (b - a) * (static_cast<double>(i) / cells));
+  return nodes;
 }
 
 /// Appends the elements of an nu × nv grid of cells whose node (i, j) is `node_of(i, j)`:
@@ -180,6 +196,72 @@ void check_boundary_names(const Mesh& mesh, const BoundaryTable& table, std::str
 
 }  // namespace
 
+std::optional<std::string> block_corners_problem(const MeshBlock& block) {
+  const auto& p = block.corners;
+  for (const Vec2& corner : p) {
+    if (!corner.allFinite()) return std::string("a corner is not a finite point");
+  }
+  const double twice_area =
+      cross(p[0], p[1]) + cross(p[1], p[2]) + cross(p[2], p[3]) + cross(p[3], p[0]);
+  if (!(twice_area > 0.0)) {
+    return fmt::format(
+        "corners {} {} {} {} are not counter-clockwise (signed area {} m²: clockwise or "
+        "degenerate); list them counter-clockwise",
+        point_text(p[0]), point_text(p[1]), point_text(p[2]), point_text(p[3]), 0.5 * twice_area);
+  }
+  // The bilinear map of a non-convex quadrilateral folds over itself.
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Vec2 in = p[i] - p[(i + 3) % 4];
+    const Vec2 out = p[(i + 1) % 4] - p[i];
+    if (!(cross(in, out) > 0.0)) {
+      return fmt::format("the quadrilateral is not convex at corner {} {}", i, point_text(p[i]));
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> shared_edge_mismatch(const MeshBlock& a, const MeshBlock& b) {
+  for (int side_a = 0; side_a < 4; ++side_a) {
+    const auto nodes_a = edge_nodes(a, side_a);
+    const Vec2 p = nodes_a.front();
+    const Vec2 q = nodes_a.back();
+    const double length = (q - p).norm();
+    const Vec2 t = (q - p) / length;
+    const double spacing_a = length / static_cast<double>(nodes_a.size() - 1);
+    for (int side_b = 0; side_b < 4; ++side_b) {
+      const auto nodes_b = edge_nodes(b, side_b);
+      const double spacing_b =
+          (nodes_b.back() - nodes_b.front()).norm() / static_cast<double>(nodes_b.size() - 1);
+      const double tol = 1e-6 * std::min(spacing_a, spacing_b);
+      auto off_line = [&](const Vec2& r) {
+        const Vec2 d = r - p;
+        return std::abs(d.x() * t.y() - d.y() * t.x()) > tol;
+      };
+      if (off_line(nodes_b.front()) || off_line(nodes_b.back())) continue;
+      const double s0 = (nodes_b.front() - p).dot(t);
+      const double s1 = (nodes_b.back() - p).dot(t);
+      const double lo = std::max(0.0, std::min(s0, s1));
+      const double hi = std::min(length, std::max(s0, s1));
+      if (hi - lo <= tol) continue;  // collinear but not overlapping, or touching at a point
+      auto matched = [&](const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+        for (const Vec2& r : from) {
+          const double s = (r - p).dot(t);
+          if (s < lo - tol || s > hi + tol) continue;
+          const bool found = std::any_of(to.begin(), to.end(),
+                                         [&](const Vec2& u) { return (u - r).norm() <= tol; });
+          if (!found) return false;
+        }
+        return true;
+      };
+      if (!matched(nodes_a, nodes_b) || !matched(nodes_b, nodes_a)) {
+        return fmt::format("from {} to {} (node spacing {:.6g} m here, {:.6g} m there)",
+                           point_text(p + lo * t), point_text(p + hi * t), spacing_a, spacing_b);
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id) {
   const double h = spec.element_size;
   const auto& surface = spec.surface;
@@ -257,20 +339,11 @@ Mesh generate_block_mesh(const MeshSpec& spec, const MaterialTable& materials) {
       throw Error("{}: cells = [{}, {}] (expected at least one cell each way)", where,
                   block.cells_u, block.cells_v);
     }
+    if (const auto problem = block_corners_problem(block)) {
+      throw Error("{}: {}", where, *problem);
+    }
     const auto& p = block.corners;
-    for (const Vec2& corner : p) {
-      if (!corner.allFinite()) throw Error("{}: a corner is not a finite point", where);
-      extent = std::max(extent, corner.cwiseAbs().maxCoeff());
-    }
-    const double twice_area =
-        cross(p[0], p[1]) + cross(p[1], p[2]) + cross(p[2], p[3]) + cross(p[3], p[0]);
-    if (!(twice_area > 0.0)) {
-      throw Error(
-          "{}: corners ({}, {}) ({}, {}) ({}, {}) ({}, {}) are not counter-clockwise "
-          "(signed area {})",
-          where, p[0].x(), p[0].y(), p[1].x(), p[1].y(), p[2].x(), p[2].y(), p[3].x(), p[3].y(),
-          0.5 * twice_area);
-    }
+    for (const Vec2& corner : p) extent = std::max(extent, corner.cwiseAbs().maxCoeff());
     block_material[b] = material_id_of(materials, block.material, where + ".material");
 
     auto& grid = grids[b];

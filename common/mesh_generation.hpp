@@ -15,6 +15,8 @@
 // "base" (y = y_min) with outward normals (−1,0), (1,0), (0,−1).
 #pragma once
 
+#include <optional>
+#include <string>
 #include <string_view>
 
 #include "common/case_file.hpp"
@@ -27,6 +29,17 @@ Mesh build_mesh(const Case& c);
 
 Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id);
 Mesh generate_block_mesh(const MeshSpec& spec, const MaterialTable& materials);
+
+/// The first fault of a block's corners, if any: not finite, not counter-clockwise (or
+/// degenerate), or not convex (the bilinear map of a non-convex quadrilateral folds over
+/// itself). generate_block_mesh and the case reader both refuse a block by it; the text
+/// names no block, the caller says which.
+std::optional<std::string> block_corners_problem(const MeshBlock& block);
+
+/// Where blocks `a` and `b`, sharing (part of) an edge, put their nodes at different
+/// places along it (the mesh would have hanging nodes), if they do. The case reader asks
+/// before any mesh is built, to name the block's line in the case file.
+std::optional<std::string> shared_edge_mismatch(const MeshBlock& a, const MeshBlock& b);
 
 /// Throws Error naming `source` and the first offending element or node: inverted or
 /// zero-area elements (det J ≤ 0 at a corner), nodes no element references, node sets

@@ -26,6 +26,7 @@
 #include <span>
 #include <vector>
 
+#include "common/case_file.hpp"  // DampingSpec
 #include "common/constitutive.hpp"
 #include "common/nodal_update.hpp"
 #include "fem/fem_model.hpp"

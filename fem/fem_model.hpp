@@ -19,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-#include "common/case_file.hpp"
+#include "common/algorithms.hpp"
 #include "common/constitutive.hpp"
 #include "common/element.hpp"
 #include "common/material.hpp"

@@ -18,7 +18,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/case_file.hpp"
+#include "common/mesh.hpp"
 #include "common/nodal_update.hpp"
 #include "common/types.hpp"
 

@@ -61,7 +61,7 @@
 #include <span>
 #include <vector>
 
-#include "common/case_file.hpp"
+#include "common/algorithms.hpp"
 #include "common/constitutive.hpp"
 #include "common/particles.hpp"
 #include "mpm/grid.hpp"

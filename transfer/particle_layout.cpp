@@ -114,11 +114,13 @@ ParticleLayout quad_layout(int nx, int ny) {
   return layout;
 }
 
-std::string_view supported_triangle_counts() {
-  return "1, 3, 6, 7, 12, 13, or a square n² ≥ 4 up to 1024 (4, 9, 16, 25, …)";
-}
-
 ParticleLayout triangle_layout(int count) {
+  if (!has_triangle_rule(count)) {
+    throw Error(
+        "{} particles per triangle is not supported (no symmetric rule with positive "
+        "weights and interior points; supported: {})",
+        count, supported_triangle_counts());
+  }
   ParticleLayout layout;
   layout.shape = ElementShape::tri3;
   layout.label = fmt::format("{}", count);
@@ -172,13 +174,7 @@ ParticleLayout triangle_layout(int count) {
       layout.rule = "13-point positive degree-6 rule (centroid weight 1/13)";
       break;
     default: {
-      const int n = perfect_square_root(count);
-      if (n < 2 || n > 32) {
-        throw Error(
-            "{} particles per triangle is not supported (no symmetric rule with positive "
-            "weights and interior points; supported: {})",
-            count, supported_triangle_counts());
-      }
+      const int n = perfect_square_root(count);  // a square: has_triangle_rule said so
       layout.points = subdivision_centroids(n);
       layout.degree = 1;
       layout.rule = fmt::format("{}-point centroids of the regular {}x{} subdivision", count, n, n);

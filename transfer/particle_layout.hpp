@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common/element.hpp"
+#include "common/triangle_rules.hpp"
 
 namespace slide::transfer {
 
@@ -55,12 +56,10 @@ struct ParticleLayout {
 inline constexpr int max_particle_order = 32;
 
 ParticleLayout quad_layout(int nx, int ny);
-/// Throws Error listing the supported counts when there is no positive interior rule.
+/// Throws Error listing the supported counts unless has_triangle_rule(count)
+/// (common/triangle_rules.hpp, the one place that decides it).
 ParticleLayout triangle_layout(int count);
 /// The layout of one element shape for the user's request.
 ParticleLayout make_layout(ElementShape shape, const ParticlesPerElement& request);
-
-/// Human-readable list of the supported triangle counts, for messages and --help.
-std::string_view supported_triangle_counts();
 
 }  // namespace slide::transfer

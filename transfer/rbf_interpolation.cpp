@@ -228,9 +228,10 @@ FieldValues DenseRbf::evaluate(std::span<const Vec2> points) const {
 
 // ---------------------------------------------------------------- local
 
-FieldValues interpolate_local_rbf(std::span<const Vec2> centres, const FieldValues& values,
-                                  std::span<const Vec2> points, const LocalRbfOptions& options,
-                                  RbfDiagnostics* diagnostics) {
+namespace {
+
+void check_local_inputs(std::span<const Vec2> centres, const FieldValues& values,
+                        const LocalRbfOptions& options) {
   if (centres.empty()) throw Error("rbf-local: no Gauss points to interpolate from");
   if (values.rows() != static_cast<Eigen::Index>(centres.size())) {
     throw Error("rbf-local: {} values for {} Gauss points", values.rows(), centres.size());
@@ -245,14 +246,80 @@ FieldValues interpolate_local_rbf(std::span<const Vec2> centres, const FieldValu
   if (options.neighbours < 1) {
     throw Error("rbf-local: {} neighbours is not admissible (expected ≥ 1)", options.neighbours);
   }
+}
+
+/// One thread's interpolant through its current neighbourhood; the buffers are reused
+/// from point to point, so a thread allocates only when a neighbourhood grows.
+struct NeighbourhoodFit {
+  Eigen::MatrixXd matrix, rhs, coefficients;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  PolynomialFrame frame;
+};
+
+/// Solves the (augmented) multiquadric system through the centres `neighbours` for every
+/// column of `values`; returns its condition estimate 1/rcond.
+double fit_neighbourhood(std::span<const Vec2> centres, const FieldValues& values,
+                         const std::vector<std::uint32_t>& neighbours, RbfPolynomial polynomial,
+                         double inverse_c_squared, NeighbourhoodFit& fit) {
+  const auto nk = static_cast<Eigen::Index>(neighbours.size());
+  auto centre = [&](std::size_t i) -> const Vec2& { return centres[neighbours[i]]; };
+  fit.frame = polynomial_frame(neighbours.size(), centre, polynomial);
+  const Eigen::Index m = nk + fit.frame.terms;
+  fit.matrix.resize(m, m);
+  fit.rhs.setZero(m, values.cols());
+  std::array<double, 3> row{};
+  for (Eigen::Index j = 0; j < nk; ++j) {
+    const Vec2& xj = centre(static_cast<std::size_t>(j));
+    for (Eigen::Index i = 0; i < nk; ++i) {
+      fit.matrix(i, j) =
+          multiquadric((centre(static_cast<std::size_t>(i)) - xj).squaredNorm(), inverse_c_squared);
+    }
+    polynomial_row(fit.frame, xj, row.data());
+    for (int t = 0; t < fit.frame.terms; ++t) {
+      fit.matrix(j, nk + t) = row[static_cast<std::size_t>(t)];
+      fit.matrix(nk + t, j) = row[static_cast<std::size_t>(t)];
+    }
+    fit.rhs.row(j) = values.row(static_cast<Eigen::Index>(neighbours[static_cast<std::size_t>(j)]));
+  }
+  fit.matrix.bottomRightCorner(fit.frame.terms, fit.frame.terms).setZero();
+  fit.lu.compute(fit.matrix);
+  const double rcond = fit.lu.rcond();
+  fit.coefficients = fit.lu.solve(fit.rhs);
+  return rcond > 0.0 ? 1.0 / rcond : std::numeric_limits<double>::infinity();
+}
+
+/// s(x) = Σ_j λ_j φ(|x − x_j|) + a·[1, x̂, ŷ] of the fitted neighbourhood, into `out`.
+void evaluate_neighbourhood(std::span<const Vec2> centres,
+                            const std::vector<std::uint32_t>& neighbours,
+                            const NeighbourhoodFit& fit, double inverse_c_squared, const Vec2& x,
+                            FieldValues::RowXpr out) {
+  out.setZero();
+  const auto nk = static_cast<Eigen::Index>(neighbours.size());
+  for (Eigen::Index j = 0; j < nk; ++j) {
+    const double phi = multiquadric(
+        (centres[neighbours[static_cast<std::size_t>(j)]] - x).squaredNorm(), inverse_c_squared);
+    out += phi * fit.coefficients.row(j);
+  }
+  std::array<double, 3> row{};
+  polynomial_row(fit.frame, x, row.data());
+  for (int t = 0; t < fit.frame.terms; ++t) {
+    out += row[static_cast<std::size_t>(t)] * fit.coefficients.row(nk + t);
+  }
+}
+
+}  // namespace
+
+FieldValues interpolate_local_rbf(std::span<const Vec2> centres, const FieldValues& values,
+                                  std::span<const Vec2> points, const LocalRbfOptions& options,
+                                  RbfDiagnostics* diagnostics) {
+  check_local_inputs(centres, values, options);
   const CentreCloud cloud{centres};
   const KdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   const auto k = static_cast<std::size_t>(
       std::min<std::size_t>(static_cast<std::size_t>(options.neighbours), centres.size()));
-  const Eigen::Index components = values.cols();
   const double inverse_c_squared = 1.0 / (options.shape * options.shape);
   const auto count = static_cast<std::ptrdiff_t>(points.size());
-  FieldValues result(static_cast<Eigen::Index>(points.size()), components);
+  FieldValues result(static_cast<Eigen::Index>(points.size()), values.cols());
 
   double worst_condition = 0.0;
   std::size_t reduced = 0, factorisations = 0;
@@ -260,10 +327,7 @@ FieldValues interpolate_local_rbf(std::span<const Vec2> centres, const FieldValu
   {
     std::vector<std::uint32_t> found(k), neighbours, cached;
     std::vector<double> distances(k);
-    Eigen::MatrixXd matrix, rhs, coefficients;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
-    PolynomialFrame frame;
-    std::array<double, 3> row{};
+    NeighbourhoodFit fit;
 #pragma omp for schedule(static)
     for (std::ptrdiff_t p = 0; p < count; ++p) {
       const Vec2& x = points[static_cast<std::size_t>(p)];
@@ -276,50 +340,15 @@ FieldValues interpolate_local_rbf(std::span<const Vec2> centres, const FieldValu
       // particles of one element mostly share their neighbourhood).
       std::sort(neighbours.begin(), neighbours.end());
       if (neighbours != cached) {
-        const auto nk = static_cast<Eigen::Index>(neighbours.size());
-        auto centre = [&](std::size_t i) -> const Vec2& { return centres[neighbours[i]]; };
-        frame = polynomial_frame(neighbours.size(), centre, options.polynomial);
-        if (options.polynomial == RbfPolynomial::linear && frame.terms < 3) ++reduced;
-        const Eigen::Index m = nk + frame.terms;
-        matrix.resize(m, m);
-        rhs.setZero(m, components);
-        for (Eigen::Index j = 0; j < nk; ++j) {
-          const Vec2& xj = centre(static_cast<std::size_t>(j));
-          for (Eigen::Index i = 0; i < nk; ++i) {
-            matrix(i, j) = multiquadric((centre(static_cast<std::size_t>(i)) - xj).squaredNorm(),
-                                        inverse_c_squared);
-          }
-          polynomial_row(frame, xj, row.data());
-          for (int t = 0; t < frame.terms; ++t) {
-            matrix(j, nk + t) = row[static_cast<std::size_t>(t)];
-            matrix(nk + t, j) = row[static_cast<std::size_t>(t)];
-          }
-          rhs.row(j) =
-              values.row(static_cast<Eigen::Index>(neighbours[static_cast<std::size_t>(j)]));
-        }
-        matrix.bottomRightCorner(frame.terms, frame.terms).setZero();
-        lu.compute(matrix);
-        const double rcond = lu.rcond();
         worst_condition = std::max(
-            worst_condition, rcond > 0.0 ? 1.0 / rcond : std::numeric_limits<double>::infinity());
-        coefficients = lu.solve(rhs);
+            worst_condition, fit_neighbourhood(centres, values, neighbours, options.polynomial,
+                                               inverse_c_squared, fit));
+        if (options.polynomial == RbfPolynomial::linear && fit.frame.terms < 3) ++reduced;
         ++factorisations;
         cached = neighbours;
       }
-      // s(x) = Σ_j λ_j φ(|x − x_j|) + a·[1, x̂, ŷ]
-      auto out = result.row(static_cast<Eigen::Index>(p));
-      out.setZero();
-      const auto nk = static_cast<Eigen::Index>(neighbours.size());
-      for (Eigen::Index j = 0; j < nk; ++j) {
-        const double phi =
-            multiquadric((centres[neighbours[static_cast<std::size_t>(j)]] - x).squaredNorm(),
-                         inverse_c_squared);
-        out += phi * coefficients.row(j);
-      }
-      polynomial_row(frame, x, row.data());
-      for (int t = 0; t < frame.terms; ++t) {
-        out += row[static_cast<std::size_t>(t)] * coefficients.row(nk + t);
-      }
+      evaluate_neighbourhood(centres, neighbours, fit, inverse_c_squared, x,
+                             result.row(static_cast<Eigen::Index>(p)));
     }
   }
   if (!result.allFinite()) {

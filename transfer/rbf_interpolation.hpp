@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "common/case_file.hpp"
+#include "common/algorithms.hpp"
 #include "common/types.hpp"
 
 namespace slide::transfer {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "common/error.hpp"
 #include "common/program.hpp"
@@ -372,68 +373,104 @@ void fe_momentum_and_energy(const FemCheckpoint& fem, TransferReport& report) {
 
 // ---------------------------------------------------------------- interpolation
 
+/// The interpolation's settings with every default resolved: the one place the methods
+/// read their parameters from, and what the report and the particle file record.
+struct InterpolationSettings {
+  StressInterpolation method = StressInterpolation::rbf;
+  RbfPolynomial polynomial = RbfPolynomial::none;
+  double shape = 0.0;                  ///< c, m
+  int neighbours = 0;                  ///< k of rbf-local
+  std::size_t dense_memory_limit = 0;  ///< bytes; resolved for rbf only
+};
+
+bool uses_rbf(StressInterpolation method) {
+  return method != StressInterpolation::element;
+}
+
+/// The Gauss points the RBFs interpolate from: those of the uncollapsed elements.
+struct RbfCentres {
+  std::vector<Vec2> points;
+  FieldValues values;
+};
+
+/// What the interpolation reads. `values` holds every Gauss point's fields (for the
+/// element baseline); the RBFs interpolate `centres`.
+struct GaussFieldInputs {
+  const FemCheckpoint& fem;
+  const GaussIndex& index;
+  const FieldValues& values;
+  const RbfCentres& centres;
+  std::span<const Vec2> particle_coordinates;
+  std::span<const std::int64_t> particle_element;
+  std::span<const Vec2> particle_xi;
+};
+
 struct Interpolated {
   FieldValues at_particles;
   FieldValues at_gauss_points;  // empty for the element baseline
   RbfDiagnostics diagnostics;
 };
 
-/// `values` holds every Gauss point's fields (for the element baseline); the RBFs
-/// interpolate `centre_values` at `centres`, the Gauss points of uncollapsed elements.
-Interpolated interpolate_gauss_fields(const FemCheckpoint& fem, const FieldValues& values,
-                                      std::span<const Vec2> centres,
-                                      const FieldValues& centre_values,
-                                      std::span<const Vec2> particle_coordinates,
-                                      std::span<const std::int64_t> particle_element,
-                                      std::span<const Vec2> particle_xi, const GaussIndex& index,
-                                      const TransferOptions& options, double shape, int neighbours,
-                                      RbfPolynomial polynomial) {
+Interpolated interpolate_dense_rbf(const GaussFieldInputs& in,
+                                   const InterpolationSettings& settings) {
   Interpolated out;
-  switch (options.stress_interpolation) {
-    case StressInterpolation::rbf: {
-      const std::size_t limit = options.dense_memory_limit > 0 ? options.dense_memory_limit
-                                                               : default_dense_memory_limit();
-      const DenseRbf rbf(centres, centre_values, shape, polynomial, limit);
-      out.at_particles = rbf.evaluate(particle_coordinates);
-      out.at_gauss_points = rbf.evaluate(centres);
-      out.diagnostics = rbf.diagnostics();
-      break;
-    }
-    case StressInterpolation::rbf_local: {
-      const LocalRbfOptions local{shape, polynomial, neighbours};
-      out.at_particles = interpolate_local_rbf(centres, centre_values, particle_coordinates, local,
-                                               &out.diagnostics);
-      RbfDiagnostics at_gauss;
-      out.at_gauss_points =
-          interpolate_local_rbf(centres, centre_values, centres, local, &at_gauss);
-      break;
-    }
-    case StressInterpolation::element: {
-      // The owning element's Gauss point nearest to the particle in reference
-      // coordinates (the only one for one-point elements); ties go to the first.
-      const auto count = static_cast<std::ptrdiff_t>(particle_coordinates.size());
-      out.at_particles.resize(static_cast<Eigen::Index>(count), values.cols());
+  const DenseRbf rbf(in.centres.points, in.centres.values, settings.shape, settings.polynomial,
+                     settings.dense_memory_limit);
+  out.at_particles = rbf.evaluate(in.particle_coordinates);
+  out.at_gauss_points = rbf.evaluate(in.centres.points);
+  out.diagnostics = rbf.diagnostics();
+  return out;
+}
+
+Interpolated interpolate_local(const GaussFieldInputs& in, const InterpolationSettings& settings) {
+  Interpolated out;
+  const LocalRbfOptions local{settings.shape, settings.polynomial, settings.neighbours};
+  out.at_particles = interpolate_local_rbf(in.centres.points, in.centres.values,
+                                           in.particle_coordinates, local, &out.diagnostics);
+  RbfDiagnostics at_gauss;
+  out.at_gauss_points = interpolate_local_rbf(in.centres.points, in.centres.values,
+                                              in.centres.points, local, &at_gauss);
+  return out;
+}
+
+/// The baseline: the owning element's Gauss point nearest to the particle in reference
+/// coordinates (the only one for one-point elements); ties go to the first.
+Interpolated nearest_own_gauss_point(const GaussFieldInputs& in) {
+  Interpolated out;
+  const GaussIndex& index = in.index;
+  const auto count = static_cast<std::ptrdiff_t>(in.particle_coordinates.size());
+  out.at_particles.resize(static_cast<Eigen::Index>(count), in.values.cols());
 #pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t p = 0; p < count; ++p) {
-        const auto e = static_cast<std::size_t>(particle_element[static_cast<std::size_t>(p)]);
-        const Vec2& xi = particle_xi[static_cast<std::size_t>(p)];
-        std::size_t best = index.points[index.offsets[e]];
-        double best_distance = std::numeric_limits<double>::infinity();
-        for (std::size_t i = index.offsets[e]; i < index.offsets[e + 1]; ++i) {
-          const std::size_t g = index.points[i];
-          const double d = (fem.gauss_local_coordinates[g] - xi).squaredNorm();
-          if (d < best_distance) {
-            best_distance = d;
-            best = g;
-          }
-        }
-        out.at_particles.row(static_cast<Eigen::Index>(p)) =
-            values.row(static_cast<Eigen::Index>(best));
+  for (std::ptrdiff_t p = 0; p < count; ++p) {
+    const auto e = static_cast<std::size_t>(in.particle_element[static_cast<std::size_t>(p)]);
+    const Vec2& xi = in.particle_xi[static_cast<std::size_t>(p)];
+    std::size_t best = index.points[index.offsets[e]];
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (std::size_t i = index.offsets[e]; i < index.offsets[e + 1]; ++i) {
+      const std::size_t g = index.points[i];
+      const double d = (in.fem.gauss_local_coordinates[g] - xi).squaredNorm();
+      if (d < best_distance) {
+        best_distance = d;
+        best = g;
       }
-      break;
     }
+    out.at_particles.row(static_cast<Eigen::Index>(p)) =
+        in.values.row(static_cast<Eigen::Index>(best));
   }
   return out;
+}
+
+Interpolated interpolate_gauss_fields(const GaussFieldInputs& in,
+                                      const InterpolationSettings& settings) {
+  switch (settings.method) {
+    case StressInterpolation::rbf:
+      return interpolate_dense_rbf(in, settings);
+    case StressInterpolation::rbf_local:
+      return interpolate_local(in, settings);
+    case StressInterpolation::element:
+      break;
+  }
+  return nearest_own_gauss_point(in);
 }
 
 void report_residuals(const FieldValues& values, const FieldValues& at_gauss,
@@ -450,6 +487,269 @@ void report_residuals(const FieldValues& values, const FieldValues& at_gauss,
     if (scale > 0.0) relative = std::max(relative, worst / scale);
   }
   report.residual_relative_max = relative;
+}
+
+// ---------------------------------------------------------------- the phases of transfer()
+
+/// The options the command line cannot check alone (a case file may set them too).
+void check_options(const TransferOptions& options) {
+  if (options.rbf_shape < 0.0 || !std::isfinite(options.rbf_shape)) {
+    throw Error("--rbf-shape {} is not admissible (expected > 0 m)", options.rbf_shape);
+  }
+  if (options.rbf_neighbours < 0) {
+    throw Error("--rbf-neighbours {} is not admissible (expected ≥ 1)", options.rbf_neighbours);
+  }
+  if (!(options.collapsed_volume_ratio >= 0.0 && options.collapsed_volume_ratio <= 1.0)) {
+    throw Error("--collapsed-volume-ratio {} is not admissible (expected 0 to 1)",
+                options.collapsed_volume_ratio);
+  }
+}
+
+/// The report's account of what goes in: the model, the layout and the method.
+void describe_input(const FemCheckpoint& fem, const ParticleLayout& layout,
+                    const TransferOptions& options, TransferReport& report) {
+  report.case_name = fem.header.case_name;
+  report.time = fem.header.time;
+  report.element_type = std::string(to_string(fem.mesh.element_type));
+  report.elements = static_cast<std::size_t>(fem.mesh.element_count());
+  report.gauss_points = fem.gauss_element.size();
+  report.particles_per_element = layout.label;
+  report.particle_rule = layout.rule;
+  report.stress_interpolation = std::string(to_string(options.stress_interpolation));
+}
+
+/// Inverted elements stop the transfer with an error naming the first, unless the user
+/// accepts them; returns a flag per element (1: inverted) for the phases after.
+std::vector<std::uint8_t> accept_inverted_elements(const FemCheckpoint& fem,
+                                                   const TransferOptions& options,
+                                                   TransferReport& report) {
+  CornerJacobian worst;
+  const std::vector<Index> inverted = find_inverted_elements(fem, &worst);
+  if (!inverted.empty() && !options.allow_inverted) {
+    const auto e = static_cast<std::size_t>(inverted.front());
+    const Vec2 xi = reference_corners(fem.mesh.shape())[static_cast<std::size_t>(worst.corner)];
+    throw Error(
+        "element {} is inverted at t = {} s (det J = {:.3g} at its corner ξ = ({:.3g}, {:.3g}), "
+        "scaled Jacobian {:.3g}, V_t = {:.3g} m³/m){}; transfer an earlier checkpoint, or pass "
+        "--allow-inverted to transfer it with its reference volume",
+        e, fem.header.time, worst.det_jacobian, xi.x(), xi.y(), worst.scaled_jacobian,
+        fem.volume[e],
+        inverted.size() > 1 ? fmt::format(", and {} more element(s)", inverted.size() - 1)
+                            : std::string());
+  }
+  report.inverted_elements = inverted;
+  std::vector<std::uint8_t> is_inverted(report.elements, 0);
+  for (const Index e : inverted) is_inverted[static_cast<std::size_t>(e)] = 1;
+  return is_inverted;
+}
+
+/// The particles of every element with their nodal fields by the element's shape
+/// functions, volume, mass, GIMP domain and origin; `particle_xi` gets their reference
+/// coordinates (the element baseline picks its Gauss point by them).
+void place_particles(const FemCheckpoint& fem, const ParticleLayout& layout,
+                     const std::vector<std::uint8_t>& is_inverted, Particles& particles,
+                     std::vector<Vec2>& particle_xi) {
+  const Mesh& mesh = fem.mesh;
+  const ElementShape shape = mesh.shape();
+  const auto per_element = static_cast<std::size_t>(layout.count());
+  const std::size_t count = is_inverted.size() * per_element;
+  particles.resize(count);
+  particle_xi.resize(count);
+  const int npe = mesh.nodes_per_element();
+  const auto elements = static_cast<std::ptrdiff_t>(is_inverted.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t e = 0; e < elements; ++e) {
+    const auto ee = static_cast<std::size_t>(e);
+    const auto nodes = mesh.element(e);
+    const double density = fem.materials[static_cast<std::size_t>(mesh.material_id[ee])].density;
+    // V_p from the deformed element, M_p from the undeformed one (METHOD.md §4).
+    const double element_volume = is_inverted[ee] ? fem.volume_reference[ee] : fem.volume[ee];
+    const double element_mass = density * fem.volume_reference[ee];
+    for (std::size_t i = 0; i < per_element; ++i) {
+      const std::size_t p = ee * per_element + i;
+      const QuadraturePoint& point = layout.points[i];
+      const ShapeValues n = shape_functions(shape, point.xi);
+      Vec2 x = Vec2::Zero(), u = Vec2::Zero(), v = Vec2::Zero();
+      double pore = 0.0;
+      for (int k = 0; k < npe; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        const auto node = static_cast<std::size_t>(nodes[kk]);
+        x += n[kk] * fem.coordinates[node];
+        u += n[kk] * fem.displacement[node];
+        v += n[kk] * fem.velocity[node];
+        if (!fem.pore_pressure.empty()) pore += n[kk] * fem.pore_pressure[node];
+      }
+      particles.coordinates[p] = x;
+      particles.displacement[p] = u;
+      particles.velocity[p] = v;
+      particles.pore_pressure[p] = pore;
+      particles.volume[p] = element_volume * point.weight;
+      particles.mass[p] = element_mass * point.weight;
+      // GIMP domain: a square of the particle's volume (METHOD.md §4).
+      const double side = std::sqrt(particles.volume[p]);
+      particles.size[p] = Vec2(side, side);
+      particles.material_id[p] = mesh.material_id[ee];
+      particles.element[p] = e;
+      particles.id[p] = static_cast<std::int64_t>(p);
+      particle_xi[p] = point.xi;
+    }
+  }
+}
+
+/// The RBF centres: collapsed elements give none (transfer.hpp). Only the RBFs need one.
+RbfCentres select_centres(const FemCheckpoint& fem, const FieldValues& values,
+                          const std::vector<std::uint8_t>& is_inverted,
+                          const TransferOptions& options, TransferReport& report) {
+  std::vector<std::uint8_t> is_centre_element(report.elements, 1);
+  for (std::size_t e = 0; e < report.elements; ++e) {
+    if (is_inverted[e] != 0 ||
+        fem.volume[e] < options.collapsed_volume_ratio * fem.volume_reference[e]) {
+      is_centre_element[e] = 0;
+      ++report.collapsed_elements;
+    }
+  }
+  report.collapsed_volume_ratio = options.collapsed_volume_ratio;
+  RbfCentres centres;
+  std::vector<Eigen::Index> centre_rows;
+  for (std::size_t g = 0; g < report.gauss_points; ++g) {
+    if (is_centre_element[static_cast<std::size_t>(fem.gauss_element[g])] == 0) continue;
+    centres.points.push_back(fem.gauss_coordinates[g]);
+    centre_rows.push_back(static_cast<Eigen::Index>(g));
+  }
+  const bool rbf = uses_rbf(options.stress_interpolation);
+  if (rbf && centres.points.empty()) {
+    throw Error(
+        "all {} elements have collapsed (inverted or V_t/V_0 < {:g}): no Gauss point is left to "
+        "interpolate from; lower --collapsed-volume-ratio or use --stress-interpolation element",
+        report.elements, options.collapsed_volume_ratio);
+  }
+  report.excluded_gauss_points = rbf ? report.gauss_points - centres.points.size() : 0;
+  centres.values = values(centre_rows, Eigen::all);
+  return centres;
+}
+
+/// The user's options with their defaults filled in (c from the centres' spacing, k,
+/// the polynomial, the memory limit), recorded in the report.
+InterpolationSettings resolve_settings(const FemCheckpoint& fem, const RbfCentres& centres,
+                                       const TransferOptions& options, TransferReport& report) {
+  InterpolationSettings settings;
+  settings.method = options.stress_interpolation;
+  settings.polynomial = effective_polynomial(options);
+  settings.shape = options.rbf_shape > 0.0
+                       ? options.rbf_shape
+                       : default_shape_parameter(centres.points.empty() ? fem.gauss_coordinates
+                                                                        : centres.points);
+  settings.neighbours =
+      options.rbf_neighbours > 0 ? options.rbf_neighbours : default_rbf_neighbours;
+  if (settings.method == StressInterpolation::rbf) {
+    settings.dense_memory_limit =
+        options.dense_memory_limit > 0 ? options.dense_memory_limit : default_dense_memory_limit();
+  }
+  const bool rbf = uses_rbf(settings.method);
+  report.rbf_polynomial = rbf ? std::string(to_string(settings.polynomial)) : std::string();
+  report.rbf_shape = rbf ? settings.shape : 0.0;
+  report.rbf_neighbours =
+      settings.method == StressInterpolation::rbf_local
+          ? static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(settings.neighbours),
+                                                   centres.points.size()))
+          : 0;
+  return settings;
+}
+
+/// The Gauss-point fields at the particles, timed, with the fit's diagnostics and
+/// residuals in the report and the RBF overshoots limited.
+FieldValues fields_at_particles(const GaussFieldInputs& in, const InterpolationSettings& settings,
+                                TransferReport& report) {
+  const Clock::time_point started = Clock::now();
+  Interpolated interpolated = interpolate_gauss_fields(in, settings);
+  report.seconds_interpolation = seconds_since(started);
+  report.condition_estimate = interpolated.diagnostics.condition_estimate;
+  report.factorisations = interpolated.diagnostics.factorisations;
+  report.reduced_polynomial = interpolated.diagnostics.reduced_polynomial;
+  report_residuals(in.centres.values, interpolated.at_gauss_points, report);
+  FieldValues& at = interpolated.at_particles;
+  if (uses_rbf(settings.method)) {
+    const LimitedCounts limited =
+        limit_overshoot(in.fem, in.index, in.values, in.particle_element, at);
+    report.limited_particles = limited.any;
+    report.limited_stress_particles = limited.stress;
+  }
+  return std::move(at);
+}
+
+/// Stress, strain and plastic state from their columns; εq recomputed from the strain.
+void unpack_gauss_fields(const FieldValues& at, Particles& particles, TransferReport& report) {
+  for (std::size_t p = 0; p < particles.count(); ++p) {
+    const auto row = static_cast<Eigen::Index>(p);
+    particles.stress[p] = at.row(row).segment<4>(stress_column).transpose();
+    particles.strain[p] = at.row(row).segment<4>(strain_column).transpose();
+    particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
+    MaterialState& state = particles.state[p];
+    state.plastic_shear_strain = at(row, state_column + 0);
+    state.plastic_volumetric_strain = at(row, state_column + 1);
+    // An accumulated plastic shear strain is never negative; an RBF can undershoot.
+    if (state.plastic_shear_strain < 0.0) {
+      state.plastic_shear_strain = 0.0;
+      ++report.clamped_plastic_strain;
+    }
+  }
+}
+
+/// The multi-yield state, when both phases of a material run the model: its frozen peak
+/// strength and its surfaces continue (mpm-solve's switch to its models brings them back
+/// onto their limits); any other MPM model starts from the stress alone.
+void continue_multi_yield_state(const FemCheckpoint& fem, const FieldValues& at,
+                                Particles& particles) {
+  const std::size_t count = particles.count();
+  particles.surface_stress.per_point = surfaces_needed(fem.materials, Phase::mpm);
+  particles.surface_stress.resize(count);
+  const auto surfaces = static_cast<Eigen::Index>(fem.surface_stress.per_point);
+  if (surfaces == 0 || particles.surface_stress.per_point != fem.surface_stress.per_point) return;
+  for (std::size_t p = 0; p < count; ++p) {
+    const Material& m = fem.materials[static_cast<std::size_t>(particles.material_id[p])];
+    if (m.model_of(Phase::mpm) != m.model) continue;
+    const auto row = static_cast<Eigen::Index>(p);
+    // A point whose FE model froze no strength stays unfrozen (negative).
+    particles.state[p].peak_strength = std::max(at(row, peak_strength_column), -1.0);
+    const auto own = particles.surface_stress.of(p);
+    for (Eigen::Index k = 0; k < surfaces; ++k) {
+      own[static_cast<std::size_t>(k)] = at.row(row).segment<4>(surface_column + 4 * k).transpose();
+    }
+  }
+}
+
+/// The particle file's header and transfer record: where the particles came from and how.
+void describe_particle_file(const FemCheckpoint& fem, const ParticleLayout& layout,
+                            const TransferReport& report, ParticleCheckpoint& out) {
+  out.header = fem.header;
+  out.header.kind = CheckpointKind::particles;
+  out.header.schema_version = checkpoint_schema_version;
+  out.header.producer = fmt::format("fem2mpm ({})", version_string());
+  out.materials = fem.materials;
+  out.transfer.transfer_time = fem.header.time;
+  out.transfer.particles_per_element = layout.label;
+  out.transfer.stress_interpolation = report.stress_interpolation;
+  // The element baseline fits no polynomial: the report leaves it blank, the file says so.
+  out.transfer.rbf_polynomial =
+      report.rbf_polynomial.empty() ? std::string("none") : report.rbf_polynomial;
+  out.transfer.rbf_shape = report.rbf_shape;
+  out.transfer.rbf_neighbours = report.rbf_neighbours;
+}
+
+/// The conservation totals of both sides, so the report can show what the transfer kept.
+void add_totals(const FemCheckpoint& fem, const Particles& particles, TransferReport& report) {
+  fe_momentum_and_energy(fem, report);
+  report.particles = particles.count();
+  CompensatedSum mass, volume;
+  for (std::size_t p = 0; p < particles.count(); ++p) {
+    mass.add(particles.mass[p]);
+    volume.add(particles.volume[p]);
+    report.momentum_particles += particles.mass[p] * particles.velocity[p];
+    report.kinetic_energy_particles +=
+        0.5 * particles.mass[p] * particles.velocity[p].squaredNorm();
+  }
+  report.mass_particles = mass.value();
+  report.volume_particles = volume.value();
 }
 
 }  // namespace
@@ -489,220 +789,33 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
   const Clock::time_point started = Clock::now();
   validate(fem);
   const GaussIndex gauss_index = index_gauss_points(fem);
-  const Mesh& mesh = fem.mesh;
-  const ElementShape shape = mesh.shape();
-  const ParticleLayout layout = make_layout(shape, options.particles);
-  const RbfPolynomial polynomial = effective_polynomial(options);
-  if (options.rbf_shape < 0.0 || !std::isfinite(options.rbf_shape)) {
-    throw Error("--rbf-shape {} is not admissible (expected > 0 m)", options.rbf_shape);
-  }
-  if (options.rbf_neighbours < 0) {
-    throw Error("--rbf-neighbours {} is not admissible (expected ≥ 1)", options.rbf_neighbours);
-  }
-  if (!(options.collapsed_volume_ratio >= 0.0 && options.collapsed_volume_ratio <= 1.0)) {
-    throw Error("--collapsed-volume-ratio {} is not admissible (expected 0 to 1)",
-                options.collapsed_volume_ratio);
-  }
+  const ParticleLayout layout = make_layout(fem.mesh.shape(), options.particles);
+  check_options(options);
 
   TransferResult result;
   TransferReport& report = result.report;
-  report.case_name = fem.header.case_name;
-  report.time = fem.header.time;
-  report.element_type = std::string(to_string(mesh.element_type));
-  report.elements = static_cast<std::size_t>(mesh.element_count());
-  report.gauss_points = fem.gauss_element.size();
-  report.particles_per_element = layout.label;
-  report.particle_rule = layout.rule;
-  report.stress_interpolation = std::string(to_string(options.stress_interpolation));
-
-  // Inverted elements: an error naming the first, unless the user accepts them.
-  CornerJacobian worst;
-  const std::vector<Index> inverted = find_inverted_elements(fem, &worst);
-  if (!inverted.empty() && !options.allow_inverted) {
-    const auto e = static_cast<std::size_t>(inverted.front());
-    const Vec2 xi = reference_corners(shape)[static_cast<std::size_t>(worst.corner)];
-    throw Error(
-        "element {} is inverted at t = {} s (det J = {:.3g} at its corner ξ = ({:.3g}, {:.3g}), "
-        "scaled Jacobian {:.3g}, V_t = {:.3g} m³/m){}; transfer an earlier checkpoint, or pass "
-        "--allow-inverted to transfer it with its reference volume",
-        e, fem.header.time, worst.det_jacobian, xi.x(), xi.y(), worst.scaled_jacobian,
-        fem.volume[e],
-        inverted.size() > 1 ? fmt::format(", and {} more element(s)", inverted.size() - 1)
-                            : std::string());
-  }
-  report.inverted_elements = inverted;
-  std::vector<std::uint8_t> is_inverted(report.elements, 0);
-  for (const Index e : inverted) is_inverted[static_cast<std::size_t>(e)] = 1;
-
-  // ---- particles: positions and nodal fields by the element's shape functions
-  const auto per_element = static_cast<std::size_t>(layout.count());
-  const std::size_t count = report.elements * per_element;
+  describe_input(fem, layout, options, report);
+  const std::vector<std::uint8_t> is_inverted = accept_inverted_elements(fem, options, report);
   Particles& particles = result.particles.particles;
-  particles.resize(count);
-  std::vector<Vec2> particle_xi(count);
-  const int npe = mesh.nodes_per_element();
-  const auto elements = static_cast<std::ptrdiff_t>(report.elements);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t e = 0; e < elements; ++e) {
-    const auto ee = static_cast<std::size_t>(e);
-    const auto nodes = mesh.element(e);
-    const double density = fem.materials[static_cast<std::size_t>(mesh.material_id[ee])].density;
-    // V_p from the deformed element, M_p from the undeformed one (METHOD.md §4).
-    const double element_volume = is_inverted[ee] ? fem.volume_reference[ee] : fem.volume[ee];
-    const double element_mass = density * fem.volume_reference[ee];
-    for (std::size_t i = 0; i < per_element; ++i) {
-      const std::size_t p = ee * per_element + i;
-      const QuadraturePoint& point = layout.points[i];
-      const ShapeValues n = shape_functions(shape, point.xi);
-      Vec2 x = Vec2::Zero(), u = Vec2::Zero(), v = Vec2::Zero();
-      double pore = 0.0;
-      for (int k = 0; k < npe; ++k) {
-        const auto kk = static_cast<std::size_t>(k);
-        const auto node = static_cast<std::size_t>(nodes[kk]);
-        x += n[kk] * fem.coordinates[node];
-        u += n[kk] * fem.displacement[node];
-        v += n[kk] * fem.velocity[node];
-        if (!fem.pore_pressure.empty()) pore += n[kk] * fem.pore_pressure[node];
-      }
-      particles.coordinates[p] = x;
-      particles.displacement[p] = u;
-      particles.velocity[p] = v;
-      particles.pore_pressure[p] = pore;
-      particles.volume[p] = element_volume * point.weight;
-      particles.mass[p] = element_mass * point.weight;
-      // GIMP domain: a square of the particle's volume (METHOD.md §4).
-      const double side = std::sqrt(particles.volume[p]);
-      particles.size[p] = Vec2(side, side);
-      particles.material_id[p] = mesh.material_id[ee];
-      particles.element[p] = e;
-      particles.id[p] = static_cast<std::int64_t>(p);
-      particle_xi[p] = point.xi;
-    }
-  }
+  std::vector<Vec2> particle_xi;
+  place_particles(fem, layout, is_inverted, particles, particle_xi);
 
-  // ---- Gauss-point fields
   const FieldValues values = pack_gauss_fields(fem);
-  const bool uses_rbf = options.stress_interpolation != StressInterpolation::element;
-  // Collapsed elements give no RBF centre (transfer.hpp).
-  std::vector<std::uint8_t> is_centre_element(report.elements, 1);
-  for (std::size_t e = 0; e < report.elements; ++e) {
-    if (is_inverted[e] != 0 ||
-        fem.volume[e] < options.collapsed_volume_ratio * fem.volume_reference[e]) {
-      is_centre_element[e] = 0;
-      ++report.collapsed_elements;
-    }
-  }
-  report.collapsed_volume_ratio = options.collapsed_volume_ratio;
-  std::vector<Vec2> centres;
-  std::vector<Eigen::Index> centre_rows;
-  for (std::size_t g = 0; g < report.gauss_points; ++g) {
-    if (is_centre_element[static_cast<std::size_t>(fem.gauss_element[g])] == 0) continue;
-    centres.push_back(fem.gauss_coordinates[g]);
-    centre_rows.push_back(static_cast<Eigen::Index>(g));
-  }
-  if (uses_rbf && centres.empty()) {
-    throw Error(
-        "all {} elements have collapsed (inverted or V_t/V_0 < {:g}): no Gauss point is left to "
-        "interpolate from; lower --collapsed-volume-ratio or use --stress-interpolation element",
-        report.elements, options.collapsed_volume_ratio);
-  }
-  report.excluded_gauss_points = uses_rbf ? report.gauss_points - centres.size() : 0;
-  const FieldValues centre_values = values(centre_rows, Eigen::all);
-  const double shape_parameter =
-      options.rbf_shape > 0.0
-          ? options.rbf_shape
-          : default_shape_parameter(centres.empty() ? fem.gauss_coordinates : centres);
-  const int neighbours =
-      options.rbf_neighbours > 0 ? options.rbf_neighbours : default_rbf_neighbours;
-  report.rbf_polynomial = uses_rbf ? std::string(to_string(polynomial)) : std::string();
-  report.rbf_shape = uses_rbf ? shape_parameter : 0.0;
-  report.rbf_neighbours = options.stress_interpolation == StressInterpolation::rbf_local
-                              ? static_cast<int>(std::min<std::size_t>(
-                                    static_cast<std::size_t>(neighbours), centres.size()))
-                              : 0;
+  const RbfCentres centres = select_centres(fem, values, is_inverted, options, report);
+  const InterpolationSettings settings = resolve_settings(fem, centres, options, report);
   if (logger != nullptr) {
     logger->info("{} elements ({}), {} Gauss points -> {} particles; interpolating by {}",
-                 report.elements, report.element_type, report.gauss_points, count,
+                 report.elements, report.element_type, report.gauss_points, particles.count(),
                  report.stress_interpolation);
   }
-  const Clock::time_point interpolation_started = Clock::now();
-  const Interpolated interpolated = interpolate_gauss_fields(
-      fem, values, centres, centre_values, particles.coordinates, particles.element, particle_xi,
-      gauss_index, options, shape_parameter, neighbours, polynomial);
-  report.seconds_interpolation = seconds_since(interpolation_started);
-  report.condition_estimate = interpolated.diagnostics.condition_estimate;
-  report.factorisations = interpolated.diagnostics.factorisations;
-  report.reduced_polynomial = interpolated.diagnostics.reduced_polynomial;
-  report_residuals(centre_values, interpolated.at_gauss_points, report);
+  const GaussFieldInputs inputs{
+      fem, gauss_index, values, centres, particles.coordinates, particles.element, particle_xi};
+  const FieldValues at = fields_at_particles(inputs, settings, report);
+  unpack_gauss_fields(at, particles, report);
+  continue_multi_yield_state(fem, at, particles);
 
-  FieldValues at = interpolated.at_particles;
-  if (uses_rbf) {
-    const LimitedCounts limited = limit_overshoot(fem, gauss_index, values, particles.element, at);
-    report.limited_particles = limited.any;
-    report.limited_stress_particles = limited.stress;
-  }
-  for (std::size_t p = 0; p < count; ++p) {
-    const auto row = static_cast<Eigen::Index>(p);
-    particles.stress[p] = at.row(row).segment<4>(stress_column).transpose();
-    particles.strain[p] = at.row(row).segment<4>(strain_column).transpose();
-    particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
-    MaterialState& state = particles.state[p];
-    state.plastic_shear_strain = at(row, state_column + 0);
-    state.plastic_volumetric_strain = at(row, state_column + 1);
-    // An accumulated plastic shear strain is never negative; an RBF can undershoot.
-    if (state.plastic_shear_strain < 0.0) {
-      state.plastic_shear_strain = 0.0;
-      ++report.clamped_plastic_strain;
-    }
-  }
-
-  // ---- the multi-yield state, when both phases of a material run the model: its frozen
-  // peak strength and its surfaces continue (mpm-solve's switch to its models brings
-  // them back onto their limits); any other MPM model starts from the stress alone.
-  particles.surface_stress.per_point = surfaces_needed(fem.materials, Phase::mpm);
-  particles.surface_stress.resize(count);
-  const auto surfaces = static_cast<Eigen::Index>(fem.surface_stress.per_point);
-  if (surfaces > 0 && particles.surface_stress.per_point == fem.surface_stress.per_point) {
-    for (std::size_t p = 0; p < count; ++p) {
-      const Material& m = fem.materials[static_cast<std::size_t>(particles.material_id[p])];
-      if (m.model_of(Phase::mpm) != m.model) continue;
-      const auto row = static_cast<Eigen::Index>(p);
-      // A point whose FE model froze no strength stays unfrozen (negative).
-      particles.state[p].peak_strength = std::max(at(row, peak_strength_column), -1.0);
-      const auto own = particles.surface_stress.of(p);
-      for (Eigen::Index k = 0; k < surfaces; ++k) {
-        own[static_cast<std::size_t>(k)] =
-            at.row(row).segment<4>(surface_column + 4 * k).transpose();
-      }
-    }
-  }
-
-  // ---- the particle file and the report totals
-  ParticleCheckpoint& out = result.particles;
-  out.header = fem.header;
-  out.header.kind = CheckpointKind::particles;
-  out.header.schema_version = checkpoint_schema_version;
-  out.header.producer = fmt::format("fem2mpm ({})", version_string());
-  out.materials = fem.materials;
-  out.transfer.transfer_time = fem.header.time;
-  out.transfer.particles_per_element = layout.label;
-  out.transfer.stress_interpolation = report.stress_interpolation;
-  out.transfer.rbf_polynomial = uses_rbf ? report.rbf_polynomial : std::string("none");
-  out.transfer.rbf_shape = report.rbf_shape;
-  out.transfer.rbf_neighbours = report.rbf_neighbours;
-
-  fe_momentum_and_energy(fem, report);
-  report.particles = count;
-  CompensatedSum mass, volume;
-  for (std::size_t p = 0; p < count; ++p) {
-    mass.add(particles.mass[p]);
-    volume.add(particles.volume[p]);
-    report.momentum_particles += particles.mass[p] * particles.velocity[p];
-    report.kinetic_energy_particles +=
-        0.5 * particles.mass[p] * particles.velocity[p].squaredNorm();
-  }
-  report.mass_particles = mass.value();
-  report.volume_particles = volume.value();
+  describe_particle_file(fem, layout, report, result.particles);
+  add_totals(fem, particles, report);
   report.seconds_total = seconds_since(started);
   return result;
 }

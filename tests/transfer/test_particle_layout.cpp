@@ -1,9 +1,14 @@
 // Particle layouts: every rule is a positive, interior quadrature rule that integrates
 // the polynomials of its stated degree exactly over the reference element.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "common/case_file.hpp"
 #include "common/error.hpp"
 #include "transfer/particle_layout.hpp"
 
@@ -133,6 +138,47 @@ TEST(ParticleLayout, ParsesParticlesPerElement) {
   const ParticleLayout tri =
       make_layout(ElementShape::tri3, parse_particles_per_element("4x4", "-"));
   EXPECT_EQ(tri.count(), 16);
+}
+
+// One rule for the particles of a triangle (common/triangle_rules.hpp): a case file's
+// particles_per_triangle takes every count fem2mpm's --particles-per-element takes (9
+// used to work on the command line and be refused in case.toml), and refuses the same.
+TEST(ParticleLayout, CaseFileAcceptsTheTriangleCountsOfTheCommandLine) {
+  std::ifstream in(std::filesystem::path(SLIDE_SOURCE_DIR) / "cases" / "geostatic-4x4" /
+                   "case.toml");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string base = text.str();
+  const std::string table = "[transfer]\n";
+  const auto at = base.find(table);
+  ASSERT_NE(at, std::string::npos);
+  const auto accepted_by_case_file = [&](int count) {
+    std::string edited = base;
+    edited.insert(at + table.size(), fmt::format("particles_per_triangle = {}\n", count));
+    try {
+      return parse_case(edited, "case.toml").transfer.particles_triangle == count;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  const auto accepted_by_command_line = [](int count) {
+    try {
+      const auto request =
+          parse_particles_per_element(std::to_string(count), "--particles-per-element");
+      return make_layout(ElementShape::tri3, request).count() == count;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  EXPECT_TRUE(accepted_by_case_file(9));
+  EXPECT_FALSE(accepted_by_case_file(5));
+  EXPECT_FALSE(accepted_by_command_line(5));
+  std::vector<int> counts;
+  for (int count = 1; count <= 40; ++count) counts.push_back(count);
+  for (int count : {1023, 1024, 1025, 1089}) counts.push_back(count);
+  for (int count : counts) {
+    EXPECT_EQ(accepted_by_case_file(count), accepted_by_command_line(count)) << count;
+  }
 }
 
 }  // namespace
