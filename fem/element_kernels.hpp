@@ -40,7 +40,7 @@
 
 #include <Eigen/Core>
 
-#include "common/constitutive.hpp"
+#include "common/physics/constitutive.hpp"
 #include "fem/fem_model.hpp"
 
 namespace slide::fem {

@@ -8,7 +8,7 @@
 //      (the last term the optional stiffness-proportional Rayleigh damping, a viscous
 //      stress in the element forces; see fem/element_kernels.hpp)
 //   2. nodal velocity update:              v_{n+1/2} = constrain(v_{n−1/2} + dt F_n/m)
-//      through the shared update of common/nodal_update.hpp (damping, fixed, roller and
+//      through the shared update of common/physics/nodal_update.hpp (damping, fixed, roller and
 //      Coulomb friction nodes exactly as the MPM grid does it); the frictional base is
 //      also a contact plane for every other node, so that a toe folding down onto the
 //      ground lands on it instead of passing through (small strain runs on past
@@ -26,9 +26,9 @@
 #include <span>
 #include <vector>
 
-#include "common/case_file.hpp"  // DampingSpec
-#include "common/constitutive.hpp"
-#include "common/nodal_update.hpp"
+#include "common/input/case_file.hpp"  // DampingSpec
+#include "common/physics/constitutive.hpp"
+#include "common/physics/nodal_update.hpp"
 #include "fem/fem_model.hpp"
 
 namespace slide::fem {

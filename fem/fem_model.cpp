@@ -4,7 +4,7 @@
 #include <limits>
 #include <string>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 #include "fem/element_kernels.hpp"
 
 namespace slide::fem {

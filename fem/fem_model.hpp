@@ -8,7 +8,7 @@
 //  - FemState: what evolves and what a checkpoint stores (nodal u, v, a; Gauss-point
 //    stress, strain, material state; hourglass generalised forces).
 //  - NodalConstraints: the boundary conditions of one stage, node by node, in the form
-//    the shared nodal update (common/nodal_update.hpp) consumes.
+//    the shared nodal update (common/physics/nodal_update.hpp) consumes.
 //
 // Everything is a structure of arrays indexed by node, element or Gauss point; Gauss
 // points are stored element by element in the order of the element's quadrature rule.
@@ -19,17 +19,17 @@
 #include <string_view>
 #include <vector>
 
-#include "common/algorithms.hpp"
-#include "common/constitutive.hpp"
-#include "common/element.hpp"
-#include "common/material.hpp"
-#include "common/mesh.hpp"
-#include "common/nodal_update.hpp"
-#include "common/types.hpp"
+#include "common/base/types.hpp"
+#include "common/geometry/element.hpp"
+#include "common/geometry/mesh.hpp"
+#include "common/physics/algorithms.hpp"
+#include "common/physics/constitutive.hpp"
+#include "common/physics/material.hpp"
+#include "common/physics/nodal_update.hpp"
 
 namespace slide::fem {
 
-using Mat3 = Eigen::Matrix3d;  // the elasticity matrix (common/constitutive.hpp)
+using Mat3 = Eigen::Matrix3d;  // the elasticity matrix (common/physics/constitutive.hpp)
 
 /// What the kernels integrate with. Small strain evaluates it once on the reference
 /// geometry; updated Lagrangian re-evaluates it on the current geometry every step.

@@ -8,9 +8,9 @@
 
 #include <fmt/format.h>
 
-#include "common/atomic_file.hpp"
-#include "common/error.hpp"
-#include "common/program.hpp"
+#include "common/base/error.hpp"
+#include "common/base/program.hpp"
+#include "common/io/atomic_file.hpp"
 
 namespace slide::fem {
 

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "common/checkpoint.hpp"
-#include "common/log.hpp"
+#include "common/base/log.hpp"
+#include "common/io/checkpoint.hpp"
+#include "common/io/vtk_output.hpp"
 #include "common/run/history_csv.hpp"
-#include "common/vtk_output.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/mesh_quality.hpp"
 

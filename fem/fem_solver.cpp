@@ -8,10 +8,10 @@
 
 #include <fmt/format.h>
 
-#include "common/atomic_file.hpp"
-#include "common/checkpoint.hpp"
-#include "common/error.hpp"
-#include "common/mesh_generation.hpp"
+#include "common/base/error.hpp"
+#include "common/input/mesh_generation.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/checkpoint.hpp"
 #include "common/run/output_schedule.hpp"
 #include "common/run/stage.hpp"
 #include "fem/element_kernels.hpp"

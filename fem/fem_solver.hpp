@@ -15,8 +15,8 @@
 #include <optional>
 #include <vector>
 
-#include "common/case_file.hpp"
-#include "common/log.hpp"
+#include "common/base/log.hpp"
+#include "common/input/case_file.hpp"
 
 namespace slide::fem {
 

@@ -7,7 +7,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 #include "fem/element_kernels.hpp"
 
 namespace slide::fem {

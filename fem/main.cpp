@@ -12,10 +12,10 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/case_file.hpp"
-#include "common/element.hpp"
-#include "common/log.hpp"
-#include "common/program.hpp"
+#include "common/base/log.hpp"
+#include "common/base/program.hpp"
+#include "common/geometry/element.hpp"
+#include "common/input/case_file.hpp"
 #include "fem/fem_solver.hpp"
 
 int main(int argc, char** argv) {

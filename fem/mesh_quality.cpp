@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "common/constitutive.hpp"
+#include "common/physics/constitutive.hpp"
 
 namespace slide::fem {
 

@@ -4,7 +4,7 @@
 //    the current coordinates over the same on the reference coordinates (< 0: inverted).
 //  - εq of an element: the mean over its Gauss points of εq = sqrt(2/3 e:e) of the total
 //    strain since t = 0.
-//  - The scaled Jacobian of an element (common/element.hpp): the minimum over its corners
+//  - The scaled Jacobian of an element (common/geometry/element.hpp): the minimum over its corners
 //    of det[e1 e2]/(|e1||e2|) (÷ sin 60° for triangles). |J_t|/|J_0| sees volume change
 //    only; plastic flow is nearly isochoric, so under updated-Lagrangian kinematics an
 //    element can shear flat with |J_t|/|J_0| ≈ 1, and the corner angles show it.

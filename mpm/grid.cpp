@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 
 namespace slide::mpm {
 

@@ -18,9 +18,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/mesh.hpp"
-#include "common/nodal_update.hpp"
-#include "common/types.hpp"
+#include "common/base/types.hpp"
+#include "common/geometry/mesh.hpp"
+#include "common/physics/nodal_update.hpp"
 
 namespace slide::mpm {
 
@@ -32,7 +32,7 @@ struct NodeSums {
 };
 
 /// Sums of volumetric smoothing over the particles of one cell: Σ V_p, Σ V_p tr L_p and
-/// Σ V_p p_p (p = −tr σ/3, compression positive: common/constitutive.hpp's mean_stress).
+/// Σ V_p p_p (p = −tr σ/3, compression positive: common/physics/constitutive.hpp's mean_stress).
 struct CellSums {
   double volume = 0.0;
   double volumetric_rate = 0.0;

@@ -1,4 +1,4 @@
-// The MPM kernels: free functions over ranges of the particle arrays (common/particles.hpp)
+// The MPM kernels: free functions over ranges of the particle arrays (common/physics/particles.hpp)
 // and the grid's nodal arrays. The step loop (mpm_solver.cpp) calls them in order.
 //
 // Parallel scatter without atomics or locks. The active particles (sorted by cell,
@@ -61,9 +61,9 @@
 #include <span>
 #include <vector>
 
-#include "common/algorithms.hpp"
-#include "common/constitutive.hpp"
-#include "common/particles.hpp"
+#include "common/physics/algorithms.hpp"
+#include "common/physics/constitutive.hpp"
+#include "common/physics/particles.hpp"
 #include "mpm/grid.hpp"
 
 namespace slide::mpm {
@@ -120,7 +120,7 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
                        GridState& state);
 
 /// The grid update, column by column: the blocks' windows summed in block order, then
-/// the nodal update (common/nodal_update.hpp: damping, then the constraints of the grid
+/// the nodal update (common/physics/nodal_update.hpp: damping, then the constraints of the grid
 /// edges): v_i = p_i/m_i, v_i^L and a_i = (v_i^L − v_i)/Δt_v.
 void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
                  const NodalDamping& damping, double dt_velocity, double mass_floor,

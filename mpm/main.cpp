@@ -13,9 +13,9 @@
 // and the summary line `summary: steps=… particles=… wall_s=… particle_steps_per_s=…`.
 #include <omp.h>
 
-#include "common/error.hpp"
-#include "common/log.hpp"
-#include "common/program.hpp"
+#include "common/base/error.hpp"
+#include "common/base/log.hpp"
+#include "common/base/program.hpp"
 #include "mpm/mpm_run.hpp"
 
 int main(int argc, char** argv) {

@@ -5,9 +5,9 @@
 
 #include <fmt/format.h>
 
-#include "common/error.hpp"
-#include "common/program.hpp"
-#include "common/runout_metrics.hpp"
+#include "common/base/error.hpp"
+#include "common/base/program.hpp"
+#include "common/physics/runout_metrics.hpp"
 
 namespace slide::mpm {
 

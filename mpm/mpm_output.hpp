@@ -6,12 +6,12 @@
 #include <filesystem>
 #include <string>
 
-#include "common/case_file.hpp"
-#include "common/checkpoint.hpp"
-#include "common/log.hpp"
+#include "common/base/log.hpp"
+#include "common/input/case_file.hpp"
+#include "common/io/checkpoint.hpp"
+#include "common/io/vtk_output.hpp"
 #include "common/run/history_csv.hpp"
 #include "common/run/stability_guard.hpp"
-#include "common/vtk_output.hpp"
 #include "mpm/mpm_solver.hpp"
 
 namespace slide::mpm {
@@ -27,7 +27,7 @@ struct RunReferences {
   double courant = 0.0;           ///< C of the Courant step (with time_step 0)
 };
 
-/// Writes the solver's state as a kind "mpm" checkpoint (atomically, common/checkpoint.hpp)
+/// Writes the solver's state as a kind "mpm" checkpoint (atomically, common/io/checkpoint.hpp)
 /// straight from the solver's particle arrays, which it borrows for the write instead of
 /// copying them (a copy would double the particle memory at every checkpoint).
 void write_mpm_checkpoint(const std::filesystem::path& path, MpmSolver& solver,

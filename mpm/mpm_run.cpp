@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-#include "common/checkpoint.hpp"
-#include "common/error.hpp"
-#include "common/mesh_generation.hpp"
+#include "common/base/error.hpp"
+#include "common/input/mesh_generation.hpp"
+#include "common/io/checkpoint.hpp"
 #include "common/run/output_schedule.hpp"
 #include "common/run/stability_guard.hpp"
 #include "common/run/stage.hpp"

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "common/case_file.hpp"
-#include "common/log.hpp"
+#include "common/base/log.hpp"
+#include "common/input/case_file.hpp"
 
 namespace slide::mpm {
 

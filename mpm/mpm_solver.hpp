@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "common/case_file.hpp"
-#include "common/constitutive.hpp"
-#include "common/error.hpp"
-#include "common/material.hpp"
-#include "common/particles.hpp"
+#include "common/base/error.hpp"
+#include "common/input/case_file.hpp"
+#include "common/physics/constitutive.hpp"
+#include "common/physics/material.hpp"
+#include "common/physics/particles.hpp"
 #include "mpm/grid.hpp"
 #include "mpm/kernels.hpp"
 

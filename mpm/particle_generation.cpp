@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "common/element.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/geometry/element.hpp"
 
 namespace slide::mpm {
 

@@ -2,7 +2,7 @@
 // with the same per-cell layout the transfer uses, and the initial stresses.
 //
 // Layout: in every grid cell, the N_px × N_py Gauss–Legendre points of the cell
-// (common/element.hpp tensor_gauss_legendre); a point is kept when it lies inside the
+// (common/geometry/element.hpp tensor_gauss_legendre); a point is kept when it lies inside the
 // body. Each point carries the share of the cell its Gauss weight stands for:
 //   V_p = h² w_i w_j / 4,  M_p = ρ V_p,  GIMP size (h/N_px, h/N_py),  element = −1.
 // A cell entirely inside the body thus holds exactly its volume h².
@@ -14,9 +14,9 @@
 #include <span>
 #include <vector>
 
-#include "common/material.hpp"
-#include "common/mesh.hpp"
-#include "common/particles.hpp"
+#include "common/geometry/mesh.hpp"
+#include "common/physics/material.hpp"
+#include "common/physics/particles.hpp"
 #include "mpm/grid.hpp"
 
 namespace slide::mpm {

@@ -7,7 +7,7 @@ Uses Debian's python3-matplotlib, python3-numpy and python3-h5py only. Reads wha
 pipeline wrote: fem/fem_history.csv, tt*/mpm_history.csv, sweep.csv, profiles.csv, the
 particle checkpoints and, for the σyy figure of the main transfer, its FE checkpoint's
 Gauss points and tt<main>/after-0.5s/ (datasets as documented in
-common/checkpoint-schema.md).
+common/io/checkpoint-schema.md).
 Every figure is optional: one whose inputs are missing is skipped. The last file
 written is OUT/report/figures.txt, the names of the PNGs made (one a line): the Make
 pipeline's target for this step.

@@ -24,10 +24,10 @@
 
 #include <fmt/format.h>
 
-#include "common/atomic_file.hpp"
-#include "common/case_file.hpp"
-#include "common/error.hpp"
-#include "common/program.hpp"
+#include "common/base/error.hpp"
+#include "common/base/program.hpp"
+#include "common/input/case_file.hpp"
+#include "common/io/atomic_file.hpp"
 #include "tools/sweep_metrics.hpp"
 
 namespace fs = std::filesystem;

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "common/checkpoint.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/io/checkpoint.hpp"
 #include "common/run/history_csv.hpp"
 
 namespace slide::tools {

@@ -3,7 +3,7 @@
 // profile RMSE against the tt0 run, the FE mesh quality at the transfer time and,
 // after the CONTRACT columns, the run's KE/PE0 peak, its time and that time over τc,
 // then the stress quality at rest of its final state (50th, 90th, 99th percentiles and
-// maximum of e_p, common/runout_metrics.hpp).
+// maximum of e_p, common/physics/runout_metrics.hpp).
 #pragma once
 
 #include <cmath>
@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "common/case_file.hpp"
-#include "common/runout_metrics.hpp"
+#include "common/input/case_file.hpp"
+#include "common/physics/runout_metrics.hpp"
 
 namespace slide::tools {
 

@@ -10,11 +10,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/atomic_file.hpp"
-#include "common/checkpoint.hpp"
-#include "common/error.hpp"
-#include "common/log.hpp"
-#include "common/program.hpp"
+#include "common/base/error.hpp"
+#include "common/base/log.hpp"
+#include "common/base/program.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/checkpoint.hpp"
 #include "transfer/transfer.hpp"
 
 namespace {

@@ -22,8 +22,8 @@
 #include <string_view>
 #include <vector>
 
-#include "common/element.hpp"
-#include "common/triangle_rules.hpp"
+#include "common/geometry/element.hpp"
+#include "common/geometry/triangle_rules.hpp"
 
 namespace slide::transfer {
 
@@ -57,7 +57,7 @@ inline constexpr int max_particle_order = 32;
 
 ParticleLayout quad_layout(int nx, int ny);
 /// Throws Error listing the supported counts unless has_triangle_rule(count)
-/// (common/triangle_rules.hpp, the one place that decides it).
+/// (common/geometry/triangle_rules.hpp, the one place that decides it).
 ParticleLayout triangle_layout(int count);
 /// The layout of one element shape for the user's request.
 ParticleLayout make_layout(ElementShape shape, const ParticlesPerElement& request);

@@ -8,7 +8,7 @@
 #include <Eigen/LU>
 #include <nanoflann.hpp>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 
 namespace slide::transfer {
 

@@ -24,8 +24,8 @@
 
 #include <Eigen/Core>
 
-#include "common/algorithms.hpp"
-#include "common/types.hpp"
+#include "common/base/types.hpp"
+#include "common/physics/algorithms.hpp"
 
 namespace slide::transfer {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <utility>
 
-#include "common/error.hpp"
-#include "common/program.hpp"
+#include "common/base/error.hpp"
+#include "common/base/program.hpp"
 #include "transfer/rbf_interpolation.hpp"
 
 namespace slide::transfer {
@@ -302,7 +302,7 @@ LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_
 }
 
 /// Elements whose current geometry is inverted, by the definition fem-solve counts with
-/// (is_inverted, common/element.hpp: det J ≤ 0 at a corner, which covers the centre, every
+/// (is_inverted, common/geometry/element.hpp: det J ≤ 0 at a corner, which covers the centre, every
 /// particle point and V_t^e ≤ 0), and the worst corner of the first of them.
 std::vector<Index> find_inverted_elements(const FemCheckpoint& fem, CornerJacobian* first) {
   const Mesh& mesh = fem.mesh;

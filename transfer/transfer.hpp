@@ -13,7 +13,7 @@
 //     so Σ M_p = Σ ρ V_0^e exactly and Σ V_p = Σ V_t^e exactly;
 //   - the GIMP domain l_x = l_y = sqrt(V_p): a square of the particle's own volume;
 //   - its element's material, and the element index as its origin.
-// An element inverted at t_T (is_inverted of common/element.hpp, the definition fem-solve
+// An element inverted at t_T (is_inverted of common/geometry/element.hpp, the definition fem-solve
 // counts with: det J ≤ 0 at one of its corners, hence somewhere in the element) stops
 // the transfer with an error naming it; with `allow_inverted` its particles get the
 // reference volume V_0^e w_p instead (the inverted geometry defines no volume) and the
@@ -29,9 +29,9 @@
 #include <cstddef>
 #include <optional>
 
-#include "common/case_file.hpp"
-#include "common/checkpoint.hpp"
-#include "common/log.hpp"
+#include "common/base/log.hpp"
+#include "common/input/case_file.hpp"
+#include "common/io/checkpoint.hpp"
 #include "transfer/particle_layout.hpp"
 #include "transfer/transfer_report.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/types.hpp"
+#include "common/base/types.hpp"
 
 namespace slide::transfer {
 

@@ -8,8 +8,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "common/atomic_file.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/io/atomic_file.hpp"
 #include "common/run/output_schedule.hpp"
 
 namespace slide::run {

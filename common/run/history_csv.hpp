@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "common/log.hpp"
+#include "common/base/log.hpp"
 
 namespace slide::run {
 

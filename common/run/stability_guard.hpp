@@ -22,7 +22,7 @@
 #include <optional>
 #include <string>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 
 namespace slide::run {
 

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "common/material.hpp"
+#include "common/physics/material.hpp"
 #include "common/run/output_schedule.hpp"
 
 namespace slide::run {

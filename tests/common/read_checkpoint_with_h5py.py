@@ -1,13 +1,13 @@
 #!/usr/bin/python3
 """Reads the sample checkpoints of write_sample_checkpoints with h5py, as a user would.
 
-Only names documented in common/checkpoint-schema.md are used: the script reads them from
+Only names documented in common/io/checkpoint-schema.md are used: the script reads them from
 that page's tables, so the page and the files cannot drift apart. For each kind it
 checks that the file holds exactly the documented datasets with their documented shapes,
 dtypes and units, the file and group attributes, and a few values whose formulas are in
 write_sample_checkpoints.cpp.
 
-Usage: read_checkpoint_with_h5py.py FOLDER SCHEMA_PAGE (common/checkpoint-schema.md)
+Usage: read_checkpoint_with_h5py.py FOLDER SCHEMA_PAGE (common/io/checkpoint-schema.md)
 """
 import math
 import re

@@ -12,8 +12,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/case_file.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/input/case_file.hpp"
 
 namespace slide {
 namespace {

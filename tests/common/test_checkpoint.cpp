@@ -18,8 +18,8 @@
 #include <hdf5.h>
 #include <unistd.h>
 
-#include "common/checkpoint.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/io/checkpoint.hpp"
 
 namespace slide {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/element.hpp"
+#include "common/geometry/element.hpp"
 
 namespace slide {
 namespace {

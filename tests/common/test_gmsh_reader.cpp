@@ -8,9 +8,9 @@
 
 #include <gtest/gtest.h>
 
-#include "common/error.hpp"
-#include "common/gmsh_reader.hpp"
-#include "common/mesh_generation.hpp"
+#include "common/base/error.hpp"
+#include "common/input/mesh_generation.hpp"
+#include "common/io/gmsh_reader.hpp"
 #include "tests/support/errors.hpp"
 
 namespace slide {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/log.hpp"
+#include "common/base/log.hpp"
 
 namespace slide {
 namespace {

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/error.hpp"
-#include "common/mesh_generation.hpp"
+#include "common/base/error.hpp"
+#include "common/input/mesh_generation.hpp"
 #include "tests/support/errors.hpp"
 
 namespace slide {

@@ -1,4 +1,4 @@
-// The constitutive library (common/constitutive.hpp): linear elasticity is exactly
+// The constitutive library (common/physics/constitutive.hpp): linear elasticity is exactly
 // Hooke's law, the Mohr–Coulomb return puts every stress back on the yield surface by a
 // step that obeys the flow rule, a biaxial test fails at the closed-form strength, and
 // the invariants and the Jaumann rotation have their textbook values.
@@ -20,7 +20,7 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
-#include "common/constitutive.hpp"
+#include "common/physics/constitutive.hpp"
 
 namespace slide {
 namespace {

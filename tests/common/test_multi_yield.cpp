@@ -1,4 +1,4 @@
-// Pressure-independent multi-yield plasticity (common/multi_yield.hpp) against closed
+// Pressure-independent multi-yield plasticity (common/physics/multi_yield.hpp) against closed
 // forms computed here, independently of the model's own backbone code:
 //  - the frozen strength is OpenSees's calibration q_f = M p′₀ + 3c/√2 (2c for φ = 0);
 //  - monotonic simple shear and triaxial (isochoric) paths follow the piecewise-linear
@@ -19,8 +19,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/constitutive.hpp"
-#include "common/multi_yield.hpp"
+#include "common/physics/constitutive.hpp"
+#include "common/physics/multi_yield.hpp"
 
 namespace slide {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/nodal_update.hpp"
+#include "common/physics/nodal_update.hpp"
 
 namespace slide {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/error.hpp"
-#include "common/runout_metrics.hpp"
+#include "common/base/error.hpp"
+#include "common/physics/runout_metrics.hpp"
 
 namespace slide {
 namespace {

@@ -15,7 +15,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
-#include "common/vtk_output.hpp"
+#include "common/io/vtk_output.hpp"
 #include "tests/support/programs.hpp"
 
 namespace slide {

@@ -13,7 +13,7 @@
 #include <exception>
 #include <filesystem>
 
-#include "common/checkpoint.hpp"
+#include "common/io/checkpoint.hpp"
 
 namespace slide {
 namespace {

@@ -447,7 +447,7 @@ TEST(ExplicitDynamics, BlockSlidingOnTheFrictionalBaseStopsAfterTheCoulombDistan
 
 // At μ = 0.5 the block rocks and its base nodes lift off now and then; a bilateral
 // contact that rectified this into extra friction stopped it after 56 % of the Coulomb
-// distance (see common/nodal_update.hpp).
+// distance (see common/physics/nodal_update.hpp).
 TEST(ExplicitDynamics, BlockSlidingWithLargeFrictionStopsAfterTheCoulombDistance) {
   const double v0 = 2.0, mu = 0.5;
   const double expected = v0 * v0 / (2.0 * mu * gravity_acceleration);

@@ -23,8 +23,8 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
-#include "common/case_file.hpp"
-#include "common/checkpoint.hpp"
+#include "common/input/case_file.hpp"
+#include "common/io/checkpoint.hpp"
 #include "tests/support/column_case.hpp"
 #include "tests/support/programs.hpp"
 #include "tests/support/soil.hpp"

@@ -20,9 +20,9 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "common/case_file.hpp"
-#include "common/error.hpp"
-#include "common/mesh_generation.hpp"
+#include "common/base/error.hpp"
+#include "common/input/case_file.hpp"
+#include "common/input/mesh_generation.hpp"
 #include "fem/element_kernels.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"

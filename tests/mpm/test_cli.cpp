@@ -16,7 +16,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
-#include "common/checkpoint.hpp"
+#include "common/io/checkpoint.hpp"
 #include "tests/support/mpm_builders.hpp"
 #include "tests/support/programs.hpp"
 

@@ -17,7 +17,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "common/checkpoint.hpp"
+#include "common/io/checkpoint.hpp"
 
 namespace slide::mpm {
 namespace {

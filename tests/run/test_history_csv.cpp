@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 #include "common/run/history_csv.hpp"
 
 namespace slide::run {

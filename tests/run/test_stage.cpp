@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 #include "common/run/stability_guard.hpp"
 #include "common/run/stage.hpp"
 

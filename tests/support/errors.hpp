@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 
 namespace slide::testing {
 

@@ -10,9 +10,9 @@
 #include <cmath>
 #include <functional>
 
-#include "common/checkpoint.hpp"
-#include "common/constitutive.hpp"
-#include "common/element.hpp"
+#include "common/geometry/element.hpp"
+#include "common/io/checkpoint.hpp"
+#include "common/physics/constitutive.hpp"
 #include "tests/support/soil.hpp"
 
 namespace slide::testing {

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/mesh.hpp"
+#include "common/geometry/mesh.hpp"
 
 namespace slide::testing {
 

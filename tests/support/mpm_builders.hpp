@@ -5,7 +5,7 @@
 #include <limits>
 #include <numbers>
 
-#include "common/material.hpp"
+#include "common/physics/material.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
 #include "tests/support/soil.hpp"

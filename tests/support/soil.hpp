@@ -1,7 +1,7 @@
 // The soil of the cases (METHOD.md §7), built by hand for the tests of every stage.
 #pragma once
 
-#include "common/material.hpp"
+#include "common/physics/material.hpp"
 
 namespace slide::testing {
 

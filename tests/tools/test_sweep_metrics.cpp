@@ -14,8 +14,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/checkpoint.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/io/checkpoint.hpp"
 #include "tools/sweep_metrics.hpp"
 
 namespace slide::tools {

@@ -17,7 +17,7 @@
 #include <hdf5.h>
 #include <sys/wait.h>
 
-#include "common/checkpoint.hpp"
+#include "common/io/checkpoint.hpp"
 #include "tests/support/fem_checkpoints.hpp"
 #include "tests/support/programs.hpp"
 

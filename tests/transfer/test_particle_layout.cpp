@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/case_file.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/input/case_file.hpp"
 #include "transfer/particle_layout.hpp"
 
 namespace slide::transfer {
@@ -140,7 +140,7 @@ TEST(ParticleLayout, ParsesParticlesPerElement) {
   EXPECT_EQ(tri.count(), 16);
 }
 
-// One rule for the particles of a triangle (common/triangle_rules.hpp): a case file's
+// One rule for the particles of a triangle (common/geometry/triangle_rules.hpp): a case file's
 // particles_per_triangle takes every count fem2mpm's --particles-per-element takes (9
 // used to work on the command line and be refused in case.toml), and refuses the same.
 TEST(ParticleLayout, CaseFileAcceptsTheTriangleCountsOfTheCommandLine) {

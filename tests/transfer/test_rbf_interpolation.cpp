@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 #include "transfer/rbf_interpolation.hpp"
 
 namespace slide::transfer {

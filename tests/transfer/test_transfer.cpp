@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/error.hpp"
+#include "common/base/error.hpp"
 #include "tests/support/fem_checkpoints.hpp"
 #include "transfer/transfer.hpp"
 

@@ -18,9 +18,9 @@
 
 #include <fmt/format.h>
 
-#include "common/case_file.hpp"
-#include "common/mesh_generation.hpp"
-#include "common/program.hpp"
+#include "common/base/program.hpp"
+#include "common/input/case_file.hpp"
+#include "common/input/mesh_generation.hpp"
 #include "fem/explicit_dynamics.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"

@@ -25,8 +25,8 @@
 
 #include <fmt/format.h>
 
-#include "common/checkpoint.hpp"
-#include "common/error.hpp"
+#include "common/base/error.hpp"
+#include "common/io/checkpoint.hpp"
 #include "tests/support/fem_checkpoints.hpp"
 #include "transfer/rbf_interpolation.hpp"
 #include "transfer/transfer.hpp"

@@ -1,0 +1,98 @@
+// The case-file reader (case_file.hpp). toml++ parses; the section readers check, one file
+// per table (case_file_<section>.cpp). Every table has one reader function, and they all
+// go through `Section` (case_file_reader.hpp): it knows the table's dotted
+// path and where the table sits in the file, refuses keys it does not know, and reads
+// typed values with their admissible ranges, so that every fault becomes one line
+//   case.toml:12: fem.end_time = -1 is not admissible (expected > 0 s)
+//
+// Policy on keys that the chosen options do not use: keys that contradict the
+// configuration are errors (the geometry keys of another mesh generator, strength
+// parameters of a linear elastic material, failure-stage settings of a geostatic-only
+// case); tuning keys of an option not selected are accepted and ignored (rbf_neighbours
+// with "rbf", gravity_stage_* with "k0"), so that switching an option is a one-line edit.
+#include "common/input/case_file.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "common/input/case_file_reader.hpp"
+
+namespace slide {
+
+// This file is the reader's entry point: it calls the section readers by their names.
+using namespace case_reader;
+
+namespace {
+
+void read_case_table(const Section& root, const std::filesystem::path& file, Case& c) {
+  const Section s = root.table("case", Section::Keys{"name", "description"});
+  c.name = s.string("name");
+  const bool well_formed =
+      !c.name.empty() && std::all_of(c.name.begin(), c.name.end(), [](char ch) {
+        return (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '-';
+      });
+  if (!well_formed) {
+    s.reader().inadmissible(s.node("name"), s.dotted("name"), fmt::format("\"{}\"", c.name),
+                            "a non-empty name of a-z, 0-9 and -");
+  }
+  // Programs and Makefiles find a case by its folder: cases/<name>/case.toml.
+  const auto absolute = std::filesystem::absolute(file).lexically_normal();
+  const auto folder = absolute.parent_path();
+  if (folder.parent_path().filename() == "cases" && folder.filename() != c.name) {
+    s.fail("name", fmt::format("\"{}\" differs from the case's folder name \"{}\"", c.name,
+                               folder.filename().string()));
+  }
+  c.description = s.string("description", "");
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------- API
+
+std::int32_t Case::material_index(std::string_view material_name) const {
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    if (materials[i].name == material_name) return static_cast<std::int32_t>(i);
+  }
+  throw Error("{}: no material called \"{}\"", file.string(), material_name);
+}
+
+Case parse_case(std::string_view text, const std::filesystem::path& source_name) {
+  const std::string file = source_name.string();
+  toml::table document;
+  try {
+    document = toml::parse(text);
+  } catch (const toml::parse_error& error) {
+    throw Error("{}: TOML syntax error: {}", locate(file, error.source()),
+                one_line(error.description()));
+  }
+  const NodeReader reader(file);
+  const Section root(
+      document, "", reader,
+      Section::Keys{"case", "materials", "mesh", "fem", "transfer", "mpm", "metrics"});
+  Case c;
+  c.file = source_name;
+  read_case_table(root, source_name, c);
+  c.materials = read_materials(root);
+  c.mesh = read_mesh(root, c.materials, source_name.parent_path());
+  c.fem = read_fem(root, c.mesh);
+  c.transfer = read_transfer(root, c.fem);
+  c.mpm = read_mpm(root, c.materials, c.mesh, c.transfer);
+  c.metrics = read_metrics(root);
+  return c;
+}
+
+Case load_case(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw Error("{}: is a folder; expected a case file (e.g. {})", path.string(),
+                (path / "case.toml").string());
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("{}: cannot open the case file", path.string());
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw Error("{}: cannot read the case file", path.string());
+  return parse_case(text.str(), path);
+}
+
+}  // namespace slide

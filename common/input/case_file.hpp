@@ -1,0 +1,185 @@
+// The case file: one `cases/<name>/case.toml` drives all three programs (geometry,
+// materials, FE stages, transfer, MPM, metrics). The reader is strict: an unknown key, a
+// missing required key, a wrong type or an impossible value is an Error of the form
+//   case.toml:12: fem.end_time = -1 is not admissible (expected > 0 s)
+// naming the file, the line and the dotted key. The file format is documented key by
+// key in common/input/case-file.md; every case in cases/ is a commented example.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/base/types.hpp"
+#include "common/geometry/element.hpp"
+#include "common/geometry/mesh.hpp"
+#include "common/physics/algorithms.hpp"
+#include "common/physics/material.hpp"
+
+namespace slide {
+
+// ----------------------------------------------------------------------------- mesh
+
+enum class MeshGenerator {
+  profile,  ///< columns under a surface polyline over the base y = 0 (mapped mesh)
+  blocks,   ///< multi-block transfinite (mapped) quads with explicit corner points
+  gmsh,     ///< a Gmsh .msh file (4.1 or 2.2 ASCII)
+};
+
+/// One mapped block: four corners counter-clockwise, cells along the first side (0→1)
+/// and along the second side (1→2). Blocks that share an edge share its nodes.
+struct MeshBlock {
+  std::array<Vec2, 4> corners;
+  int cells_u = 1;
+  int cells_v = 1;
+  std::string material;
+};
+
+struct MeshSpec {
+  MeshGenerator generator = MeshGenerator::profile;
+  ElementType element_type = ElementType::quad4_1gp;
+  // profile
+  double element_size = 1.0;  ///< target element size h, m
+  std::vector<Vec2> surface;  ///< surface points, x increasing from the wall x = 0
+  std::string material;       ///< material of the whole profile mesh
+  // blocks
+  std::vector<MeshBlock> blocks;
+  // gmsh (relative paths are relative to the case file's folder)
+  std::filesystem::path gmsh_file;
+};
+
+// ----------------------------------------------------------------------------- FEM
+
+/// Rayleigh damping given as a damping ratio ξ at two frequencies f1 < f2 (the usual
+/// OpenSees input).
+struct DampingRatio {
+  double ratio = 0.0;                   ///< ξ, –
+  std::array<double, 2> frequencies{};  ///< f1, f2, Hz
+};
+
+struct DampingSpec {
+  double rayleigh_mass = 0.0;       ///< α_M of the mass-proportional Rayleigh damping, 1/s
+  double rayleigh_stiffness = 0.0;  ///< β_K of the stiffness-proportional Rayleigh damping, s
+  double local = 0.0;               ///< Cundall local damping coefficient α, –
+  /// Set when the case gave the ratio form; rayleigh_mass and rayleigh_stiffness are then
+  /// derived from it (rayleigh_coefficients).
+  std::optional<DampingRatio> ratio;
+};
+
+/// The Rayleigh coefficients whose damping ratio ξ(ω) = α_M/(2ω) + β_K ω/2 equals ξ at
+/// ω1 = 2π f1 and ω2 = 2π f2: α_M = 2ξ ω1 ω2/(ω1 + ω2) (1/s), β_K = 2ξ/(ω1 + ω2) (s).
+/// Between the two frequencies ξ(ω) is below ξ, outside them above.
+struct RayleighCoefficients {
+  double mass = 0.0;       ///< α_M, 1/s
+  double stiffness = 0.0;  ///< β_K, s
+};
+RayleighCoefficients rayleigh_coefficients(const DampingRatio& ratio);
+
+struct FemSpec {
+  /// False for geostatic-only cases: fem-solve stops after the t = 0 checkpoint.
+  bool failure_stage = true;
+  Kinematics kinematics = Kinematics::small_strain;
+  double end_time = 0.0;                 ///< s
+  std::vector<double> checkpoint_times;  ///< s, besides t = 0 and the end time
+  double checkpoint_every = 0.0;         ///< s, 0: only the listed times
+  double output_every = 0.0;             ///< history/VTK cadence, s (0: every checkpoint)
+  double courant = 0.5;                  ///< C in dt = C·min(l_e/c_p)
+  double time_step = 0.0;                ///< fixed dt, s (0: Courant)
+  double hourglass_coefficient = 1.0;    ///< scale of the physical hourglass stiffness
+  BoundaryTable geostatic_boundaries;    ///< stage 1
+  BoundaryTable failure_boundaries;      ///< stage 2
+  double friction_coefficient = 0.0;     ///< μ of "friction" boundaries
+  DampingSpec damping;
+  /// Instability guard: speeds above this factor × sqrt(2 g H) stop the run.
+  double speed_limit_factor = 5.0;
+};
+
+// ----------------------------------------------------------------------------- transfer
+
+struct TransferSpec {
+  int particles_x = 4;          ///< N_px (quads)
+  int particles_y = 4;          ///< N_py (quads)
+  int particles_triangle = 16;  ///< points of the triangle rule
+  StressInterpolation stress_interpolation = StressInterpolation::rbf;
+  std::optional<RbfPolynomial> rbf_polynomial;  ///< unset: none for rbf, linear for rbf-local
+  double rbf_shape = 0.0;                       ///< c, m (0: the default sqrt(A_box/N_g))
+  int rbf_neighbours = 0;                       ///< k of rbf-local (0: the default)
+  /// Transfer times the case's sweep uses, s (METHOD.md §7), and the one the main
+  /// pipeline uses.
+  std::vector<double> sweep_times;
+  double main_time = 0.0;
+};
+
+// ----------------------------------------------------------------------------- MPM
+
+struct MpmSpec {
+  Vec2 domain_min = Vec2::Zero();  ///< lower-left corner of the grid, m
+  Vec2 domain_max = Vec2::Zero();  ///< upper-right corner of the grid, m
+  double cell_size = 1.0;          ///< h, m
+  ShapeFunction shape_function = ShapeFunction::gimp;
+  UpdateScheme update_scheme = UpdateScheme::musl;
+  VelocityTransfer velocity_transfer = VelocityTransfer::flip_pic;
+  /// 0: pure FLIP, 1: pure PIC; read with any transfer, used by flip-pic only (apic
+  /// ignores it, so that switching the transfer is a one-line edit)
+  double pic_fraction = 0.0;
+  VolumetricSmoothing volumetric_smoothing = VolumetricSmoothing::none;
+  double end_time = 0.0;  ///< s
+  std::vector<double> checkpoint_times;
+  double checkpoint_every = 0.0;  ///< s
+  double output_every = 0.0;      ///< history/VTK cadence, s
+  double courant = 0.5;
+  double time_step = 0.0;    ///< fixed dt, s (0: Courant on the cell size)
+  BoundaryTable boundaries;  ///< "left", "right", "base", "top" of the grid
+  double friction_coefficient = 0.0;
+  double local_damping = 0.0;  ///< Cundall α
+  ParticleExit particle_exit = ParticleExit::freeze;
+  /// Stop early once KE/PE0 stays below `rest_threshold` for `rest_duration` s
+  /// (0: run to the end time).
+  double rest_threshold = 0.0;
+  double rest_duration = 0.0;
+  double speed_limit_factor = 5.0;
+  // Pure MPM (no particle file): particles per cell and the initial stress.
+  int particles_x = 4;
+  int particles_y = 4;
+  InitialStress initial_stress = InitialStress::k0;
+  double gravity_stage_duration = 0.0;  ///< s of damped elastic loading (InitialStress::gravity)
+  double gravity_stage_damping = 0.0;   ///< local damping α during that stage
+};
+
+// ----------------------------------------------------------------------------- metrics
+
+struct MetricsSpec {
+  double initial_length = 0.0;  ///< L_0, m
+  double initial_height = 0.0;  ///< H_0, m (τ_c = sqrt(H_0/g))
+  double bin_width = 2.0;       ///< profile bins, m
+  double profile_percentile = 99.0;
+  /// Particles at or below this height are left out of the profile and the toe: the
+  /// top of a foundation layer that stays in place (slope-cohesive), m. 0: none.
+  double foundation_level = 0.0;
+};
+
+// ----------------------------------------------------------------------------- case
+
+struct Case {
+  std::filesystem::path file;  ///< the case file it was read from
+  std::string name;
+  std::string description;
+  MaterialTable materials;
+  MeshSpec mesh;
+  FemSpec fem;
+  TransferSpec transfer;
+  MpmSpec mpm;
+  MetricsSpec metrics;
+
+  /// Index of the material called `name`; throws Error when there is none.
+  std::int32_t material_index(std::string_view name) const;
+};
+
+/// Reads and validates a case file; throws Error (file:line: key: problem) on any fault.
+Case load_case(const std::filesystem::path& path);
+/// Same, from text (tests); `source_name` stands in for the file name in messages.
+Case parse_case(std::string_view text, const std::filesystem::path& source_name);
+
+}  // namespace slide

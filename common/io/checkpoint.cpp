@@ -1,0 +1,892 @@
+// The checkpoint schema in code. common/io/checkpoint-schema.md documents every name written
+// here; a change of name or meaning bumps checkpoint_schema_version.
+//
+// Layout (one field per dataset, row-major, one row per node/element/Gauss point/particle):
+//   /                     attributes schema, schema_version, producer, kind, time, step,
+//                         dimension, case, pe0
+//   /materials/<id>/      attributes only, id = 0, 1, …
+//   /nodes, /elements, /gauss_points, /boundary/<name>   kind "fem"
+//   /particles, /transfer                                kinds "particles" and "mpm"
+//   /solver               free-form solver settings (attributes)
+//
+// The writer checks what the reader checks (row counts, finite values, index ranges,
+// admissible materials), so whatever it writes reads back; it stops at the first
+// problem, and write_atomically then leaves the target untouched.
+#include "common/io/checkpoint.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <initializer_list>
+#include <limits>
+#include <optional>
+#include <span>
+#include <type_traits>
+#include <variant>
+
+#include "common/base/error.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/hdf5_file.hpp"
+
+namespace slide {
+
+std::string_view to_string(CheckpointKind kind) {
+  switch (kind) {
+    case CheckpointKind::fem:
+      return "fem";
+    case CheckpointKind::particles:
+      return "particles";
+    case CheckpointKind::mpm:
+      return "mpm";
+  }
+  return "unknown";
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+using hdf5::Shape;
+using hdf5::TypeClass;
+
+template <int K>
+using VecK = Eigen::Matrix<double, K, 1>;
+
+/// One family of rows: what a row is called in messages, the symbol of its count in the
+/// documentation, and the count (unknown while the defining dataset is being read).
+struct Rows {
+  const char* noun;
+  const char* symbol;
+  std::size_t count = 0;
+};
+
+constexpr const char* units_attribute = "units";
+
+// ---------------------------------------------------------------------------------------
+// Checks shared by the writer and the reader. `where` is "file: /path" on reading and
+// "file: cannot write /path" on writing.
+
+void require_finite(std::string_view where, std::span<const double> values, std::size_t width,
+                    const Rows& rows) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values[i])) {
+      throw Error("{}: {} {} is not finite ({})", where, rows.noun, i / width, values[i]);
+    }
+  }
+}
+
+/// The admissible values of an index dataset, [low, high), and what bounds them.
+struct IndexRange {
+  static constexpr std::int64_t unbounded = std::numeric_limits<std::int64_t>::max();
+  std::int64_t low = 0;
+  std::int64_t high = unbounded;
+  std::string_view bound;  ///< e.g. "n_nodes", shown in messages
+};
+
+/// [0, count): an index into `count` nodes, elements or materials.
+IndexRange below(std::size_t count, std::string_view bound) {
+  return {0, static_cast<std::int64_t>(count), bound};
+}
+
+void require_in_range(std::string_view where, std::span<const std::int64_t> values,
+                      std::size_t width, const Rows& rows, const IndexRange& range) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (values[i] >= range.low && values[i] < range.high) continue;
+    if (range.high == IndexRange::unbounded) {
+      throw Error("{}: {} {} has index {}, expected ≥ {} ({})", where, rows.noun, i / width,
+                  values[i], range.low, range.bound);
+    }
+    throw Error("{}: {} {} has index {}, expected {} ≤ index < {} ({})", where, rows.noun,
+                i / width, values[i], range.low, range.high, range.bound);
+  }
+}
+
+/// /particles/element: the source FE element, or −1 for particles of a pure MPM run.
+constexpr IndexRange source_element_range{-1, IndexRange::unbounded,
+                                          "−1 for pure MPM, else a source element"};
+
+void require_positive(std::string_view where, std::span<const double> values, const Rows& rows,
+                      std::string_view quantity) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!(values[i] > 0.0)) {
+      throw Error("{}: {} {} has {} {}, expected > 0", where, rows.noun, i, quantity, values[i]);
+    }
+  }
+}
+
+template <int K>
+std::vector<double> flatten(std::span<const VecK<K>> vectors) {
+  std::vector<double> flat(vectors.size() * K);
+  for (std::size_t i = 0; i < vectors.size(); ++i) {
+    for (int k = 0; k < K; ++k) flat[i * K + static_cast<std::size_t>(k)] = vectors[i][k];
+  }
+  return flat;
+}
+
+template <int K>
+std::vector<VecK<K>> unflatten(const std::vector<double>& flat) {
+  std::vector<VecK<K>> vectors(flat.size() / K);
+  for (std::size_t i = 0; i < vectors.size(); ++i) {
+    for (int k = 0; k < K; ++k) vectors[i][k] = flat[i * K + static_cast<std::size_t>(k)];
+  }
+  return vectors;
+}
+
+std::vector<double> plastic_shear_strain(std::span<const MaterialState> state) {
+  std::vector<double> values(state.size());
+  for (std::size_t i = 0; i < state.size(); ++i) values[i] = state[i].plastic_shear_strain;
+  return values;
+}
+
+std::vector<double> plastic_volumetric_strain(std::span<const MaterialState> state) {
+  std::vector<double> values(state.size());
+  for (std::size_t i = 0; i < state.size(); ++i) values[i] = state[i].plastic_volumetric_strain;
+  return values;
+}
+
+std::vector<MaterialState> material_state(const std::vector<double>& shear,
+                                          const std::vector<double>& volumetric) {
+  std::vector<MaterialState> state(shear.size());
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    state[i].plastic_shear_strain = shear[i];
+    state[i].plastic_volumetric_strain = volumetric[i];
+  }
+  return state;
+}
+
+CheckpointKind parse_kind(std::string_view text, std::string_view where) {
+  for (auto kind : {CheckpointKind::fem, CheckpointKind::particles, CheckpointKind::mpm}) {
+    if (text == to_string(kind)) return kind;
+  }
+  throw Error("{}: attribute kind is \"{}\", expected \"fem\", \"particles\" or \"mpm\"", where,
+              text);
+}
+
+// ---------------------------------------------------------------------------------------
+// Writing
+
+class Writer {
+ public:
+  Writer(hdf5::File& file, std::string target) : file_(file), target_(std::move(target)) {}
+
+  hdf5::File& file() { return file_; }
+  const std::string& target() const { return target_; }
+
+  std::string where(const hdf5::Group& group, std::string_view name) const {
+    if (name.empty()) return fmt::format("{}: cannot write {}", target_, group.path());
+    return fmt::format("{}: cannot write {}{}{}", target_, group.path(),
+                       group.path() == "/" ? "" : "/", name);
+  }
+
+  /// n×width floats (width 0: a 1-D dataset of n values).
+  void doubles(hdf5::Group& group, std::string_view name, std::span<const double> values,
+               std::size_t width, const Rows& rows, std::string_view units) {
+    const std::string at = where(group, name);
+    require_count(at, values.size(), width, rows);
+    require_finite(at, values, std::max<std::size_t>(width, 1), rows);
+    group.write_dataset(name, values, shape(width, rows))
+        .write_string_attribute(units_attribute, units);
+  }
+
+  template <int K>
+  void vectors(hdf5::Group& group, std::string_view name, const std::vector<VecK<K>>& values,
+               const Rows& rows, std::string_view units) {
+    require_count(where(group, name), values.size(), 0, rows);
+    doubles(group, name, flatten<K>(values), K, rows, units);
+  }
+
+  /// n×width int64 indices (width 0: 1-D), each in `range` when one is given.
+  hdf5::Dataset indices(hdf5::Group& group, std::string_view name,
+                        std::span<const std::int64_t> values, std::size_t width, const Rows& rows,
+                        const std::optional<IndexRange>& range) {
+    const std::string at = where(group, name);
+    require_count(at, values.size(), width, rows);
+    if (range) require_in_range(at, values, std::max<std::size_t>(width, 1), rows, *range);
+    hdf5::Dataset dataset = group.write_dataset(name, values, shape(width, rows));
+    dataset.write_string_attribute(units_attribute, "1");
+    return dataset;
+  }
+
+  void material_ids(hdf5::Group& group, const std::vector<std::int32_t>& ids, const Rows& rows,
+                    std::size_t material_count) {
+    const std::string at = where(group, "material_id");
+    require_count(at, ids.size(), 0, rows);
+    const std::vector<std::int64_t> wide(ids.begin(), ids.end());
+    require_in_range(at, wide, 1, rows, below(material_count, "materials in /materials"));
+    group.write_dataset("material_id", ids, shape(0, rows))
+        .write_string_attribute(units_attribute, "1");
+  }
+
+  void state(hdf5::Group& parent, const std::vector<MaterialState>& state,
+             const SurfaceStresses& surfaces, const Rows& rows) {
+    require_count(where(parent, "state"), state.size(), 0, rows);
+    hdf5::Group group = parent.create_group("state");
+    doubles(group, "plastic_shear_strain", plastic_shear_strain(state), 0, rows, "1");
+    doubles(group, "plastic_volumetric_strain", plastic_volumetric_strain(state), 0, rows, "1");
+    if (surfaces.per_point == 0) return;
+    // Multi-yield: the frozen peak strength (negative: not frozen yet) and the
+    // deviatoric stress each surface carries, [sxx, syy, szz, sxy] per surface.
+    std::vector<double> peak(state.size());
+    for (std::size_t i = 0; i < state.size(); ++i) peak[i] = state[i].peak_strength;
+    doubles(group, "peak_strength", peak, 0, rows, "Pa");
+    const std::size_t width = 4 * surfaces.per_point;
+    std::vector<double> flat(surfaces.values.size() * 4);
+    for (std::size_t i = 0; i < surfaces.values.size(); ++i) {
+      for (int k = 0; k < 4; ++k) flat[4 * i + static_cast<std::size_t>(k)] = surfaces.values[i][k];
+    }
+    doubles(group, "surface_stress", flat, width, rows, "Pa");
+  }
+
+ private:
+  static Shape shape(std::size_t width, const Rows& rows) {
+    return width == 0 ? Shape{rows.count} : Shape{rows.count, width};
+  }
+
+  static void require_count(std::string_view where, std::size_t values, std::size_t width,
+                            const Rows& rows) {
+    const std::size_t expected = rows.count * std::max<std::size_t>(width, 1);
+    if (values != expected) {
+      throw Error("{}: {} entries, expected {} ({} per {})", where, values, expected,
+                  width > 1 ? std::to_string(width) : std::string("one"), rows.noun);
+    }
+  }
+
+  hdf5::File& file_;
+  std::string target_;
+};
+
+void write_header(hdf5::File& file, const CheckpointHeader& header, CheckpointKind kind) {
+  file.write_string_attribute("schema", checkpoint_schema_name);
+  file.write_int_attribute("schema_version", checkpoint_schema_version);
+  file.write_string_attribute("producer", header.producer);
+  file.write_string_attribute("kind", to_string(kind));
+  file.write_double_attribute("time", header.time);
+  file.write_int_attribute("step", header.step);
+  file.write_int_attribute("dimension", 2);
+  file.write_string_attribute("case", header.case_name);
+  file.write_double_attribute("pe0", header.pe0);
+}
+
+void check_header(std::string_view target, const CheckpointHeader& header) {
+  if (!std::isfinite(header.time))
+    throw Error("{}: cannot write: time {} is not finite", target, header.time);
+  if (!std::isfinite(header.pe0))
+    throw Error("{}: cannot write: pe0 {} is not finite", target, header.pe0);
+  if (header.step < 0) throw Error("{}: cannot write: step {} is negative", target, header.step);
+}
+
+void write_materials(Writer& writer, const MaterialTable& materials) {
+  hdf5::Group group = writer.file().create_group("materials");
+  for (std::size_t id = 0; id < materials.size(); ++id) {
+    const Material& m = materials[id];
+    m.validate(writer.where(group, std::to_string(id)));
+    hdf5::Group g = group.create_group(std::to_string(id));
+    g.write_string_attribute("name", m.name);
+    g.write_string_attribute("model", to_string(m.model));
+    g.write_string_attribute("mpm_model", to_string(m.model_of(Phase::mpm)));
+    if (m.uses(MaterialModel::pressure_independent_multi_yield)) {
+      g.write_double_attribute("peak_shear_strain", m.peak_shear_strain);
+      g.write_int_attribute("yield_surfaces", m.yield_surfaces);
+    }
+    g.write_double_attribute("density", m.density);
+    g.write_double_attribute("youngs_modulus", m.youngs_modulus);
+    g.write_double_attribute("poisson_ratio", m.poisson_ratio);
+    g.write_double_attribute("friction_angle", m.friction_angle);
+    g.write_double_attribute("cohesion", m.cohesion);
+    g.write_double_attribute("dilation_angle", m.dilation_angle);
+    g.write_double_attribute("tension_cutoff", m.tension_cutoff);
+  }
+}
+
+void write_solver(Writer& writer, const SolverSettings& solver) {
+  hdf5::Group group = writer.file().create_group("solver");
+  for (const auto& [key, value] : solver) {
+    if (key.empty()) throw Error("{}: a solver setting has an empty name", writer.where(group, ""));
+    std::visit(
+        [&](const auto& v) {
+          using T = std::decay_t<decltype(v)>;
+          if constexpr (std::is_same_v<T, std::int64_t>) {
+            group.write_int_attribute(key, v);
+          } else if constexpr (std::is_same_v<T, double>) {
+            group.write_double_attribute(key, v);
+          } else {
+            group.write_string_attribute(key, v);
+          }
+        },
+        value);
+  }
+}
+
+void write_boundary(Writer& writer, const FemCheckpoint& c, const Rows& nodes) {
+  hdf5::Group group = writer.file().create_group("boundary");
+  if (!std::isfinite(c.friction_coefficient) || c.friction_coefficient < 0.0) {
+    throw Error("{}: friction_coefficient {} is not a finite value ≥ 0", writer.where(group, ""),
+                c.friction_coefficient);
+  }
+  group.write_double_attribute("friction_coefficient", c.friction_coefficient);
+  const auto& sets = c.mesh.node_sets;
+  if (c.boundary_conditions.size() != sets.size()) {
+    throw Error("{}: {} boundary conditions for {} node sets", writer.where(group, ""),
+                c.boundary_conditions.size(), sets.size());
+  }
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const NodeSet& set = sets[i];
+    if (set.name.empty() || set.name == "." || set.name.find('/') != std::string::npos ||
+        group.contains(set.name)) {
+      throw Error("{}: node set name \"{}\" is empty, repeated or contains '/'",
+                  writer.where(group, set.name), set.name);
+    }
+    hdf5::Group g = group.create_group(set.name);
+    const std::array<double, 2> normal{set.normal.x(), set.normal.y()};
+    if (!std::isfinite(normal[0]) || !std::isfinite(normal[1])) {
+      throw Error("{}: normal is not finite", writer.where(group, set.name));
+    }
+    g.write_int_attribute("index", static_cast<std::int64_t>(i));
+    g.write_string_attribute("condition", to_string(c.boundary_conditions[i]));
+    g.write_double_array_attribute("normal", normal);
+    const Rows set_rows{"entry", "n_set", set.nodes.size()};
+    writer.indices(g, "nodes", set.nodes, 0, set_rows, below(nodes.count, "n_nodes"));
+  }
+}
+
+void write_fem(Writer& writer, const FemCheckpoint& c) {
+  hdf5::File& file = writer.file();
+  write_header(file, c.header, CheckpointKind::fem);
+  write_materials(writer, c.materials);
+
+  const Mesh& mesh = c.mesh;
+  const Rows nodes{"node", "n_nodes", mesh.nodes.size()};
+  const Rows elements{"element", "n_elements", mesh.material_id.size()};
+  const Rows gauss{"Gauss point", "n_gp", c.gauss_element.size()};
+
+  hdf5::Group n = file.create_group("nodes");
+  writer.vectors<2>(n, "reference_coordinates", mesh.nodes, nodes, "m");
+  writer.vectors<2>(n, "coordinates", c.coordinates, nodes, "m");
+  writer.vectors<2>(n, "displacement", c.displacement, nodes, "m");
+  writer.vectors<2>(n, "velocity", c.velocity, nodes, "m/s");
+  writer.vectors<2>(n, "acceleration", c.acceleration, nodes, "m/s^2");
+  writer.doubles(n, "pore_pressure", c.pore_pressure, 0, nodes, "Pa");
+
+  hdf5::Group e = file.create_group("elements");
+  hdf5::Dataset connectivity = writer.indices(e, "connectivity", mesh.connectivity,
+                                              static_cast<std::size_t>(mesh.nodes_per_element()),
+                                              elements, below(nodes.count, "n_nodes"));
+  connectivity.write_string_attribute("type", to_string(mesh.shape()));
+  connectivity.write_string_attribute("integration", to_string(mesh.element_type));
+  writer.material_ids(e, mesh.material_id, elements, c.materials.size());
+  writer.doubles(e, "jacobian_ratio", c.jacobian_ratio, 0, elements, "1");
+  if (!c.scaled_jacobian.empty()) {
+    writer.doubles(e, "scaled_jacobian", c.scaled_jacobian, 0, elements, "1");
+  }
+  writer.doubles(e, "volume_reference", c.volume_reference, 0, elements, "m^3/m");
+  writer.doubles(e, "volume", c.volume, 0, elements, "m^3/m");
+  if (!c.hourglass_force.empty()) {
+    writer.vectors<2>(e, "hourglass_force", c.hourglass_force, elements, "N/m");
+  }
+
+  hdf5::Group g = file.create_group("gauss_points");
+  writer.indices(g, "element", c.gauss_element, 0, gauss, below(elements.count, "n_elements"));
+  writer.vectors<2>(g, "local_coordinates", c.gauss_local_coordinates, gauss, "1");
+  writer.vectors<2>(g, "coordinates", c.gauss_coordinates, gauss, "m");
+  writer.doubles(g, "weight", c.gauss_weight, 0, gauss, "1");
+  writer.vectors<4>(g, "stress", c.stress, gauss, "Pa");
+  writer.vectors<4>(g, "strain", c.strain, gauss, "1");
+  writer.doubles(g, "eps_q", c.eps_q, 0, gauss, "1");
+  writer.state(g, c.state, c.surface_stress, gauss);
+
+  write_boundary(writer, c, nodes);
+  write_solver(writer, c.solver);
+}
+
+void write_transfer(Writer& writer, const TransferSettings& t) {
+  if (!std::isfinite(t.transfer_time) || !std::isfinite(t.rbf_shape)) {
+    throw Error("{}: cannot write /transfer: transfer_time and rbf_shape must be finite",
+                writer.target());
+  }
+  hdf5::Group group = writer.file().create_group("transfer");
+  group.write_double_attribute("transfer_time", t.transfer_time);
+  group.write_string_attribute("particles_per_element", t.particles_per_element);
+  group.write_string_attribute("stress_interpolation", t.stress_interpolation);
+  group.write_string_attribute("rbf_polynomial", t.rbf_polynomial);
+  group.write_double_attribute("rbf_shape", t.rbf_shape);
+  group.write_int_attribute("rbf_neighbours", t.rbf_neighbours);
+}
+
+bool is_default(const TransferSettings& t) {
+  const TransferSettings d;
+  return t.transfer_time == d.transfer_time && t.particles_per_element == d.particles_per_element &&
+         t.stress_interpolation == d.stress_interpolation && t.rbf_polynomial == d.rbf_polynomial &&
+         t.rbf_shape == d.rbf_shape && t.rbf_neighbours == d.rbf_neighbours;
+}
+
+void write_particles(Writer& writer, const ParticleCheckpoint& c) {
+  hdf5::File& file = writer.file();
+  write_header(file, c.header, c.header.kind);
+  write_materials(writer, c.materials);
+
+  const Particles& p = c.particles;
+  const Rows particles{"particle", "n_p", p.coordinates.size()};
+  hdf5::Group g = file.create_group("particles");
+  writer.vectors<2>(g, "coordinates", p.coordinates, particles, "m");
+  writer.vectors<2>(g, "displacement", p.displacement, particles, "m");
+  writer.vectors<2>(g, "velocity", p.velocity, particles, "m/s");
+  writer.vectors<4>(g, "stress", p.stress, particles, "Pa");
+  writer.vectors<4>(g, "strain", p.strain, particles, "1");
+  writer.doubles(g, "eps_q", p.eps_q, 0, particles, "1");
+  writer.doubles(g, "pore_pressure", p.pore_pressure, 0, particles, "Pa");
+  require_positive(writer.where(g, "volume"), p.volume, particles, "volume");
+  writer.doubles(g, "volume", p.volume, 0, particles, "m^3/m");
+  require_positive(writer.where(g, "mass"), p.mass, particles, "mass");
+  writer.doubles(g, "mass", p.mass, 0, particles, "kg/m");
+  writer.vectors<2>(g, "size", p.size, particles, "m");
+  writer.material_ids(g, p.material_id, particles, c.materials.size());
+  writer.indices(g, "element", p.element, 0, particles, source_element_range);
+  writer.indices(g, "id", p.id, 0, particles, std::nullopt);
+  writer.state(g, p.state, p.surface_stress, particles);
+  // APIC's affine velocity C_p: only particles that carry it (an APIC run) write it.
+  if (!p.affine_velocity.empty()) {
+    writer.vectors<4>(g, "affine_velocity_gradient", p.affine_velocity, particles, "1/s");
+  }
+
+  if (c.header.kind == CheckpointKind::particles || !is_default(c.transfer)) {
+    write_transfer(writer, c.transfer);
+  }
+  write_solver(writer, c.solver);
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading
+
+class Reader {
+ public:
+  explicit Reader(const fs::path& path) : file_(hdf5::File::open(path)) {}
+
+  const hdf5::File& file() const { return file_; }
+  const std::string& label() const { return file_.file_label(); }
+  std::string where(std::string_view path) const { return fmt::format("{}: {}", label(), path); }
+
+  /// The number of rows of the dataset that defines a family (e.g. n_nodes from
+  /// /nodes/reference_coordinates), after checking its type class and columns.
+  Rows define_rows(std::string_view path, TypeClass type_class, std::size_t width, const char* noun,
+                   const char* symbol) const {
+    const hdf5::Dataset dataset = file_.open_dataset(relative(path));
+    require_type_class(dataset, type_class);
+    const Shape shape = dataset.shape();
+    if (shape.size() != (width == 0 ? 1u : 2u) || (width > 0 && shape[1] != width)) {
+      throw Error("{}: shape {}, expected {}{}", where(path), hdf5::format_shape(shape), symbol,
+                  width > 0 ? fmt::format("×{}", width) : std::string());
+    }
+    return Rows{noun, symbol, shape[0]};
+  }
+
+  /// n×width floats (width 0: 1-D), checked for shape and finite values.
+  std::vector<double> doubles(std::string_view path, std::size_t width, const Rows& rows) const {
+    const hdf5::Dataset dataset = open(path, TypeClass::floating_point, width, rows);
+    std::vector<double> values = dataset.read_doubles();
+    require_finite(where(path), values, std::max<std::size_t>(width, 1), rows);
+    return values;
+  }
+
+  template <int K>
+  std::vector<VecK<K>> vectors(std::string_view path, const Rows& rows) const {
+    return unflatten<K>(doubles(path, K, rows));
+  }
+
+  /// n×width integers (width 0: 1-D), each in `range` when one is given.
+  std::vector<std::int64_t> indices(std::string_view path, std::size_t width, const Rows& rows,
+                                    const std::optional<IndexRange>& range) const {
+    const hdf5::Dataset dataset = open(path, TypeClass::integer, width, rows);
+    std::vector<std::int64_t> values = dataset.read_int64();
+    if (range) require_in_range(where(path), values, std::max<std::size_t>(width, 1), rows, *range);
+    return values;
+  }
+
+  std::vector<std::int32_t> material_ids(std::string_view path, const Rows& rows,
+                                         std::size_t material_count) const {
+    const std::vector<std::int64_t> wide =
+        indices(path, 0, rows, below(material_count, "materials in /materials"));
+    return std::vector<std::int32_t>(wide.begin(), wide.end());  // in range: fits
+  }
+
+  std::vector<MaterialState> state(std::string_view group, const Rows& rows) const {
+    std::vector<MaterialState> state =
+        material_state(doubles(fmt::format("{}/plastic_shear_strain", group), 0, rows),
+                       doubles(fmt::format("{}/plastic_volumetric_strain", group), 0, rows));
+    const std::string peak = fmt::format("{}/peak_strength", group);
+    if (file_.contains(relative(peak))) {
+      const std::vector<double> values = doubles(peak, 0, rows);
+      for (std::size_t i = 0; i < state.size(); ++i) state[i].peak_strength = values[i];
+    }
+    return state;
+  }
+
+  /// The multi-yield surface stresses, if the file has them (n × 4·surfaces).
+  SurfaceStresses surface_stress(std::string_view group, const Rows& rows) const {
+    SurfaceStresses surfaces;
+    const std::string path = fmt::format("{}/surface_stress", group);
+    if (!file_.contains(relative(path))) return surfaces;
+    const hdf5::Shape shape = file_.open_dataset(relative(path)).shape();
+    const std::size_t width = shape.size() == 2 ? shape[1] : 0;
+    if (width == 0 || width % 4 != 0 || width > 4 * max_yield_surfaces) {
+      throw Error("{}: shape {}, expected {} × 4·k (k ≤ {} surfaces)", where(path),
+                  hdf5::format_shape(shape), rows.count, max_yield_surfaces);
+    }
+    const std::vector<double> flat = doubles(path, width, rows);
+    surfaces.per_point = width / 4;
+    surfaces.values = unflatten<4>(flat);
+    return surfaces;
+  }
+
+ private:
+  static std::string_view relative(std::string_view path) { return path.substr(1); }
+
+  void require_type_class(const hdf5::Dataset& dataset, TypeClass expected) const {
+    const TypeClass actual = dataset.type_class();
+    if (actual != expected) {
+      throw Error("{}: type class {}, expected {}", dataset.where(), hdf5::to_string(actual),
+                  hdf5::to_string(expected));
+    }
+  }
+
+  hdf5::Dataset open(std::string_view path, TypeClass type_class, std::size_t width,
+                     const Rows& rows) const {
+    hdf5::Dataset dataset = file_.open_dataset(relative(path));
+    require_type_class(dataset, type_class);
+    const Shape expected = width == 0 ? Shape{rows.count} : Shape{rows.count, width};
+    const Shape actual = dataset.shape();
+    if (actual != expected) {
+      throw Error("{}: shape {}, expected {}", where(path), hdf5::format_shape(actual),
+                  hdf5::format_shape(expected));
+    }
+    return dataset;
+  }
+
+  hdf5::File file_;
+};
+
+CheckpointHeader read_header(const hdf5::File& file) {
+  const std::string& label = file.file_label();
+  if (!file.has_attribute("schema")) {
+    throw Error("{}: attribute schema missing: not a {} file", label, checkpoint_schema_name);
+  }
+  const std::string schema = file.read_string_attribute("schema");
+  if (schema != checkpoint_schema_name) {
+    throw Error("{}: attribute schema is \"{}\", expected \"{}\"", label, schema,
+                checkpoint_schema_name);
+  }
+  CheckpointHeader header;
+  header.schema_version = file.read_int_attribute("schema_version");
+  if (header.schema_version > checkpoint_schema_version) {
+    throw Error(
+        "{}: schema_version {} is newer than this program reads (schema_version {}): use a newer "
+        "version of the programs",
+        label, header.schema_version, checkpoint_schema_version);
+  }
+  if (header.schema_version != checkpoint_schema_version) {
+    throw Error("{}: unknown schema_version {}, expected {}", label, header.schema_version,
+                checkpoint_schema_version);
+  }
+  header.kind = parse_kind(file.read_string_attribute("kind"), label);
+  const std::int64_t dimension = file.read_int_attribute("dimension");
+  if (dimension != 2) {
+    throw Error("{}: attribute dimension is {}, expected 2 (plane strain)", label, dimension);
+  }
+  header.producer = file.read_string_attribute("producer");
+  header.case_name = file.read_string_attribute("case");
+  header.time = file.read_double_attribute("time");
+  if (!std::isfinite(header.time)) {
+    throw Error("{}: attribute time is {}, expected a finite number", label, header.time);
+  }
+  header.step = file.read_int_attribute("step");
+  if (header.step < 0) throw Error("{}: attribute step is {}, expected ≥ 0", label, header.step);
+  header.pe0 = file.read_double_attribute("pe0");
+  if (!std::isfinite(header.pe0)) {
+    throw Error("{}: attribute pe0 is {}, expected a finite number", label, header.pe0);
+  }
+  return header;
+}
+
+/// The first of `members` that is not one of "0", "1", …, "n−1" (n = members.size()).
+std::string stray_member(const std::vector<std::string>& members) {
+  for (const std::string& member : members) {
+    bool numbered = false;
+    for (std::size_t id = 0; id < members.size() && !numbered; ++id) {
+      numbered = member == std::to_string(id);
+    }
+    if (!numbered) return member;
+  }
+  return {};
+}
+
+MaterialTable read_materials(const Reader& reader) {
+  const hdf5::Group group = reader.file().open_group("materials");
+  const std::vector<std::string> members = group.member_names();
+  MaterialTable materials(members.size());
+  // Groups are named 0, 1, …, n−1: any other name means a gap or a stray member.
+  for (std::size_t id = 0; id < materials.size(); ++id) {
+    if (!group.contains(std::to_string(id))) {
+      throw Error("{}: expected groups 0…{} (one per material), found \"{}\"", group.where(),
+                  materials.size() - 1, stray_member(members));
+    }
+    const hdf5::Group g = group.open_group(std::to_string(id));
+    Material& m = materials[id];
+    m.name = g.read_string_attribute("name");
+    m.model = parse_material_model(g.read_string_attribute("model"),
+                                   fmt::format("{}: attribute model", g.where()));
+    m.density = g.read_double_attribute("density");
+    m.youngs_modulus = g.read_double_attribute("youngs_modulus");
+    m.poisson_ratio = g.read_double_attribute("poisson_ratio");
+    m.friction_angle = g.read_double_attribute("friction_angle");
+    m.cohesion = g.read_double_attribute("cohesion");
+    m.dilation_angle = g.read_double_attribute("dilation_angle");
+    m.tension_cutoff = g.read_double_attribute("tension_cutoff");
+    // Files of schema version 1 name one model for both phases.
+    if (g.has_attribute("mpm_model")) {
+      const MaterialModel mpm = parse_material_model(
+          g.read_string_attribute("mpm_model"), fmt::format("{}: attribute mpm_model", g.where()));
+      if (mpm != m.model) m.mpm_model = mpm;
+    }
+    if (m.uses(MaterialModel::pressure_independent_multi_yield)) {
+      m.peak_shear_strain = g.read_double_attribute("peak_shear_strain");
+      const std::int64_t surfaces = g.read_int_attribute("yield_surfaces");
+      if (surfaces < 1 || surfaces > max_yield_surfaces) {
+        throw Error("{}: attribute yield_surfaces = {} (expected 1 to {})", g.where(), surfaces,
+                    max_yield_surfaces);
+      }
+      m.yield_surfaces = static_cast<int>(surfaces);
+    }
+    m.validate(g.where());
+  }
+  return materials;
+}
+
+SolverSettings read_solver(const Reader& reader) {
+  SolverSettings solver;
+  if (!reader.file().contains("solver")) return solver;  // optional: no settings
+  const hdf5::Group group = reader.file().open_group("solver");
+  for (const std::string& key : group.attribute_names()) {
+    switch (group.attribute_type_class(key)) {
+      case TypeClass::integer:
+        solver[key] = group.read_int_attribute(key);
+        break;
+      case TypeClass::floating_point:
+        solver[key] = group.read_double_attribute(key);
+        break;
+      case TypeClass::string:
+        solver[key] = group.read_string_attribute(key);
+        break;
+      case TypeClass::other:
+        throw Error("{}: attribute {}: expected an integer, a number or a string", group.where(),
+                    key);
+    }
+  }
+  return solver;
+}
+
+void read_boundary(const Reader& reader, FemCheckpoint& c, const Rows& nodes) {
+  const hdf5::Group group = reader.file().open_group("boundary");
+  c.friction_coefficient = group.read_double_attribute("friction_coefficient");
+  if (!std::isfinite(c.friction_coefficient) || c.friction_coefficient < 0.0) {
+    throw Error("{}: attribute friction_coefficient is {}, expected a finite value ≥ 0",
+                group.where(), c.friction_coefficient);
+  }
+  const std::vector<std::string> names = group.member_names();
+  c.mesh.node_sets.assign(names.size(), NodeSet{});
+  c.boundary_conditions.assign(names.size(), BoundaryCondition::free);
+  std::vector<bool> seen(names.size(), false);
+  for (const std::string& name : names) {
+    const hdf5::Group g = group.open_group(name);
+    const std::int64_t index = g.read_int_attribute("index");
+    if (index < 0 || index >= static_cast<std::int64_t>(names.size()) ||
+        seen[static_cast<std::size_t>(index)]) {
+      throw Error("{}: attribute index is {}, expected a unique value in 0…{}", g.where(), index,
+                  names.size() - 1);
+    }
+    const auto i = static_cast<std::size_t>(index);
+    seen[i] = true;
+    NodeSet& set = c.mesh.node_sets[i];
+    set.name = name;
+    c.boundary_conditions[i] = parse_boundary_condition(
+        g.read_string_attribute("condition"), fmt::format("{}: attribute condition", g.where()));
+    const std::vector<double> normal = g.read_double_array_attribute("normal");
+    if (normal.size() != 2 || !std::isfinite(normal[0]) || !std::isfinite(normal[1])) {
+      throw Error("{}: attribute normal: expected 2 finite values", g.where());
+    }
+    set.normal = Vec2(normal[0], normal[1]);
+    const std::string path = fmt::format("/boundary/{}/nodes", name);
+    const Rows entries = reader.define_rows(path, TypeClass::integer, 0, "entry", "n_set");
+    set.nodes = reader.indices(path, 0, entries, below(nodes.count, "n_nodes"));
+  }
+}
+
+void require_kind(const Reader& reader, CheckpointKind actual,
+                  std::initializer_list<CheckpointKind> expected, std::string_view expected_text) {
+  for (auto kind : expected) {
+    if (kind == actual) return;
+  }
+  throw Error("{}: is a {} checkpoint, expected kind {}", reader.label(), to_string(actual),
+              expected_text);
+}
+
+TransferSettings read_transfer(const Reader& reader) {
+  const hdf5::Group group = reader.file().open_group("transfer");
+  TransferSettings t;
+  t.transfer_time = group.read_double_attribute("transfer_time");
+  t.particles_per_element = group.read_string_attribute("particles_per_element");
+  t.stress_interpolation = group.read_string_attribute("stress_interpolation");
+  t.rbf_polynomial = group.read_string_attribute("rbf_polynomial");
+  t.rbf_shape = group.read_double_attribute("rbf_shape");
+  t.rbf_neighbours = group.read_int_attribute("rbf_neighbours");
+  if (!std::isfinite(t.transfer_time) || !std::isfinite(t.rbf_shape)) {
+    throw Error("{}: attributes transfer_time and rbf_shape must be finite", group.where());
+  }
+  return t;
+}
+
+}  // namespace
+
+// -----------------------------------------------------------------------------------------
+// Public interface
+
+void write_checkpoint(const fs::path& path, const FemCheckpoint& checkpoint) {
+  const std::string target = path.string();
+  if (checkpoint.header.kind != CheckpointKind::fem) {
+    throw Error("{}: cannot write: a fem checkpoint with header kind {}", target,
+                to_string(checkpoint.header.kind));
+  }
+  check_header(target, checkpoint.header);
+  write_atomically(path, [&](const fs::path& temporary) {
+    hdf5::File file = hdf5::File::create(temporary, target);
+    Writer writer(file, target);
+    write_fem(writer, checkpoint);
+    file.close();
+  });
+}
+
+void write_checkpoint(const fs::path& path, const ParticleCheckpoint& checkpoint) {
+  const std::string target = path.string();
+  if (checkpoint.header.kind == CheckpointKind::fem) {
+    throw Error("{}: cannot write: a particle checkpoint needs header kind particles or mpm",
+                target);
+  }
+  check_header(target, checkpoint.header);
+  write_atomically(path, [&](const fs::path& temporary) {
+    hdf5::File file = hdf5::File::create(temporary, target);
+    Writer writer(file, target);
+    write_particles(writer, checkpoint);
+    file.close();
+  });
+}
+
+CheckpointHeader read_checkpoint_header(const fs::path& path) {
+  const Reader reader(path);
+  return read_header(reader.file());
+}
+
+FemCheckpoint read_fem_checkpoint(const fs::path& path) {
+  const Reader reader(path);
+  FemCheckpoint c;
+  c.header = read_header(reader.file());
+  require_kind(reader, c.header.kind, {CheckpointKind::fem}, "fem");
+  c.materials = read_materials(reader);
+
+  // Row counts come from the defining datasets; every other dataset must match them.
+  const Rows nodes = reader.define_rows("/nodes/reference_coordinates", TypeClass::floating_point,
+                                        2, "node", "n_nodes");
+  c.mesh.nodes = reader.vectors<2>("/nodes/reference_coordinates", nodes);
+  c.coordinates = reader.vectors<2>("/nodes/coordinates", nodes);
+  c.displacement = reader.vectors<2>("/nodes/displacement", nodes);
+  c.velocity = reader.vectors<2>("/nodes/velocity", nodes);
+  c.acceleration = reader.vectors<2>("/nodes/acceleration", nodes);
+  c.pore_pressure = reader.doubles("/nodes/pore_pressure", 0, nodes);
+
+  // The element type: `integration` names the rule, `type` the shape it must agree with.
+  const hdf5::Dataset connectivity = reader.file().open_dataset("elements/connectivity");
+  c.mesh.element_type =
+      parse_element_type(connectivity.read_string_attribute("integration"),
+                         fmt::format("{}: attribute integration", connectivity.where()));
+  const std::string shape = connectivity.read_string_attribute("type");
+  if (parse_element_shape(shape, fmt::format("{}: attribute type", connectivity.where())) !=
+      c.mesh.shape()) {
+    throw Error("{}: attribute type is \"{}\", but integration \"{}\" is a {} rule",
+                connectivity.where(), shape, to_string(c.mesh.element_type),
+                to_string(c.mesh.shape()));
+  }
+  const auto nodes_per_element = static_cast<std::size_t>(c.mesh.nodes_per_element());
+  const Rows elements = reader.define_rows("/elements/connectivity", TypeClass::integer,
+                                           nodes_per_element, "element", "n_elements");
+  c.mesh.connectivity = reader.indices("/elements/connectivity", nodes_per_element, elements,
+                                       below(nodes.count, "n_nodes"));
+  c.mesh.material_id = reader.material_ids("/elements/material_id", elements, c.materials.size());
+  c.jacobian_ratio = reader.doubles("/elements/jacobian_ratio", 0, elements);
+  if (reader.file().contains("elements/scaled_jacobian")) {
+    c.scaled_jacobian = reader.doubles("/elements/scaled_jacobian", 0, elements);
+  }
+  c.volume_reference = reader.doubles("/elements/volume_reference", 0, elements);
+  c.volume = reader.doubles("/elements/volume", 0, elements);
+  if (reader.file().contains("elements/hourglass_force")) {
+    c.hourglass_force = reader.vectors<2>("/elements/hourglass_force", elements);
+  }
+
+  const Rows gauss =
+      reader.define_rows("/gauss_points/element", TypeClass::integer, 0, "Gauss point", "n_gp");
+  c.gauss_element =
+      reader.indices("/gauss_points/element", 0, gauss, below(elements.count, "n_elements"));
+  c.gauss_local_coordinates = reader.vectors<2>("/gauss_points/local_coordinates", gauss);
+  c.gauss_coordinates = reader.vectors<2>("/gauss_points/coordinates", gauss);
+  c.gauss_weight = reader.doubles("/gauss_points/weight", 0, gauss);
+  c.stress = reader.vectors<4>("/gauss_points/stress", gauss);
+  c.strain = reader.vectors<4>("/gauss_points/strain", gauss);
+  c.eps_q = reader.doubles("/gauss_points/eps_q", 0, gauss);
+  c.state = reader.state("/gauss_points/state", gauss);
+  c.surface_stress = reader.surface_stress("/gauss_points/state", gauss);
+
+  read_boundary(reader, c, nodes);
+  c.solver = read_solver(reader);
+  return c;
+}
+
+ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
+  const Reader reader(path);
+  ParticleCheckpoint c;
+  c.header = read_header(reader.file());
+  require_kind(reader, c.header.kind, {CheckpointKind::particles, CheckpointKind::mpm},
+               "particles or mpm");
+  c.materials = read_materials(reader);
+
+  const Rows particles =
+      reader.define_rows("/particles/coordinates", TypeClass::floating_point, 2, "particle", "n_p");
+  Particles& p = c.particles;
+  p.coordinates = reader.vectors<2>("/particles/coordinates", particles);
+  p.displacement = reader.vectors<2>("/particles/displacement", particles);
+  p.velocity = reader.vectors<2>("/particles/velocity", particles);
+  p.stress = reader.vectors<4>("/particles/stress", particles);
+  p.strain = reader.vectors<4>("/particles/strain", particles);
+  p.eps_q = reader.doubles("/particles/eps_q", 0, particles);
+  p.pore_pressure = reader.doubles("/particles/pore_pressure", 0, particles);
+  p.volume = reader.doubles("/particles/volume", 0, particles);
+  require_positive(reader.where("/particles/volume"), p.volume, particles, "volume");
+  p.mass = reader.doubles("/particles/mass", 0, particles);
+  require_positive(reader.where("/particles/mass"), p.mass, particles, "mass");
+  p.size = reader.vectors<2>("/particles/size", particles);
+  p.material_id = reader.material_ids("/particles/material_id", particles, c.materials.size());
+  p.element = reader.indices("/particles/element", 0, particles, source_element_range);
+  p.id = reader.indices("/particles/id", 0, particles, std::nullopt);
+  p.state = reader.state("/particles/state", particles);
+  p.surface_stress = reader.surface_stress("/particles/state", particles);
+  // Optional: absent (FLIP/PIC runs, fem2mpm) leaves it empty; an APIC run then starts
+  // its particles with C_p = 0. The B_p = C_p D_p that the first APIC version wrote as
+  // /particles/affine_velocity is not read (it needs the grid to convert): such a file
+  // restarts as one without affine velocities.
+  if (reader.file().contains("particles/affine_velocity_gradient")) {
+    p.affine_velocity = reader.vectors<4>("/particles/affine_velocity_gradient", particles);
+  }
+
+  // A particle file always records its transfer; an mpm checkpoint when it came from one.
+  if (c.header.kind == CheckpointKind::particles || reader.file().contains("transfer")) {
+    c.transfer = read_transfer(reader);
+  }
+  c.solver = read_solver(reader);
+  return c;
+}
+
+}  // namespace slide

@@ -1,0 +1,124 @@
+// The checkpoint schema: the only way the three programs exchange state.
+//
+// One module writes and reads it, one dataset per field. Every read validates: the file
+// attributes (schema, schema_version, kind), every required dataset's presence, type
+// and shape, finite values, and index ranges. A failure is an Error naming the file,
+// the dataset and what was expected. Every write goes to a temporary file in the target
+// folder and is renamed into place, so an existing checkpoint is never left truncated.
+// The full schema, dataset by dataset, is documented in common/io/checkpoint-schema.md.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "common/base/types.hpp"
+#include "common/geometry/mesh.hpp"
+#include "common/physics/constitutive.hpp"
+#include "common/physics/material.hpp"
+#include "common/physics/particles.hpp"
+
+namespace slide {
+
+inline constexpr const char* checkpoint_schema_name = "fem-mpm-checkpoint";
+/// Bumped whenever a name or meaning of the schema changes (CONTRACT.md).
+inline constexpr std::int64_t checkpoint_schema_version = 1;
+
+enum class CheckpointKind { fem, particles, mpm };
+std::string_view to_string(CheckpointKind kind);
+
+/// File attributes common to every kind.
+struct CheckpointHeader {
+  CheckpointKind kind = CheckpointKind::fem;
+  std::int64_t schema_version = checkpoint_schema_version;
+  std::string producer;   ///< program and version, e.g. "fem-solve 0.1.0"
+  double time = 0.0;      ///< s, on the clock of METHOD.md §2
+  std::int64_t step = 0;  ///< time steps taken so far
+  std::string case_name;
+  double pe0 = 0.0;  ///< PE_0, J/m: potential energy of the model at t = 0
+};
+
+/// Free-form solver settings a restart needs (attributes of the /solver group), e.g.
+/// "stage" = "failure", "time_step" = 1.2e-3.
+using SettingValue = std::variant<std::int64_t, double, std::string>;
+using SolverSettings = std::map<std::string, SettingValue>;
+
+/// Kind "fem": the FE model at one time.
+struct FemCheckpoint {
+  CheckpointHeader header;
+  Mesh mesh;  ///< reference coordinates, connectivity, material ids, boundary node sets
+  /// Condition applied to each node set in the stage that wrote the file
+  /// (same order as mesh.node_sets), and the base friction coefficient μ.
+  std::vector<BoundaryCondition> boundary_conditions;
+  double friction_coefficient = 0.0;
+
+  // Nodes (n_nodes each).
+  std::vector<Vec2> coordinates;  ///< current x = X + u
+  std::vector<Vec2> displacement;
+  std::vector<Vec2> velocity;
+  std::vector<Vec2> acceleration;
+  std::vector<double> pore_pressure;
+
+  // Elements (n_elements each).
+  std::vector<double> jacobian_ratio;  ///< |J_t|/|J_0| at the element centre
+  /// Minimum scaled corner Jacobian (scaled_jacobian in common/geometry/element.hpp); empty when
+  /// the file predates it (the dataset is optional).
+  std::vector<double> scaled_jacobian;
+  std::vector<double> volume_reference;  ///< V_0^e
+  std::vector<double> volume;            ///< V_t^e
+  /// Hourglass generalised forces of stabilised one-point quads (n_elements × 2); empty
+  /// when the element type has none or the kinematics recompute them from displacements.
+  std::vector<Vec2> hourglass_force;
+
+  // Gauss points (n_gp each), element by element in the order of the element's rule.
+  std::vector<Index> gauss_element;
+  std::vector<Vec2> gauss_local_coordinates;
+  std::vector<Vec2> gauss_coordinates;  ///< current x
+  std::vector<double> gauss_weight;     ///< reference quadrature weight
+  std::vector<Vec4> stress;
+  std::vector<Vec4> strain;
+  std::vector<double> eps_q;
+  std::vector<MaterialState> state;
+  /// Multi-yield surface stresses, `surfaces` per Gauss point (empty when no material
+  /// uses the model).
+  SurfaceStresses surface_stress;
+
+  MaterialTable materials;
+  SolverSettings solver;
+};
+
+/// Extra information a particle file (kind "particles") carries about its transfer.
+struct TransferSettings {
+  double transfer_time = 0.0;
+  std::string particles_per_element;  ///< e.g. "4x4", or "16" for triangles
+  std::string stress_interpolation;   ///< "rbf", "rbf-local" or "element"
+  std::string rbf_polynomial;         ///< "none" or "linear"
+  double rbf_shape = 0.0;             ///< multiquadric shape parameter c, m (0: unused)
+  std::int64_t rbf_neighbours = 0;    ///< k of rbf-local (0: unused)
+};
+
+/// Kinds "particles" (fem2mpm output) and "mpm" (mpm-solve checkpoints).
+struct ParticleCheckpoint {
+  CheckpointHeader header;
+  Particles particles;
+  MaterialTable materials;
+  TransferSettings transfer;  ///< kind "particles"; also kept in "mpm" files when known
+  SolverSettings solver;      ///< kind "mpm": grid and solver settings for a restart
+};
+
+/// Writes atomically (temporary file + rename). Throws Error on any failure; the target
+/// is then untouched.
+void write_checkpoint(const std::filesystem::path& path, const FemCheckpoint& checkpoint);
+void write_checkpoint(const std::filesystem::path& path, const ParticleCheckpoint& checkpoint);
+
+/// Reads and validates a kind "fem" file.
+FemCheckpoint read_fem_checkpoint(const std::filesystem::path& path);
+/// Reads and validates a kind "particles" or "mpm" file.
+ParticleCheckpoint read_particle_checkpoint(const std::filesystem::path& path);
+/// Reads and validates only the file attributes.
+CheckpointHeader read_checkpoint_header(const std::filesystem::path& path);
+
+}  // namespace slide

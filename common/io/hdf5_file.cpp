@@ -1,0 +1,523 @@
+#include "common/io/hdf5_file.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <type_traits>
+#include <utility>
+
+#include <hdf5.h>
+
+#include "common/base/error.hpp"
+
+namespace slide::hdf5 {
+
+// The header stores handles as std::int64_t and closers as int(*)(std::int64_t).
+static_assert(std::is_same_v<hid_t, std::int64_t>, "HDF5 >= 1.10 (64-bit hid_t) expected");
+static_assert(std::is_same_v<herr_t, int>);
+static_assert(std::is_same_v<hsize_t, std::uint64_t> || sizeof(hsize_t) == sizeof(std::uint64_t));
+
+namespace {
+
+// Switches off HDF5's printing of its error stack to stderr: every failure is reported
+// once, by us, as one line. Process-wide and idempotent, so calling it on every file
+// open is harmless.
+void silence_hdf5_errors() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+// The innermost description on HDF5's error stack (the most specific one, e.g. "file
+// signature not found"), on one line; the stack is cleared afterwards.
+std::string hdf5_detail() {
+  std::string detail;
+  auto take_innermost = [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
+    if (n == 0 && error->desc != nullptr) *static_cast<std::string*>(data) = error->desc;
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, take_innermost, &detail);
+  H5Eclear2(H5E_DEFAULT);
+  std::replace(detail.begin(), detail.end(), '\n', ' ');
+  return detail.empty() ? std::string("HDF5 error") : detail;
+}
+
+std::string c_string(std::string_view text) {
+  return std::string(text);
+}
+
+TypeClass type_class_of(hid_t type) {
+  switch (H5Tget_class(type)) {
+    case H5T_INTEGER:
+      return TypeClass::integer;
+    case H5T_FLOAT:
+      return TypeClass::floating_point;
+    case H5T_STRING:
+      return TypeClass::string;
+    default:
+      return TypeClass::other;
+  }
+}
+
+Handle checked(hid_t id, Handle::Closer closer, std::string_view where, std::string_view what) {
+  if (id < 0) throw Error("{}: {} ({})", where, what, hdf5_detail());
+  return Handle(id, closer);
+}
+
+void check(herr_t status, std::string_view where, std::string_view what) {
+  if (status < 0) throw Error("{}: {} ({})", where, what, hdf5_detail());
+}
+
+Handle scalar_space() {
+  return Handle(H5Screate(H5S_SCALAR), &H5Sclose);
+}
+
+Handle utf8_string_type() {
+  Handle type(H5Tcopy(H5T_C_S1), &H5Tclose);
+  H5Tset_size(type.id(), H5T_VARIABLE);
+  H5Tset_cset(type.id(), H5T_CSET_UTF8);
+  return type;
+}
+
+hssize_t point_count(hid_t space) {
+  return H5Sget_simple_extent_npoints(space);
+}
+
+}  // namespace
+
+std::string format_shape(const Shape& shape) {
+  if (shape.empty()) return "scalar";
+  std::string text;
+  for (std::size_t i = 0; i < shape.size(); ++i) {
+    if (i > 0) text += "×";
+    text += std::to_string(shape[i]);
+  }
+  return text;
+}
+
+std::string_view to_string(TypeClass type_class) {
+  switch (type_class) {
+    case TypeClass::integer:
+      return "integer";
+    case TypeClass::floating_point:
+      return "floating point";
+    case TypeClass::string:
+      return "string";
+    case TypeClass::other:
+      return "other";
+  }
+  return "other";
+}
+
+// ---------------------------------------------------------------------------------------
+// Handle
+
+Handle::Handle(Handle&& other) noexcept
+    : id_(std::exchange(other.id_, -1)), closer_(std::exchange(other.closer_, nullptr)) {}
+
+Handle& Handle::operator=(Handle&& other) noexcept {
+  if (this != &other) {
+    reset();
+    id_ = std::exchange(other.id_, -1);
+    closer_ = std::exchange(other.closer_, nullptr);
+  }
+  return *this;
+}
+
+bool Handle::reset() {
+  bool ok = true;
+  if (id_ >= 0 && closer_ != nullptr) ok = closer_(id_) >= 0;
+  id_ = -1;
+  closer_ = nullptr;
+  return ok;
+}
+
+// ---------------------------------------------------------------------------------------
+// Object: attributes
+
+std::string Object::where() const {
+  return path_ == "/" ? file_label_ : fmt::format("{}: {}", file_label_, path_);
+}
+
+std::string Object::child_path(std::string_view name) const {
+  return path_ == "/" ? fmt::format("/{}", name) : fmt::format("{}/{}", path_, name);
+}
+
+bool Object::has_attribute(std::string_view name) const {
+  const htri_t exists = H5Aexists(handle_.id(), c_string(name).c_str());
+  check(exists, where(), fmt::format("attribute {}: cannot query", name));
+  return exists > 0;
+}
+
+std::vector<std::string> Object::attribute_names() const {
+  std::vector<std::string> names;
+  auto collect = [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+    return 0;
+  };
+  check(H5Aiterate2(handle_.id(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names), where(),
+        "cannot list attributes");
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Handle Object::open_attribute(std::string_view name) const {
+  if (!has_attribute(name)) throw Error("{}: attribute {} missing", where(), name);
+  return checked(H5Aopen(handle_.id(), c_string(name).c_str(), H5P_DEFAULT), &H5Aclose, where(),
+                 fmt::format("attribute {}: cannot open", name));
+}
+
+TypeClass Object::attribute_type_class(std::string_view name) const {
+  const Handle attribute = open_attribute(name);
+  const Handle type(H5Aget_type(attribute.id()), &H5Tclose);
+  return type_class_of(type.id());
+}
+
+namespace {
+
+// Creates attribute `name` on `location`, replacing an existing one.
+Handle create_attribute(hid_t location, std::string_view name, hid_t type, hid_t space,
+                        std::string_view where) {
+  const std::string key(name);
+  if (H5Aexists(location, key.c_str()) > 0) {
+    check(H5Adelete(location, key.c_str()), where,
+          fmt::format("attribute {}: cannot replace", name));
+  }
+  return checked(H5Acreate2(location, key.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
+                 &H5Aclose, where, fmt::format("attribute {}: cannot create", name));
+}
+
+}  // namespace
+
+void Object::write_string_attribute(std::string_view name, std::string_view value) {
+  const Handle type = utf8_string_type();
+  const Handle space = scalar_space();
+  const Handle attribute = create_attribute(handle_.id(), name, type.id(), space.id(), where());
+  const std::string text(value);
+  const char* pointer = text.c_str();
+  check(H5Awrite(attribute.id(), type.id(), &pointer), where(),
+        fmt::format("attribute {}: cannot write", name));
+}
+
+void Object::write_int_attribute(std::string_view name, std::int64_t value) {
+  const Handle space = scalar_space();
+  const Handle attribute = create_attribute(handle_.id(), name, H5T_STD_I64LE, space.id(), where());
+  check(H5Awrite(attribute.id(), H5T_NATIVE_INT64, &value), where(),
+        fmt::format("attribute {}: cannot write", name));
+}
+
+void Object::write_double_attribute(std::string_view name, double value) {
+  const Handle space = scalar_space();
+  const Handle attribute =
+      create_attribute(handle_.id(), name, H5T_IEEE_F64LE, space.id(), where());
+  check(H5Awrite(attribute.id(), H5T_NATIVE_DOUBLE, &value), where(),
+        fmt::format("attribute {}: cannot write", name));
+}
+
+void Object::write_double_array_attribute(std::string_view name, std::span<const double> values) {
+  const hsize_t extent = values.size();
+  const Handle space(H5Screate_simple(1, &extent, nullptr), &H5Sclose);
+  const Handle attribute =
+      create_attribute(handle_.id(), name, H5T_IEEE_F64LE, space.id(), where());
+  if (values.empty()) return;
+  check(H5Awrite(attribute.id(), H5T_NATIVE_DOUBLE, values.data()), where(),
+        fmt::format("attribute {}: cannot write", name));
+}
+
+namespace {
+
+// Checks an attribute's type class (`accepted` lists the acceptable ones) and, when
+// `single` is set, that it holds exactly one value. Returns the attribute's file type.
+Handle checked_attribute_type(hid_t attribute, std::string_view where, std::string_view name,
+                              std::initializer_list<TypeClass> accepted, bool single,
+                              std::string_view expected) {
+  Handle type(H5Aget_type(attribute), &H5Tclose);
+  const TypeClass actual = type_class_of(type.id());
+  if (std::find(accepted.begin(), accepted.end(), actual) == accepted.end()) {
+    throw Error("{}: attribute {}: type class {}, expected {}", where, name, to_string(actual),
+                expected);
+  }
+  if (single) {
+    const Handle space(H5Aget_space(attribute), &H5Sclose);
+    const hssize_t count = point_count(space.id());
+    if (count != 1) {
+      throw Error("{}: attribute {}: {} values, expected a single value", where, name, count);
+    }
+  }
+  return type;
+}
+
+}  // namespace
+
+std::string Object::read_string_attribute(std::string_view name) const {
+  const Handle attribute = open_attribute(name);
+  const Handle file_type =
+      checked_attribute_type(attribute.id(), where(), name, {TypeClass::string}, true, "string");
+  const std::string what = fmt::format("attribute {}: cannot read", name);
+  if (H5Tis_variable_str(file_type.id()) > 0) {
+    const Handle memory_type = utf8_string_type();
+    H5Tset_cset(memory_type.id(), H5Tget_cset(file_type.id()));
+    char* pointer = nullptr;
+    check(H5Aread(attribute.id(), memory_type.id(), &pointer), where(), what);
+    std::string value = pointer != nullptr ? std::string(pointer) : std::string();
+    H5free_memory(pointer);
+    return value;
+  }
+  // Fixed-length (e.g. numpy bytes): read the padded buffer and cut at the padding.
+  const std::size_t size = H5Tget_size(file_type.id());
+  const Handle memory_type(H5Tcopy(file_type.id()), &H5Tclose);
+  H5Tset_strpad(memory_type.id(), H5T_STR_NULLTERM);
+  H5Tset_size(memory_type.id(), size + 1);
+  std::string buffer(size + 1, '\0');
+  check(H5Aread(attribute.id(), memory_type.id(), buffer.data()), where(), what);
+  buffer.resize(buffer.find('\0'));
+  if (H5Tget_strpad(file_type.id()) == H5T_STR_SPACEPAD) {
+    buffer.erase(buffer.find_last_not_of(' ') + 1);
+  }
+  return buffer;
+}
+
+std::int64_t Object::read_int_attribute(std::string_view name) const {
+  const Handle attribute = open_attribute(name);
+  checked_attribute_type(attribute.id(), where(), name, {TypeClass::integer}, true, "integer");
+  std::int64_t value = 0;
+  check(H5Aread(attribute.id(), H5T_NATIVE_INT64, &value), where(),
+        fmt::format("attribute {}: cannot read", name));
+  return value;
+}
+
+double Object::read_double_attribute(std::string_view name) const {
+  const Handle attribute = open_attribute(name);
+  checked_attribute_type(attribute.id(), where(), name,
+                         {TypeClass::floating_point, TypeClass::integer}, true, "a number");
+  double value = 0.0;
+  check(H5Aread(attribute.id(), H5T_NATIVE_DOUBLE, &value), where(),
+        fmt::format("attribute {}: cannot read", name));
+  return value;
+}
+
+std::vector<double> Object::read_double_array_attribute(std::string_view name) const {
+  const Handle attribute = open_attribute(name);
+  checked_attribute_type(attribute.id(), where(), name,
+                         {TypeClass::floating_point, TypeClass::integer}, false, "numbers");
+  const Handle space(H5Aget_space(attribute.id()), &H5Sclose);
+  std::vector<double> values(
+      static_cast<std::size_t>(std::max<hssize_t>(point_count(space.id()), 0)));
+  if (values.empty()) return values;
+  check(H5Aread(attribute.id(), H5T_NATIVE_DOUBLE, values.data()), where(),
+        fmt::format("attribute {}: cannot read", name));
+  return values;
+}
+
+// ---------------------------------------------------------------------------------------
+// Dataset
+
+Shape Dataset::shape() const {
+  const Handle space = checked(H5Dget_space(handle_.id()), &H5Sclose, where(), "cannot read shape");
+  const int rank = H5Sget_simple_extent_ndims(space.id());
+  check(rank, where(), "cannot read shape");
+  std::vector<hsize_t> extents(static_cast<std::size_t>(rank));
+  if (rank > 0) {
+    check(H5Sget_simple_extent_dims(space.id(), extents.data(), nullptr), where(),
+          "cannot read shape");
+  }
+  return Shape(extents.begin(), extents.end());
+}
+
+TypeClass Dataset::type_class() const {
+  const Handle type = checked(H5Dget_type(handle_.id()), &H5Tclose, where(), "cannot read type");
+  return type_class_of(type.id());
+}
+
+namespace {
+
+std::size_t element_count(const Shape& shape) {
+  std::size_t count = 1;
+  for (const auto extent : shape) count *= extent;
+  return count;
+}
+
+template <typename T>
+std::vector<T> read_all(hid_t dataset, hid_t memory_type, const Shape& shape,
+                        std::string_view where) {
+  std::vector<T> values(element_count(shape));
+  if (values.empty()) return values;
+  check(H5Dread(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), where,
+        "cannot read");
+  return values;
+}
+
+}  // namespace
+
+std::vector<double> Dataset::read_doubles() const {
+  return read_all<double>(handle_.id(), H5T_NATIVE_DOUBLE, shape(), where());
+}
+
+std::vector<std::int64_t> Dataset::read_int64() const {
+  return read_all<std::int64_t>(handle_.id(), H5T_NATIVE_INT64, shape(), where());
+}
+
+std::vector<std::int32_t> Dataset::read_int32() const {
+  const std::vector<std::int64_t> wide = read_int64();
+  std::vector<std::int32_t> values(wide.size());
+  for (std::size_t i = 0; i < wide.size(); ++i) {
+    if (wide[i] < std::numeric_limits<std::int32_t>::min() ||
+        wide[i] > std::numeric_limits<std::int32_t>::max()) {
+      throw Error("{}: value {} at index {} does not fit a 32-bit integer", where(), wide[i], i);
+    }
+    values[i] = static_cast<std::int32_t>(wide[i]);
+  }
+  return values;
+}
+
+// ---------------------------------------------------------------------------------------
+// Group
+
+bool Group::contains(std::string_view name) const {
+  // H5Lexists checks only the last component: walk the path one component at a time.
+  std::size_t end = 0;
+  while (end != std::string_view::npos) {
+    end = name.find('/', end + 1);
+    const std::string prefix(name.substr(0, end));
+    if (H5Lexists(handle_.id(), prefix.c_str(), H5P_DEFAULT) <= 0) {
+      H5Eclear2(H5E_DEFAULT);
+      return false;
+    }
+  }
+  return true;
+}
+
+std::vector<std::string> Group::member_names() const {
+  std::vector<std::string> names;
+  // Generic lambda: its conversion to the callback type fits H5L_info_t (1.10) and
+  // H5L_info2_t (1.12+) alike.
+  auto collect = [](hid_t, const char* name, const auto*, void* data) -> herr_t {
+    static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+    return 0;
+  };
+  check(H5Literate(handle_.id(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names), where(),
+        "cannot list members");
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+namespace {
+
+// Creation properties without modification times in the object headers: the same data
+// then gives the same file byte for byte, which the pipelines and tests rely on.
+Handle untimed_creation_properties(hid_t property_class) {
+  Handle properties(H5Pcreate(property_class), &H5Pclose);
+  H5Pset_obj_track_times(properties.id(), false);
+  return properties;
+}
+
+}  // namespace
+
+Group Group::create_group(std::string_view name) {
+  const std::string path = child_path(name);
+  const Handle properties = untimed_creation_properties(H5P_GROUP_CREATE);
+  Handle group = checked(
+      H5Gcreate2(handle_.id(), c_string(name).c_str(), H5P_DEFAULT, properties.id(), H5P_DEFAULT),
+      &H5Gclose, fmt::format("{}: {}", file_label_, path), "cannot create group");
+  return Group(std::move(group), file_label_, path);
+}
+
+namespace {
+
+// Opens the object `name` below `location` and checks that it is of `kind`.
+Handle open_object(hid_t location, std::string_view name, H5I_type_t kind, bool exists,
+                   std::string_view where, std::string_view noun) {
+  if (!exists) throw Error("{}: {} missing", where, noun);
+  Handle object = checked(H5Oopen(location, std::string(name).c_str(), H5P_DEFAULT), &H5Oclose,
+                          where, fmt::format("cannot open {}", noun));
+  if (H5Iget_type(object.id()) != kind) throw Error("{}: not a {}", where, noun);
+  return object;
+}
+
+}  // namespace
+
+Group Group::open_group(std::string_view name) const {
+  const std::string path = child_path(name);
+  Handle group = open_object(handle_.id(), name, H5I_GROUP, contains(name),
+                             fmt::format("{}: {}", file_label_, path), "group");
+  return Group(std::move(group), file_label_, path);
+}
+
+Dataset Group::open_dataset(std::string_view name) const {
+  const std::string path = child_path(name);
+  Handle dataset = open_object(handle_.id(), name, H5I_DATASET, contains(name),
+                               fmt::format("{}: {}", file_label_, path), "dataset");
+  return Dataset(std::move(dataset), file_label_, path);
+}
+
+Dataset Group::write_dataset(std::string_view name, std::span<const double> values,
+                             const Shape& shape) {
+  return write_dataset(name, values.data(), values.size(), shape, H5T_IEEE_F64LE,
+                       H5T_NATIVE_DOUBLE);
+}
+
+Dataset Group::write_dataset(std::string_view name, std::span<const std::int64_t> values,
+                             const Shape& shape) {
+  return write_dataset(name, values.data(), values.size(), shape, H5T_STD_I64LE, H5T_NATIVE_INT64);
+}
+
+Dataset Group::write_dataset(std::string_view name, std::span<const std::int32_t> values,
+                             const Shape& shape) {
+  return write_dataset(name, values.data(), values.size(), shape, H5T_STD_I32LE, H5T_NATIVE_INT32);
+}
+
+Dataset Group::write_dataset(std::string_view name, const void* values, std::size_t count,
+                             const Shape& shape, std::int64_t file_type, std::int64_t memory_type) {
+  const std::string path = child_path(name);
+  const std::string at = fmt::format("{}: {}", file_label_, path);
+  if (count != element_count(shape)) {
+    throw Error("{}: {} values do not fill shape {}", at, count, format_shape(shape));
+  }
+  const std::vector<hsize_t> extents(shape.begin(), shape.end());
+  const Handle space =
+      shape.empty()
+          ? scalar_space()
+          : Handle(H5Screate_simple(static_cast<int>(extents.size()), extents.data(), nullptr),
+                   &H5Sclose);
+  const Handle properties = untimed_creation_properties(H5P_DATASET_CREATE);
+  Handle dataset = checked(H5Dcreate2(handle_.id(), c_string(name).c_str(), file_type, space.id(),
+                                      H5P_DEFAULT, properties.id(), H5P_DEFAULT),
+                           &H5Dclose, at, "cannot create dataset");
+  if (count > 0) {
+    check(H5Dwrite(dataset.id(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), at,
+          "cannot write dataset");
+  }
+  return Dataset(std::move(dataset), file_label_, path);
+}
+
+// ---------------------------------------------------------------------------------------
+// File
+
+File File::create(const std::filesystem::path& path, std::string label) {
+  silence_hdf5_errors();
+  if (label.empty()) label = path.string();
+  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), &H5Fclose,
+                        label, "cannot create HDF5 file");
+  return File(std::move(file), std::move(label), "/");
+}
+
+File File::open(const std::filesystem::path& path) {
+  silence_hdf5_errors();
+  const std::string label = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw Error("{}: cannot open: no such file", label);
+  if (std::filesystem::is_directory(path, ec)) throw Error("{}: is a folder, not a file", label);
+  const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
+  if (is_hdf5 == 0) throw Error("{}: not an HDF5 file", label);
+  if (is_hdf5 < 0) throw Error("{}: cannot read ({})", label, hdf5_detail());
+  Handle file = checked(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), &H5Fclose, label,
+                        "cannot open as HDF5");
+  return File(std::move(file), label, "/");
+}
+
+void File::close() {
+  if (!handle_.valid()) return;
+  const herr_t flushed = H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL);
+  const bool closed = handle_.reset();
+  if (flushed < 0 || !closed)
+    throw Error("{}: cannot write the file ({})", file_label_, hdf5_detail());
+}
+
+}  // namespace slide::hdf5

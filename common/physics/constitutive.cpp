@@ -1,0 +1,486 @@
+// Linear elasticity and Mohr–Coulomb plasticity with a tension cut-off, plane strain,
+// tension positive (METHOD.md §2, §3; the equations and the return regions are written
+// out in common/physics/constitutive.md).
+//
+// The Mohr–Coulomb return works in principal stresses, after Clausen, Damkilde &
+// Andersen (Int. J. Numer. Meth. Engng 66 (2006) 1036–1059; Computers & Structures 85
+// (2007) 1795–1807): every yield function is linear in the sorted principal stresses
+// σ1 ≥ σ2 ≥ σ3, so for a set S of active planes the backward-Euler return
+//     σ = σ_trial − Σ_j Δλ_j D b_j  with  f_i(σ) = 0 (i ∈ S)
+// is one small linear system, Σ_j (a_iᵀ D b_j) Δλ_j = f_i(σ_trial), solved exactly.
+// The candidates are tried in order of increasing complexity (plane, edges, corners);
+// the first whose multipliers are ≥ 0 and whose stress is admissible under the true
+// (re-sorted) yield functions satisfies the Kuhn–Tucker conditions and is the return.
+// The Mohr–Coulomb apex, or the tension corners when the cut-off truncates it, close the
+// list and are always admissible. The principal directions (the in-plane eigenvectors
+// and the z axis) do not change in the return.
+#include "common/physics/constitutive.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "common/base/error.hpp"
+#include "common/physics/multi_yield.hpp"
+
+namespace slide {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+/// Relative tolerance of the yield test and of the candidate checks, against a stress
+/// scale of the trial (so a stress that a return left on the surface is admissible).
+constexpr double yield_tolerance = 1e-12;
+
+/// The Mohr–Coulomb constants one return needs, gathered once per call.
+struct MohrCoulomb {
+  double lambda;   // Lamé λ
+  double shear;    // G
+  double n_phi;    // Nφ
+  double n_psi;    // Nψ
+  double k;        // 2c sqrt(Nφ)
+  double tension;  // T ≤ apex
+  double apex;     // c cot φ = k/(Nφ − 1), +∞ for φ = 0
+
+  /// The cut-off is a separate surface only below the apex; at the apex the
+  /// Mohr–Coulomb pyramid already implies σ1 ≤ T.
+  bool has_tension_cutoff() const { return tension < apex; }
+  bool has_apex() const { return apex < infinity && !has_tension_cutoff(); }
+};
+
+/// σ1 and σ3 of a plane-strain stress: the in-plane eigenvalues c ± r of the 2×2 block
+/// and σzz.
+struct PrincipalBounds {
+  double sigma_1;
+  double sigma_3;
+};
+
+inline PrincipalBounds principal_bounds(const Vec4& s) {
+  const double centre = 0.5 * (s[0] + s[1]);
+  const double half_difference = 0.5 * (s[0] - s[1]);
+  const double radius = std::sqrt(half_difference * half_difference + s[3] * s[3]);
+  return {std::max(centre + radius, s[2]), std::min(centre - radius, s[2])};
+}
+
+/// Largest of the Mohr–Coulomb and tension functions for given σ1, σ3.
+inline double yield_value(double n_phi, double k, double tension, double sigma_1, double sigma_3) {
+  return std::max(n_phi * sigma_1 - sigma_3 - k, sigma_1 - tension);
+}
+
+/// Stress scale for the tolerances: the size of the terms that make up f.
+inline double stress_scale(double n_phi, double k, double sigma_1, double sigma_3) {
+  return (n_phi + 1.0) * std::max(std::abs(sigma_1), std::abs(sigma_3)) + k;
+}
+
+/// The elastic test: f ≤ 0 for both functions, within round-off of the surface (so that a
+/// stress a return left on it stays put). A square root and a few comparisons.
+inline bool admissible(const Vec4& stress, double n_phi, double k, double tension) {
+  const PrincipalBounds p = principal_bounds(stress);
+  return yield_value(n_phi, k, tension, p.sigma_1, p.sigma_3) <=
+         yield_tolerance * stress_scale(n_phi, k, p.sigma_1, p.sigma_3);
+}
+
+/// The full principal decomposition: the sorted values, where the in-plane major value,
+/// the in-plane minor value and σzz went among them, and the in-plane direction of the
+/// major axis as (cos 2θ, sin 2θ), which is all a rebuild with the same principal
+/// directions needs (no trigonometric function is evaluated).
+struct PrincipalStress {
+  Vec3 sigma;  // σ1 ≥ σ2 ≥ σ3
+  int major_slot;
+  int minor_slot;
+  int z_slot;
+  double cos_2theta;
+  double sin_2theta;
+};
+
+PrincipalStress principal_stress(const Vec4& s) {
+  const double centre = 0.5 * (s[0] + s[1]);
+  const double half_difference = 0.5 * (s[0] - s[1]);
+  const double radius = std::sqrt(half_difference * half_difference + s[3] * s[3]);
+  const double major = centre + radius;
+  const double minor = centre - radius;
+  PrincipalStress p{};
+  if (radius > 0.0) {
+    p.cos_2theta = half_difference / radius;
+    p.sin_2theta = s[3] / radius;
+  } else {  // in-plane isotropic: every direction is principal, take x
+    p.cos_2theta = 1.0;
+    p.sin_2theta = 0.0;
+  }
+  // major ≥ minor, so σzz goes above, between or below them.
+  p.z_slot = s[2] >= major ? 0 : (s[2] >= minor ? 1 : 2);
+  p.major_slot = p.z_slot == 0 ? 1 : 0;
+  p.minor_slot = p.z_slot == 2 ? 1 : 2;
+  p.sigma[p.major_slot] = major;
+  p.sigma[p.minor_slot] = minor;
+  p.sigma[p.z_slot] = s[2];
+  return p;
+}
+
+/// The stress vector with principal values `sigma` (in the slots of `p`) on the
+/// principal directions of `p`.
+Vec4 rebuild(const PrincipalStress& p, const Vec3& sigma) {
+  const double centre = 0.5 * (sigma[p.major_slot] + sigma[p.minor_slot]);
+  const double radius = 0.5 * (sigma[p.major_slot] - sigma[p.minor_slot]);
+  return {centre + radius * p.cos_2theta, centre - radius * p.cos_2theta, sigma[p.z_slot],
+          radius * p.sin_2theta};
+}
+
+/// The yield planes in sorted principal space, f = aᵀσ − level ≤ 0, with the gradient b
+/// of the plastic potential. The second and third Mohr–Coulomb planes are the main one
+/// with σ2 taking the place of σ1 or of σ3: they become active on the edges σ1 = σ2 and
+/// σ2 = σ3, where the sorted order would otherwise be violated.
+enum Surface : int { mc, mc_2_major, mc_2_minor, tension_1, tension_2, tension_3 };
+
+struct Plane {
+  Vec3 normal;  // a = ∂f/∂σ
+  Vec3 flow;    // b = ∂g/∂σ
+  double level;
+};
+
+using Planes = std::array<Plane, 6>;
+
+Planes yield_planes(const MohrCoulomb& m) {
+  const double t = m.tension;
+  return {{
+      {{m.n_phi, 0.0, -1.0}, {m.n_psi, 0.0, -1.0}, m.k},
+      {{0.0, m.n_phi, -1.0}, {0.0, m.n_psi, -1.0}, m.k},
+      {{m.n_phi, -1.0, 0.0}, {m.n_psi, -1.0, 0.0}, m.k},
+      {{1.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, t},
+      {{0.0, 1.0, 0.0}, {0.0, 1.0, 0.0}, t},
+      {{0.0, 0.0, 1.0}, {0.0, 0.0, 1.0}, t},
+  }};
+}
+
+/// One candidate return: the stress, the plastic strain (principal), and how well it
+/// meets the Kuhn–Tucker conditions.
+struct Candidate {
+  Vec3 sigma;
+  Vec3 plastic_strain;
+  double smallest_multiplier;  // min_j Δλ_j / Σ|Δλ_j|
+  double violation;            // max of the true yield functions at sigma, Pa
+};
+
+/// True yield functions at principal values in any order (re-sorted).
+double violation_of(const MohrCoulomb& m, const Vec3& sigma) {
+  return yield_value(m.n_phi, m.k, m.tension, sigma.maxCoeff(), sigma.minCoeff());
+}
+
+/// Solves the return onto the intersection of the planes in `set`: the exact
+/// backward-Euler step, since every function is linear in the principal stresses.
+template <std::size_t Count>
+Candidate return_to(const MohrCoulomb& m, const Planes& planes,
+                    const std::array<Surface, Count>& set, const Vec3& trial) {
+  constexpr int Size = static_cast<int>(Count);
+  using Matrix = Eigen::Matrix<double, Size, Size>;
+  using Vector = Eigen::Matrix<double, Size, 1>;
+  std::array<Vec3, Count> stiffness_flow;  // D b_j, D = λ 11ᵀ + 2G I
+  Matrix a_d_b;
+  Vector residual;
+  for (int j = 0; j < Size; ++j) {
+    const Vec3& b = planes[set[j]].flow;
+    stiffness_flow[j] = (m.lambda * b.sum()) * Vec3::Ones() + (2.0 * m.shear) * b;
+  }
+  for (int i = 0; i < Size; ++i) {
+    const Plane& plane = planes[set[i]];
+    residual[i] = plane.normal.dot(trial) - plane.level;
+    for (int j = 0; j < Size; ++j) a_d_b(i, j) = plane.normal.dot(stiffness_flow[j]);
+  }
+  const Vector multiplier = a_d_b.inverse() * residual;  // closed form for Size ≤ 3
+  Candidate c{trial, Vec3::Zero(), 0.0, 0.0};
+  for (int j = 0; j < Size; ++j) {
+    c.sigma -= multiplier[j] * stiffness_flow[j];
+    c.plastic_strain += multiplier[j] * planes[set[j]].flow;
+  }
+  const double total = multiplier.cwiseAbs().sum();
+  c.smallest_multiplier = total > 0.0 ? multiplier.minCoeff() / total : 0.0;
+  c.violation = violation_of(m, c.sigma);
+  return c;
+}
+
+/// The return to the Mohr–Coulomb apex σ1 = σ2 = σ3 = c cot φ. Its plastic strain is
+/// D⁻¹(σ_trial − σ_apex); it is admissible whatever the trial.
+Candidate return_to_apex(const MohrCoulomb& m, const Vec3& trial) {
+  const Vec3 sigma = Vec3::Constant(m.apex);
+  const Vec3 difference = trial - sigma;
+  const double bulk_3 = 3.0 * m.lambda + 2.0 * m.shear;  // 3K
+  const Vec3 plastic =
+      (difference - (m.lambda / bulk_3 * difference.sum()) * Vec3::Ones()) / (2.0 * m.shear);
+  return {sigma, plastic, 1.0, 0.0};
+}
+
+/// Backward-Euler return of a trial stress outside the surface (principal values
+/// sorted). Tries the candidates in order of increasing complexity and takes the first
+/// that satisfies the Kuhn–Tucker conditions (multipliers ≥ 0, admissible). Should
+/// round-off reject every one (a trial on a region boundary), it takes the admissible
+/// candidate that comes closest to them; the corners are always admissible.
+Candidate return_map(const MohrCoulomb& m, const Vec3& trial) {
+  const Planes planes = yield_planes(m);
+  const double tolerance = yield_tolerance * stress_scale(m.n_phi, m.k, trial[0], trial[2]);
+  Candidate result{trial, Vec3::Zero(), -infinity, infinity};  // the closest so far
+  auto closer = [tolerance](const Candidate& c, const Candidate& than) {
+    const bool admissible = c.violation <= tolerance;
+    if (admissible != (than.violation <= tolerance)) return admissible;
+    return admissible ? c.smallest_multiplier > than.smallest_multiplier
+                      : c.violation < than.violation;
+  };
+  auto solves = [&](const auto& set) {
+    const Candidate c = return_to(m, planes, set, trial);
+    const bool kuhn_tucker = c.violation <= tolerance && c.smallest_multiplier >= -yield_tolerance;
+    if (kuhn_tucker || closer(c, result)) result = c;
+    return kuhn_tucker;
+  };
+  const bool cutoff = m.has_tension_cutoff();
+  const bool found =
+      solves(std::array{mc}) ||                                     // main plane
+      (cutoff && solves(std::array{tension_1})) ||                  // tension plane
+      solves(std::array{mc, mc_2_minor}) ||                         // edge σ2 = σ3
+      solves(std::array{mc, mc_2_major}) ||                         // edge σ1 = σ2
+      (cutoff && (solves(std::array{mc, tension_1}) ||              // edge f = 0, σ1 = T
+                  solves(std::array{tension_1, tension_2}) ||       // edge σ1 = σ2 = T
+                  solves(std::array{mc, mc_2_minor, tension_1}) ||  // corner (T, σ, σ)
+                  // corner (T, T, σ): four planes meet there, so the cone of their flow
+                  // directions is the union of the cones of its four 3-subsets
+                  solves(std::array{mc, mc_2_major, tension_1}) ||
+                  solves(std::array{mc, tension_1, tension_2}) ||
+                  solves(std::array{mc_2_major, tension_1, tension_2}) ||
+                  solves(std::array{mc, mc_2_major, tension_2}) ||
+                  solves(std::array{tension_1, tension_2, tension_3})));  // corner (T, T, T)
+  if (!found && m.has_apex()) return return_to_apex(m, trial);
+  return result;
+}
+
+/// The Mohr–Coulomb apex c cot φ in the form that makes f vanish there exactly,
+/// 2c sqrt(Nφ)/(Nφ − 1); +∞ for φ = 0 (Tresca has no apex).
+double apex_stress(double n_phi, double k) {
+  return n_phi > 1.0 ? k / (n_phi - 1.0) : infinity;
+}
+
+/// Returns an inadmissible stress to the surface and advances the state. Kept out of
+/// line so that the elastic path stays small enough to inline into the update loops.
+[[gnu::noinline]] void return_to_surface(const MohrCoulomb& m, Vec4& stress, MaterialState& state) {
+  const PrincipalStress principal = principal_stress(stress);
+  const Candidate c = return_map(m, principal.sigma);
+  stress = rebuild(principal, c.sigma);
+  // Principal directions are kept, so the principal components of Δεᵖ are those of the
+  // tensor: tr Δεᵖ, and Δeᵖ:Δeᵖ summed over the three principal values.
+  const double volumetric = c.plastic_strain.sum();
+  const Vec3 deviatoric = c.plastic_strain - (volumetric / 3.0) * Vec3::Ones();
+  state.plastic_volumetric_strain += volumetric;
+  state.plastic_shear_strain += std::sqrt(2.0 / 3.0 * deviatoric.squaredNorm());
+}
+
+}  // namespace
+
+ConstitutiveModel ConstitutiveModel::elastic(const Material& material) {
+  ConstitutiveModel model;
+  model.model_ = MaterialModel::linear_elastic;
+  model.lambda_ = material.lame_lambda();
+  model.shear_ = material.shear_modulus();
+  return model;
+}
+
+ConstitutiveModel ConstitutiveModel::from(const Material& material, Phase phase) {
+  ConstitutiveModel model = elastic(material);
+  constexpr double degree = std::numbers::pi / 180.0;
+  const double sin_phi = std::sin(material.friction_angle * degree);
+  switch (material.model_of(phase)) {
+    case MaterialModel::linear_elastic:
+      return model;
+    case MaterialModel::pressure_independent_multi_yield:
+      // OpenSees's calibration to Mohr–Coulomb (multi_yield.hpp): the failure surface
+      // q_f = M (p′₀ + p_r), p_r = 3c/(√2 M), i.e. M p′₀ + 3c/√2; q_f = 2c for φ = 0.
+      model.model_ = MaterialModel::pressure_independent_multi_yield;
+      model.surfaces_ = material.yield_surfaces;
+      model.peak_shear_strain_ = material.peak_shear_strain;
+      model.strength_slope_ = 6.0 * sin_phi / (3.0 - sin_phi);
+      model.strength_intercept_ =
+          sin_phi > 0.0 ? 3.0 * material.cohesion / std::numbers::sqrt2 : 2.0 * material.cohesion;
+      return model;
+    case MaterialModel::mohr_coulomb:
+      break;
+  }
+  const double sin_psi = std::sin(material.dilation_angle * degree);
+  model.model_ = MaterialModel::mohr_coulomb;
+  model.n_phi_ = (1.0 + sin_phi) / (1.0 - sin_phi);
+  model.n_psi_ = (1.0 + sin_psi) / (1.0 - sin_psi);
+  model.two_c_sqrt_n_phi_ = 2.0 * material.cohesion * std::sqrt(model.n_phi_);
+  // T = min(tension_cutoff, apex), taken literally: 0 is a no-tension material, and a
+  // value at or above the apex (the case reader's default c cot φ, or +∞) leaves the
+  // pyramid alone. The apex is computed from the same constants as f, so the pyramid's
+  // tip and T coincide exactly; a cut-off within round-off of it is snapped to it.
+  const double apex = apex_stress(model.n_phi_, model.two_c_sqrt_n_phi_);
+  model.tension_cutoff_ =
+      material.tension_cutoff >= apex * (1.0 - 1e-12) ? apex : material.tension_cutoff;
+  return model;
+}
+
+Vec4 ConstitutiveModel::elastic_stress_increment(const Vec4& strain_increment) const {
+  const double volumetric =
+      lambda_ * (strain_increment[0] + strain_increment[1] + strain_increment[2]);
+  const double two_g = 2.0 * shear_;
+  return {volumetric + two_g * strain_increment[0], volumetric + two_g * strain_increment[1],
+          volumetric + two_g * strain_increment[2], shear_ * strain_increment[3]};
+}
+
+double ConstitutiveModel::frozen_peak_strength(const Vec4& stress) const {
+  return strength_slope_ * std::max(mean_stress(stress), 0.0) + strength_intercept_;
+}
+
+bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
+                               std::span<Vec4> surfaces) const {
+  if (model_ == MaterialModel::pressure_independent_multi_yield) {
+    const auto c =
+        multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+    return multi_yield::update(c, lambda_ + 2.0 / 3.0 * shear_, shear_, stress, state,
+                               strain_increment,
+                               surfaces.first(static_cast<std::size_t>(surfaces_)));
+  }
+  stress += elastic_stress_increment(strain_increment);
+  if (model_ == MaterialModel::linear_elastic) return false;
+  if (admissible(stress, n_phi_, two_c_sqrt_n_phi_, tension_cutoff_)) return false;
+  const double apex = apex_stress(n_phi_, two_c_sqrt_n_phi_);
+  const MohrCoulomb m{lambda_, shear_, n_phi_, n_psi_, two_c_sqrt_n_phi_, tension_cutoff_, apex};
+  return_to_surface(m, stress, state);
+  return true;
+}
+
+bool ConstitutiveModel::start(Vec4& stress, MaterialState& state, std::span<Vec4> surfaces) const {
+  switch (model_) {
+    case MaterialModel::linear_elastic:
+      return false;
+    case MaterialModel::mohr_coulomb:
+      return update(stress, state, Vec4::Zero());
+    case MaterialModel::pressure_independent_multi_yield:
+      break;
+  }
+  const auto own = surfaces.first(static_cast<std::size_t>(surfaces_));
+  if (state.peak_strength >= 0.0) {
+    const auto c =
+        multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+    return multi_yield::reconcile(c, stress, own);
+  }
+  state.peak_strength = frozen_peak_strength(stress);
+  const auto c =
+      multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+  return multi_yield::load_monotonically(c, stress, own);
+}
+
+double ConstitutiveModel::yield_function(const Vec4& stress, const MaterialState& state) const {
+  if (model_ == MaterialModel::linear_elastic) return -infinity;
+  if (model_ == MaterialModel::pressure_independent_multi_yield) {
+    return von_mises_stress(stress) - state.peak_strength;
+  }
+  const PrincipalBounds bounds = principal_bounds(stress);
+  return yield_value(n_phi_, two_c_sqrt_n_phi_, tension_cutoff_, bounds.sigma_1, bounds.sigma_3);
+}
+
+Eigen::Matrix3d plane_strain_elasticity(const Material& material) {
+  const double lambda = material.lame_lambda();
+  const double g = material.shear_modulus();
+  Eigen::Matrix3d c;
+  c << lambda + 2.0 * g, lambda, 0.0,  //
+      lambda, lambda + 2.0 * g, 0.0,   //
+      0.0, 0.0, g;
+  return c;
+}
+
+double elastic_energy_density(const Material& material, const Vec4& s) {
+  const double trace = s[0] + s[1] + s[2];
+  const double contracted = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3];
+  return ((1.0 + material.poisson_ratio) * contracted - material.poisson_ratio * trace * trace) /
+         (2.0 * material.youngs_modulus);
+}
+
+void rotate_jaumann(Vec4& stress, double spin_increment) {
+  const double sxx = stress[0];
+  const double syy = stress[1];
+  const double sxy = stress[3];
+  stress[0] = sxx + 2.0 * spin_increment * sxy;
+  stress[1] = syy - 2.0 * spin_increment * sxy;
+  stress[3] = sxy + spin_increment * (syy - sxx);
+}
+
+bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
+                   bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
+                   Vec4& strain) {
+  const Vec4& l = velocity_gradient;
+  const Vec4 increment(dt * l[0], dt * l[3], 0.0, dt * (l[1] + l[2]));
+  if (objective) {
+    const double spin = 0.5 * dt * (l[1] - l[2]);
+    rotate_jaumann(stress, spin);
+    for (Vec4& s : surfaces) rotate_jaumann(s, spin);
+  }
+  const bool yielded = model.update(stress, state, increment, surfaces);
+  strain += increment;
+  return yielded;
+}
+
+std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stress,
+                            std::span<MaterialState> state, std::span<const Vec4> strain_increment,
+                            std::span<std::uint8_t> yielded, std::span<Vec4> surfaces) {
+  const std::size_t n = stress.size();
+  const auto per_point = static_cast<std::size_t>(model.surfaces());
+  if (state.size() != n || strain_increment.size() != n ||
+      (!yielded.empty() && yielded.size() != n) || surfaces.size() != n * per_point) {
+    throw Error(
+        "update_stresses: {} stresses, {} states, {} strain increments, {} flags, {} surface "
+        "stresses ({} per point)",
+        n, state.size(), strain_increment.size(), yielded.size(), surfaces.size(), per_point);
+  }
+  std::size_t count = 0;
+  switch (model.model()) {
+    case MaterialModel::linear_elastic:
+      for (std::size_t i = 0; i < n; ++i) {
+        stress[i] += model.elastic_stress_increment(strain_increment[i]);
+      }
+      std::fill(yielded.begin(), yielded.end(), std::uint8_t{0});
+      break;
+    case MaterialModel::mohr_coulomb:
+    case MaterialModel::pressure_independent_multi_yield:
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto own =
+            per_point > 0 ? surfaces.subspan(i * per_point, per_point) : std::span<Vec4>{};
+        const bool yield = model.update(stress[i], state[i], strain_increment[i], own);
+        if (!yielded.empty()) yielded[i] = yield ? 1 : 0;
+        count += yield ? 1 : 0;
+      }
+      break;
+  }
+  return count;
+}
+
+std::size_t surfaces_needed(const MaterialTable& materials, Phase phase) {
+  std::size_t n = 0;
+  for (const Material& m : materials) {
+    if (m.model_of(phase) == MaterialModel::pressure_independent_multi_yield) {
+      n = std::max(n, static_cast<std::size_t>(m.yield_surfaces));
+    }
+  }
+  return n;
+}
+
+double von_mises_stress(const Vec4& stress) {
+  const double p = mean_stress(stress);
+  const double sxx = stress[0] + p;
+  const double syy = stress[1] + p;
+  const double szz = stress[2] + p;
+  const double s_s = sxx * sxx + syy * syy + szz * szz + 2.0 * stress[3] * stress[3];
+  return std::sqrt(1.5 * s_s);
+}
+
+double deviatoric_strain(const Vec4& strain) {
+  const double mean = (strain[0] + strain[1] + strain[2]) / 3.0;
+  const double exx = strain[0] - mean;
+  const double eyy = strain[1] - mean;
+  const double ezz = strain[2] - mean;
+  const double exy = 0.5 * strain[3];
+  const double e_e = exx * exx + eyy * eyy + ezz * ezz + 2.0 * exy * exy;
+  return std::sqrt(2.0 / 3.0 * e_e);
+}
+
+}  // namespace slide

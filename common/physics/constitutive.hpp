@@ -1,0 +1,163 @@
+// The constitutive library shared by FE Gauss points and material points.
+//
+// A model maps (stress, state, strain increment) to (stress, state). It knows nothing
+// about elements or particles, which is what lets the MPM phase continue exactly the
+// model the FE phase used. Plane strain: the strain increment has Δεzz = 0, but the
+// model works on the full stress set [σxx, σyy, σzz, σxy] so σzz takes part in yield.
+//
+// Mohr–Coulomb (tension positive, principal stresses σ1 ≥ σ2 ≥ σ3):
+//   f = Nφ σ1 − σ3 − 2c sqrt(Nφ) ≤ 0,  Nφ = (1 + sin φ)/(1 − sin φ)
+//   plastic potential g = Nψ σ1 − σ3 (non-associated for ψ < φ)
+//   tension cut-off σ1 ≤ T
+// The return map works in principal stresses (the in-plane eigenvectors and the z axis
+// are kept) and returns to the plane, to either edge (σ1 = σ2 or σ2 = σ3), to the
+// tension cut-off and its edges, or to the apex.
+//
+// Pressure-independent multi-yield (common/physics/multi_yield.hpp): von Mises surfaces whose
+// peak strength is frozen at the switch from the point's confinement; the deviatoric
+// stress each surface carries is per-point state passed as a span (`surfaces`), empty
+// for the other models.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/base/types.hpp"
+#include "common/physics/material.hpp"
+
+namespace slide {
+
+/// Algorithmic state carried per point (Gauss point or material point).
+struct MaterialState {
+  /// Accumulated deviatoric plastic strain, Σ sqrt(2/3 Δe^p : Δe^p) (–).
+  double plastic_shear_strain = 0.0;
+  /// Accumulated volumetric plastic strain, Σ tr Δε^p (–), dilation positive.
+  double plastic_volumetric_strain = 0.0;
+  /// Pressure-independent multi-yield: the peak strength q_f (von Mises equivalent
+  /// stress, Pa) frozen at the switch to the model; negative until then.
+  double peak_strength = -1.0;
+};
+
+/// The surface state of a set of points: `per_point` deviatoric stresses
+/// [sxx, syy, szz, sxy] per point, point-major (per_point = 0: no point needs any).
+struct SurfaceStresses {
+  std::size_t per_point = 0;
+  std::vector<Vec4> values;
+
+  /// The surfaces of point i (empty when per_point = 0).
+  std::span<Vec4> of(std::size_t i) {
+    return per_point == 0 ? std::span<Vec4>{}
+                          : std::span<Vec4>(values).subspan(i * per_point, per_point);
+  }
+  std::span<const Vec4> of(std::size_t i) const {
+    return per_point == 0 ? std::span<const Vec4>{}
+                          : std::span<const Vec4>(values).subspan(i * per_point, per_point);
+  }
+  std::size_t points() const { return per_point == 0 ? 0 : values.size() / per_point; }
+  void resize(std::size_t points) { values.resize(points * per_point, Vec4::Zero()); }
+};
+
+/// The largest number of surfaces any model of `materials` needs in `phase`.
+std::size_t surfaces_needed(const MaterialTable& materials, Phase phase);
+
+/// A model with its constants precomputed: a small value type that kernels copy.
+class ConstitutiveModel {
+ public:
+  /// Linear elastic with the material's E and ν (the FE geostatic stage).
+  static ConstitutiveModel elastic(const Material& material);
+  /// The material's own model of one phase (FE failure stage or MPM phase).
+  static ConstitutiveModel from(const Material& material, Phase phase = Phase::fem);
+
+  MaterialModel model() const { return model_; }
+  double shear_modulus() const { return shear_; }
+  double lame_lambda() const { return lambda_; }
+  /// Per-point surface state the model needs (deviatoric stresses, one per yield
+  /// surface): the multi-yield model's number of surfaces, 0 for the others.
+  int surfaces() const { return surfaces_; }
+  /// Multi-yield: the peak strength q_f = M p′₀ + q₀ frozen from the mean effective
+  /// stress p′₀ = max(p, 0) at the switch (common/physics/multi_yield.hpp).
+  double frozen_peak_strength(const Vec4& stress) const;
+
+  /// Elastic stress increment D·Δε for plane strain (Δεzz = strain_increment[2]).
+  Vec4 elastic_stress_increment(const Vec4& strain_increment) const;
+
+  /// Advances one point by one strain increment: elastic predictor, then the return
+  /// map (Mohr–Coulomb), or the update of every yield surface (multi-yield, whose
+  /// `surfaces` span holds surfaces() entries). Returns true when the point yielded:
+  /// a plastic correction (Mohr–Coulomb), the peak strength reached (multi-yield).
+  bool update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
+              std::span<Vec4> surfaces = {}) const;
+
+  /// The switch to this model from the elastic geostatic state, from the initial K0
+  /// stresses of pure MPM or from the other phase's model (METHOD.md §3). Mohr–Coulomb
+  /// returns an inadmissible stress to its surface (an update with a zero increment);
+  /// multi-yield freezes the peak strength from the point's confinement (unless the
+  /// state already holds one) and sets its surfaces as after a monotonic loading to the
+  /// current stress. Returns true when the stress had to be brought onto the surface.
+  bool start(Vec4& stress, MaterialState& state, std::span<Vec4> surfaces = {}) const;
+
+  /// Largest of the yield functions (Mohr–Coulomb and tension cut-off; multi-yield:
+  /// q − q_f of the state's frozen strength), in Pa. ≤ 0 is admissible; always −∞ for
+  /// linear elastic.
+  double yield_function(const Vec4& stress, const MaterialState& state = {}) const;
+
+ private:
+  MaterialModel model_ = MaterialModel::linear_elastic;
+  double lambda_ = 0.0;          // Lamé λ
+  double shear_ = 0.0;           // G
+  double n_phi_ = 1.0;           // Nφ
+  double n_psi_ = 1.0;           // Nψ
+  double two_c_sqrt_n_phi_ = 0;  // 2c sqrt(Nφ)
+  double tension_cutoff_ = 0.0;  // T (already limited to the apex)
+  // Multi-yield: q_f = strength_slope_ · p′₀ + strength_intercept_, the backbone's γ_peak.
+  int surfaces_ = 0;
+  double strength_slope_ = 0.0;
+  double strength_intercept_ = 0.0;
+  double peak_shear_strain_ = 0.0;
+};
+
+/// The plane-strain elasticity matrix on [εxx, εyy, γxy]: [[λ+2G, λ, 0], [λ, λ+2G, 0],
+/// [0, 0, G]] (FE stiffness matrices; ConstitutiveModel applies the same λ and G to the
+/// full stress vector).
+Eigen::Matrix3d plane_strain_elasticity(const Material& material);
+
+/// The stored elastic energy density ½ σ:C⁻¹:σ of an isotropic material on the full
+/// stress [σxx, σyy, σzz, σxy] (σzz counts): ((1 + ν) σ:σ − ν (tr σ)²)/(2E), J/m³. Both
+/// solvers' energies (the instability guard, the transfer's report).
+double elastic_energy_density(const Material& material, const Vec4& stress);
+
+/// Objective (Jaumann) rotation of the stress by the spin increment
+/// ω = ½ (∂v_x/∂y − ∂v_y/∂x) Δt, applied before `update` in updated Lagrangian FE and
+/// in MPM: Δσxx = 2ωσxy, Δσyy = −2ωσxy, Δσxy = ω(σyy − σxx).
+void rotate_jaumann(Vec4& stress, double spin_increment);
+
+/// Advances one point, an FE Gauss point or a material point, over a step Δt from its
+/// velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y] (plane strain): the strain
+/// increment Δε = Δt sym(l) as [Δεxx, Δεyy, 0, Δγxy]; when `objective` (updated
+/// Lagrangian FE, MPM) the Jaumann rotation of the stress and of the multi-yield surfaces
+/// by ω = ½ Δt (∂vx/∂y − ∂vy/∂x); the constitutive update; Δε added to `strain`. The one
+/// point update of both solvers. Returns true when the point yielded.
+bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
+                   bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
+                   Vec4& strain);
+
+/// Updates a range of points that share one model; `yielded[i]` (optional, may be
+/// empty) receives 1 where point i yielded; `surfaces` holds model.surfaces() entries
+/// per point (empty for the models without surface state). Returns the number of
+/// points that yielded.
+std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stress,
+                            std::span<MaterialState> state, std::span<const Vec4> strain_increment,
+                            std::span<std::uint8_t> yielded = {}, std::span<Vec4> surfaces = {});
+
+/// Mean stress p = −(σxx+σyy+σzz)/3 (compression positive).
+inline double mean_stress(const Vec4& stress) {
+  return -(stress[0] + stress[1] + stress[2]) / 3.0;
+}
+/// Von Mises equivalent stress q = sqrt(3/2 s:s) = sqrt(3 J2), a scalar invariant of the
+/// deviator s (not the deviator itself); q = |σ| in uniaxial stress.
+double von_mises_stress(const Vec4& stress);
+/// Deviatoric strain invariant εq = sqrt(2/3 e:e) of a strain vector with γxy = 2εxy.
+double deviatoric_strain(const Vec4& strain);
+
+}  // namespace slide

@@ -1,0 +1,81 @@
+// Material parameters as the user gives them (case file) and as checkpoints store them
+// (`/materials/<id>/` attributes). Angles are in degrees here, as users write them; the
+// constitutive kernels precompute their trigonometry once (constitutive.hpp).
+#pragma once
+
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace slide {
+
+/// A handful of models: an enum and a switch, no factory (common/physics/constitutive.md).
+enum class MaterialModel { linear_elastic, mohr_coulomb, pressure_independent_multi_yield };
+
+std::string_view to_string(MaterialModel model);
+/// Parses "linear-elastic", "mohr-coulomb" or "pressure-independent-multi-yield"; throws
+/// Error naming `where` otherwise.
+MaterialModel parse_material_model(std::string_view text, std::string_view where);
+/// True for the models that read φ and c (every model but linear elasticity).
+bool has_strength(MaterialModel model);
+
+/// The two phases that may run different models of one material (METHOD.md §3).
+enum class Phase { fem, mpm };
+
+/// Largest number of yield surfaces of the multi-yield model (OpenSees allows 40 too).
+inline constexpr int max_yield_surfaces = 40;
+
+struct Material {
+  std::string name;
+  /// Model of the FE failure stage, and of the MPM phase unless `mpm_model` names
+  /// another. The FE geostatic stage always uses the linear elastic model with the same
+  /// elastic constants (METHOD.md §3).
+  MaterialModel model = MaterialModel::mohr_coulomb;
+  /// Model of the MPM phase when it differs from the FE one (the reference workflow:
+  /// pressure-independent multi-yield in FE, Mohr–Coulomb in MPM).
+  std::optional<MaterialModel> mpm_model;
+  double density = 0.0;         ///< ρ, kg/m³
+  double youngs_modulus = 0.0;  ///< E, Pa
+  double poisson_ratio = 0.0;   ///< ν, –
+  double friction_angle = 0.0;  ///< φ, degrees
+  double cohesion = 0.0;        ///< c, Pa
+  double dilation_angle = 0.0;  ///< ψ, degrees
+  /// Largest admissible principal stress T (Pa, tension positive), taken literally:
+  /// T = 0 is a no-tension material; a value at or above the Mohr–Coulomb apex c·cot φ
+  /// (the default, +∞) leaves only the apex.
+  double tension_cutoff = std::numeric_limits<double>::infinity();
+  /// Pressure-independent multi-yield only: the octahedral shear strain γ_peak at which
+  /// the hyperbolic backbone reaches the peak strength, and the number of yield surfaces
+  /// (both OpenSees's defaults).
+  double peak_shear_strain = 0.1;
+  int yield_surfaces = 20;
+
+  /// The model of one phase.
+  MaterialModel model_of(Phase phase) const {
+    return phase == Phase::mpm ? mpm_model.value_or(model) : model;
+  }
+  /// True when either phase runs `m`.
+  bool uses(MaterialModel m) const { return model == m || model_of(Phase::mpm) == m; }
+
+  double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  /// Lamé's first parameter λ.
+  double lame_lambda() const;
+  /// P-wave (constrained) modulus M = E(1−ν)/((1+ν)(1−2ν)).
+  double p_wave_modulus() const;
+  /// Dilatational wave speed c_p = sqrt(M/ρ), used by both Courant conditions.
+  double p_wave_speed() const;
+  /// Earth pressure coefficient at rest of the elastic geostatic stage, K0 = ν/(1−ν).
+  double k0() const { return poisson_ratio / (1.0 - poisson_ratio); }
+  /// The Mohr–Coulomb apex c·cot φ (infinite for φ = 0).
+  double apex_stress() const;
+
+  /// Checks every parameter for physical admissibility; throws Error naming `where`
+  /// (e.g. "case.toml: materials[0]") and the offending key otherwise.
+  void validate(std::string_view where) const;
+};
+
+using MaterialTable = std::vector<Material>;
+
+}  // namespace slide

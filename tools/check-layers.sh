@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The include rules of the source tree (common/README.md), checked by the test
+# style.layers: common/ is layered base < geometry < physics < io < input < run, and a
+# file may include only its own layer and the ones below; fem/, transfer/ and mpm/
+# include common/ and never each other. Prints every include that breaks a rule, and
+# with --picture the folder-to-folder include counts. Exit 1 on any violation.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+layers=(base geometry physics io input run)
+rank() {
+  local i
+  for i in "${!layers[@]}"; do
+    [[ ${layers[$i]} == "$1" ]] && { echo "$i"; return; }
+  done
+  echo -1
+}
+
+violations=0
+declare -A edges
+while IFS= read -r file; do
+  from=${file%/*}
+  while IFS= read -r included; do
+    to=${included%/*}
+    edges["$from -> $to"]=$((${edges["$from -> $to"]:-0} + 1))
+    if [[ $from == common/* && $to == common/* ]]; then
+      a=$(rank "${from#common/}")
+      b=$(rank "${to#common/}")
+      if ((a < 0 || b < 0 || b > a)); then
+        echo "$file includes $included: ${to#common/} is above ${from#common/}"
+        violations=$((violations + 1))
+      fi
+    elif [[ $from == common* && $to != common* ]]; then
+      echo "$file includes $included: common/ depends on no stage"
+      violations=$((violations + 1))
+    elif [[ $from =~ ^(fem|mpm|transfer)$ && $to =~ ^(fem|mpm|transfer)$ && $from != "$to" ]]; then
+      echo "$file includes $included: the stages depend on common/ only"
+      violations=$((violations + 1))
+    fi
+  done < <(sed -n 's/^#include "\([a-z_/]*\.hpp\)".*/\1/p' "$file")
+done < <(find common fem mpm transfer -name '*.[ch]pp' | sort)
+
+if [[ ${1:-} == --picture ]]; then
+  for edge in "${!edges[@]}"; do
+    from=${edge% -> *}
+    to=${edge#* -> }
+    [[ $from == "$to" ]] || echo "$edge (${edges[$edge]})"
+  done | sort
+fi
+if ((violations > 0)); then
+  echo "$violations include(s) break the layer rules (common/README.md)"
+  exit 1
+fi
