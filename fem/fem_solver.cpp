@@ -13,6 +13,7 @@
 #include "common/io/atomic_file.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/run/output_schedule.hpp"
+#include "common/run/stability_guard.hpp"
 #include "common/run/stage.hpp"
 #include "fem/element_kernels.hpp"
 #include "fem/explicit_dynamics.hpp"
@@ -50,6 +51,20 @@ std::string setting_string(const SolverSettings& settings, const std::string& ke
   return {};
 }
 
+/// "; damping: Rayleigh α_M = …, β_K = … (from ξ …), local α = …", or nothing undamped.
+std::string damping_summary(const DampingSpec& damping) {
+  if (!(damping.rayleigh_mass > 0.0 || damping.rayleigh_stiffness > 0.0 || damping.local > 0.0)) {
+    return {};
+  }
+  std::string text = fmt::format("; damping: Rayleigh α_M = {:.6g} 1/s, β_K = {:.6g} s",
+                                 damping.rayleigh_mass, damping.rayleigh_stiffness);
+  if (damping.ratio) {
+    text += fmt::format(" (from ξ = {} at {} and {} Hz)", damping.ratio->ratio,
+                        damping.ratio->frequencies[0], damping.ratio->frequencies[1]);
+  }
+  return text + fmt::format(", local α = {}", damping.local);
+}
+
 /// One run of fem-solve, from a case (fresh) or from a checkpoint (restart).
 class FemRun final : public run::Stage {
  public:
@@ -62,6 +77,8 @@ class FemRun final : public run::Stage {
   void create_outputs(bool resume);
   void run_geostatic_stage();
   void start_failure_stage(bool switch_models);
+  void set_guard_limits(bool fresh_stage);
+  void choose_time_step();
   // run::Stage: the failure stage's steps and outputs.
   double time() const override { return state_.time; }
   bool advance_to(double stop) override;
@@ -247,39 +264,57 @@ void FemRun::start_failure_stage(bool switch_models) {
     logger_.info("failure stage: {} of {} Gauss points returned to the yield surface at the switch",
                  returned, model_->gauss_count());
   }
+  set_guard_limits(switch_models);
+  choose_time_step();
+  failure_started_ = true;
+  progress_ =
+      std::make_unique<Progress>(logger_, "failure stage", state_.time, schedule_.end_time());
 
-  // Energy reference of the instability guard: the state at the start of the stage.
+  // The first row: at t = 0 after the switch (fem_t0.000.h5 holds the geostatic state
+  // before it); a restart keeps the row its checkpoint's run wrote.
+  const auto& rows = history_->rows();
+  if (rows.empty() ||
+      rows.back().time < state_.time - run::OutputSchedule::tolerance(state_.time)) {
+    output(false);
+  } else if (options_.checkpoint_at_zone_exit && !zone_exited_) {
+    zone_state_ = state_;
+  }
+}
+
+/// The guard's references: the state at the start of the stage, or on restart the
+/// reference the first run fixed (carried by the checkpoint).
+void FemRun::set_guard_limits(bool fresh_stage) {
   update_coordinates(*model_, state_, coordinates_);
   const Energies energies =
       compute_energies(*model_, energy_geometry(), state_, state_.velocity, coordinates_);
   limits_.speed_limit =
-      case_.fem.speed_limit_factor * std::sqrt(2.0 * gravity_acceleration * model_->height);
+      run::speed_limit(case_.fem.speed_limit_factor, gravity_acceleration, model_->height);
   limits_.energy.initial_energy = total_energy(energies);
   limits_.energy.energy_scale = releasable_potential_energy(*model_) + energies.elastic +
                                 energies.hourglass + energies.kinetic;
-  if (!switch_models) {
-    // "initial_total_energy" in the checkpoints of fem-solve before the shared run loop.
-    auto initial = setting_double(restart_settings_, "initial_energy");
-    if (!initial) initial = setting_double(restart_settings_, "initial_total_energy");
-    const auto scale = setting_double(restart_settings_, "energy_scale");
-    if (initial && scale) {
-      limits_.energy.initial_energy = *initial;
-      limits_.energy.energy_scale = *scale;
-    } else {
-      logger_.warning("the checkpoint has no energy reference; the guard starts from its state");
-    }
+  if (fresh_stage) return;
+  // "initial_total_energy" in the checkpoints of fem-solve before the shared run loop.
+  auto initial = setting_double(restart_settings_, "initial_energy");
+  if (!initial) initial = setting_double(restart_settings_, "initial_total_energy");
+  const auto scale = setting_double(restart_settings_, "energy_scale");
+  if (initial && scale) {
+    limits_.energy.initial_energy = *initial;
+    limits_.energy.energy_scale = *scale;
+  } else {
+    logger_.warning("the checkpoint has no energy reference; the guard starts from its state");
   }
+}
 
-  // The Courant step, lowered by the stiffness-proportional damping (METHOD.md §3); the
-  // stability limit is the same at C = 1.
+/// The step: fixed, or the Courant step lowered by the stiffness-proportional damping
+/// (METHOD.md §3; the stability limit is the same at C = 1). Refuses a step that would
+/// need more steps than any run could take (it would hang the program), naming the cause.
+void FemRun::choose_time_step() {
   const DampingSpec& damping = case_.fem.damping;
   const double critical_step = solver_->critical_time_step(state_);
   const double courant_step =
       damped_time_step(critical_step, case_.fem.courant, damping.rayleigh_stiffness);
   const double reduction = courant_step / (case_.fem.courant * critical_step);
   time_step_ = case_.fem.time_step > 0.0 ? case_.fem.time_step : courant_step;
-  // A β_K (or a fixed step) that asks for more steps than any run could take would hang
-  // the program: refuse it, naming the cause.
   const double steps_needed = (schedule_.end_time() - state_.time) / time_step_;
   if (!(steps_needed <= max_steps)) {
     throw Error(
@@ -302,32 +337,9 @@ void FemRun::start_failure_stage(bool switch_models) {
         fmt::format(", × {:.4g} for β_K: ξ_max = {:.4g} at ω_max = 2/dt_c = {:.4g} rad/s",
                     reduction, damping.rayleigh_stiffness / critical_step, 2.0 / critical_step);
   }
-  std::string damping_text;
-  if (damping.rayleigh_mass > 0.0 || damping.rayleigh_stiffness > 0.0 || damping.local > 0.0) {
-    damping_text = fmt::format("; damping: Rayleigh α_M = {:.6g} 1/s, β_K = {:.6g} s",
-                               damping.rayleigh_mass, damping.rayleigh_stiffness);
-    if (damping.ratio) {
-      damping_text += fmt::format(" (from ξ = {} at {} and {} Hz)", damping.ratio->ratio,
-                                  damping.ratio->frequencies[0], damping.ratio->frequencies[1]);
-    }
-    damping_text += fmt::format(", local α = {}", damping.local);
-  }
   logger_.info("failure stage: {} kinematics, dt = {:.4g} s ({}), t = {:.3f} → {:.3f} s{}",
                to_string(case_.fem.kinematics), time_step_, step_kind, state_.time,
-               schedule_.end_time(), damping_text);
-  failure_started_ = true;
-  progress_ =
-      std::make_unique<Progress>(logger_, "failure stage", state_.time, schedule_.end_time());
-
-  // The first row: at t = 0 after the switch (fem_t0.000.h5 holds the geostatic state
-  // before it); a restart keeps the row its checkpoint's run wrote.
-  const auto& rows = history_->rows();
-  if (rows.empty() ||
-      rows.back().time < state_.time - run::OutputSchedule::tolerance(state_.time)) {
-    output(false);
-  } else if (options_.checkpoint_at_zone_exit && !zone_exited_) {
-    zone_state_ = state_;
-  }
+               schedule_.end_time(), damping_summary(damping));
 }
 
 bool FemRun::advance_to(double stop) {
@@ -595,9 +607,9 @@ FemRunSummary FemRun::finish() {
 
 }  // namespace
 
-FemRunSummary run(const Case& c, const FemOptions& options, const Logger& logger) {
-  FemRun run(c, options, logger);
-  return run.execute();
+FemRunSummary run_fem(const Case& c, const FemOptions& options, const Logger& logger) {
+  FemRun fem_run(c, options, logger);
+  return fem_run.execute();
 }
 
 }  // namespace slide::fem

@@ -50,6 +50,6 @@ struct FemRunSummary {
 /// Runs the FE phase of `c`. Throws Error (one line) on bad input, on an instability
 /// and on an element inversion in updated Lagrangian mode; checkpoints already written
 /// stay as they are and no partial one is left.
-FemRunSummary run(const Case& c, const FemOptions& options, const Logger& logger);
+FemRunSummary run_fem(const Case& c, const FemOptions& options, const Logger& logger);
 
 }  // namespace slide::fem

@@ -68,21 +68,29 @@ double smallest_pivot_ratio(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<doub
   return largest > 0.0 ? smallest / largest : 0.0;
 }
 
-}  // namespace
+/// The reduced equations: each node's free directions T_I (the constraints) and the
+/// index of its first unknown; equations = the number of unknowns.
+struct ReducedSystem {
+  std::vector<FreeDirections> free;
+  std::vector<Index> first_equation;
+  Index equations = 0;
+};
 
-GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& constraints,
-                                FemState& state) {
+ReducedSystem reduce(const FemModel& model, const NodalConstraints& constraints) {
   const auto n_nodes = static_cast<std::size_t>(model.node_count());
-  std::vector<FreeDirections> free(n_nodes);
-  std::vector<Index> first_equation(n_nodes + 1, 0);
+  ReducedSystem r;
+  r.free.resize(n_nodes);
+  r.first_equation.assign(n_nodes + 1, 0);
   for (std::size_t n = 0; n < n_nodes; ++n) {
-    free[n] = free_directions(constraints.of(static_cast<Index>(n)));
-    first_equation[n + 1] = first_equation[n] + free[n].count;
+    r.free[n] = free_directions(constraints.of(static_cast<Index>(n)));
+    r.first_equation[n + 1] = r.first_equation[n] + r.free[n].count;
   }
-  const Index equations = first_equation[n_nodes];
-  if (equations == 0) throw Error("geostatic stage: every node is fixed, nothing to solve");
+  r.equations = r.first_equation[n_nodes];
+  return r;
+}
 
-  // Assemble the reduced stiffness Tᵀ K T and load Tᵀ f.
+/// The reduced stiffness Tᵀ K T.
+Eigen::SparseMatrix<double> reduced_stiffness(const FemModel& model, const ReducedSystem& r) {
   const int npe = model.nodes_per_element;
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(static_cast<std::size_t>(model.element_count() * 4 * npe * npe));
@@ -94,32 +102,65 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
       for (int j = 0; j < npe; ++j) {
         const auto nj = static_cast<std::size_t>(nodes[static_cast<std::size_t>(j)]);
         const Mat2 block = k.block<2, 2>(2 * i, 2 * j);
-        for (int a = 0; a < free[ni].count; ++a) {
-          for (int b = 0; b < free[nj].count; ++b) {
-            const double value = free[ni].direction[static_cast<std::size_t>(a)].dot(
-                block * free[nj].direction[static_cast<std::size_t>(b)]);
-            triplets.emplace_back(first_equation[ni] + a, first_equation[nj] + b, value);
+        for (int a = 0; a < r.free[ni].count; ++a) {
+          for (int b = 0; b < r.free[nj].count; ++b) {
+            const double value = r.free[ni].direction[static_cast<std::size_t>(a)].dot(
+                block * r.free[nj].direction[static_cast<std::size_t>(b)]);
+            triplets.emplace_back(r.first_equation[ni] + a, r.first_equation[nj] + b, value);
           }
         }
       }
     }
   }
-  Eigen::SparseMatrix<double> stiffness(equations, equations);
+  Eigen::SparseMatrix<double> stiffness(r.equations, r.equations);
   stiffness.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::VectorXd load(equations);
-  for (std::size_t n = 0; n < n_nodes; ++n) {
-    for (int a = 0; a < free[n].count; ++a) {
-      load[first_equation[n] + a] =
-          free[n].direction[static_cast<std::size_t>(a)].dot(model.gravity_force[n]);
+  return stiffness;
+}
+
+/// The reduced gravity load Tᵀ f.
+Eigen::VectorXd reduced_load(const FemModel& model, const ReducedSystem& r) {
+  Eigen::VectorXd load(r.equations);
+  for (std::size_t n = 0; n < r.free.size(); ++n) {
+    for (int a = 0; a < r.free[n].count; ++a) {
+      load[r.first_equation[n] + a] =
+          r.free[n].direction[static_cast<std::size_t>(a)].dot(model.gravity_force[n]);
     }
   }
+  return load;
+}
+
+/// Stresses σ = D B u and hourglass forces Q = K_q q through the explicit stress kernel
+/// (one elastic "step" of length 1 with velocity u from the unstressed state), on a
+/// state at rest.
+void set_elastic_state(const FemModel& model, const std::vector<Vec2>& displacement,
+                       FemState& state) {
+  std::vector<ConstitutiveModel> elastic;
+  for (const auto& material : model.materials)
+    elastic.push_back(ConstitutiveModel::elastic(material));
+  state = make_rest_state(model);
+  state.velocity = displacement;
+  update_stresses(model, model.reference, elastic, 1.0, false, state);
+  const FemState stressed = std::move(state);
+  state = make_rest_state(model);
+  state.stress = stressed.stress;
+  state.hourglass_force = stressed.hourglass_force;
+}
+
+}  // namespace
+
+GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& constraints,
+                                FemState& state) {
+  const ReducedSystem r = reduce(model, constraints);
+  if (r.equations == 0) throw Error("geostatic stage: every node is fixed, nothing to solve");
+  const Eigen::SparseMatrix<double> stiffness = reduced_stiffness(model, r);
+  const Eigen::VectorXd load = reduced_load(model, r);
 
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(stiffness);
   Eigen::VectorXd solution;
   if (solver.info() == Eigen::Success) solution = solver.solve(load);
   const double load_norm = euclidean_norm(load);
   const double residual =
-      solution.size() == equations && solution.allFinite()
+      solution.size() == r.equations && solution.allFinite()
           ? euclidean_norm(stiffness * solution - load) / std::max(load_norm, 1e-300)
           : std::numeric_limits<double>::infinity();
   // A free rigid-body motion leaves a pivot at round-off level (≈ 1e-16 of the largest)
@@ -132,28 +173,16 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
   }
 
   // Nodal displacements u_I = T_I a_I.
-  std::vector<Vec2> displacement(n_nodes, Vec2::Zero());
-  GeostaticReport report{equations, 0.0, residual};
-  for (std::size_t n = 0; n < n_nodes; ++n) {
-    for (int a = 0; a < free[n].count; ++a) {
+  std::vector<Vec2> displacement(r.free.size(), Vec2::Zero());
+  GeostaticReport report{r.equations, 0.0, residual};
+  for (std::size_t n = 0; n < r.free.size(); ++n) {
+    for (int a = 0; a < r.free[n].count; ++a) {
       displacement[n] +=
-          solution[first_equation[n] + a] * free[n].direction[static_cast<std::size_t>(a)];
+          solution[r.first_equation[n] + a] * r.free[n].direction[static_cast<std::size_t>(a)];
     }
     report.max_displacement = std::max(report.max_displacement, displacement[n].norm());
   }
-
-  // Stresses σ = D B u and hourglass forces Q = K_q q through the explicit stress
-  // kernel: one elastic "step" of length 1 with velocity u from the unstressed state.
-  std::vector<ConstitutiveModel> elastic;
-  for (const auto& material : model.materials)
-    elastic.push_back(ConstitutiveModel::elastic(material));
-  state = make_rest_state(model);
-  state.velocity = displacement;
-  update_stresses(model, model.reference, elastic, 1.0, false, state);
-  const FemState stressed = std::move(state);
-  state = make_rest_state(model);
-  state.stress = stressed.stress;
-  state.hourglass_force = stressed.hourglass_force;
+  set_elastic_state(model, displacement, state);
   return report;
 }
 

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
                                                               : Kinematics::small_strain;
     }
     options.write_vtk = !no_vtk;
-    const fem::FemRunSummary summary = fem::run(c, options, logger);
+    const fem::FemRunSummary summary = fem::run_fem(c, options, logger);
     const double rate =
         summary.wall_seconds > 0.0
             ? static_cast<double>(summary.elements * summary.steps) / summary.wall_seconds

@@ -72,28 +72,30 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
   return start;
 }
 
-Start start_pure_mpm(const Case& c, const GridGeometry& grid, const Logger& log) {
+/// Pure MPM's particles from the case geometry, with the K0 stresses of level ground when
+/// the case asks for them (the gravity stage needs the solver: initialise_pure_mpm).
+Start start_pure_mpm(const Case& c, const MpmSettings& settings, const Logger& log) {
   Start start;
   start.pure_mpm = true;
   start.body = build_mesh(c);
-  start.particles =
-      generate_mesh_particles(grid, start.body, c.mpm.particles_x, c.mpm.particles_y, c.materials);
+  Particles& p = start.particles;
+  p = generate_mesh_particles(settings.grid, start.body, c.mpm.particles_x, c.mpm.particles_y,
+                              c.materials);
   log.info("pure MPM: {} particles ({} × {} per cell) in the {} elements of the case geometry",
-           start.particles.count(), c.mpm.particles_x, c.mpm.particles_y,
-           start.body.element_count());
+           p.count(), c.mpm.particles_x, c.mpm.particles_y, start.body.element_count());
+  if (c.mpm.initial_stress == InitialStress::k0) {
+    apply_k0_stresses(p, c.materials, mesh_surface_heights(start.body, p.coordinates),
+                      -settings.gravity.y());
+    log.info("pure MPM: K0 stresses of level ground (K0 = ν/(1 − ν))");
+  }
   return start;
 }
 
-/// The initial stresses of pure MPM (METHOD.md §5): K0 of level ground, or an elastic
-/// gravity stage with damping to equilibrium; then the switch to the plastic model.
-void initialise_pure_mpm(const Case& c, const Mesh& body, MpmSolver& solver, double dt,
-                         const Logger& log) {
-  Particles& p = solver.particles();
-  if (c.mpm.initial_stress == InitialStress::k0) {
-    apply_k0_stresses(p, c.materials, mesh_surface_heights(body, p.coordinates),
-                      -solver.settings().gravity.y());
-    log.info("pure MPM: K0 stresses of level ground (K0 = ν/(1 − ν))");
-  } else {
+/// The initial stresses of pure MPM (METHOD.md §5): K0 of level ground (set on the
+/// particles already), or an elastic gravity stage with damping to equilibrium; then the
+/// switch to the plastic model.
+void initialise_pure_mpm(const Case& c, MpmSolver& solver, double dt, const Logger& log) {
+  if (c.mpm.initial_stress != InitialStress::k0) {
     // Elastic loading under gravity with local damping, then the state reset: the
     // equilibrium state of t = 0.
     const auto settling =
@@ -323,44 +325,23 @@ class MpmStage final : public run::Stage {
   double particle_steps_ = 0.0;
 };
 
-}  // namespace
-
-RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) {
-  // ---- settings: the case file, with the command line's overrides
+/// The case's MPM settings with the command line's overrides; Error on options that
+/// cannot go together.
+MpmSettings settings_for(const Case& c, const RunOptions& options) {
   if (options.until && !std::isfinite(*options.until)) {
     throw Error("--until {} is not admissible (expected a finite end time in s)", *options.until);
+  }
+  if (options.particles_file && options.restart_file) {
+    throw Error("--particles and --restart exclude each other (a restart carries its particles)");
   }
   MpmSettings settings = MpmSettings::from(c.mpm);
   if (options.shape_function) settings.shape_function = *options.shape_function;
   if (options.update_scheme) settings.update_scheme = *options.update_scheme;
   if (options.sort_interval) settings.sort_interval = *options.sort_interval;
-  if (options.particles_file && options.restart_file) {
-    throw Error("--particles and --restart exclude each other (a restart carries its particles)");
-  }
+  return settings;
+}
 
-  // ---- particles: restart, particle file, or the case geometry
-  Start start = options.restart_file || options.particles_file
-                    ? start_from_file(c, options, log)
-                    : start_pure_mpm(c, settings.grid, log);
-  const std::string source = options.restart_file     ? options.restart_file->string()
-                             : options.particles_file ? options.particles_file->string()
-                                                      : c.file.string();
-  validate_particles(start.particles, settings, c.materials.size(), source, start.clock.frozen);
-  MpmSolver solver(settings, c.materials, std::move(start.particles), start.clock);
-  RunReferences& refs = start.references;
-  // The step: the case's, or the Courant step at the particles' current densities, taken
-  // anew every step (mpm/README.md, "Time step").
-  // The first step, for the log and the gravity stage; MpmStage takes each anew.
-  const double dt =
-      c.mpm.time_step > 0.0 ? c.mpm.time_step : solver.courant_time_step(c.mpm.courant);
-  if (start.stored_settings) {
-    for (const auto& change :
-         changed_settings(*start.stored_settings, settings, c.mpm.time_step, c.mpm.courant)) {
-      log.warning("restart with a changed setting (the case file's is used): {}", change);
-    }
-  }
-  refs.time_step = c.mpm.time_step;
-  refs.courant = c.mpm.courant;
+void log_settings(const Logger& log, const MpmSettings& settings, const MpmSpec& spec, double dt) {
   const GridGeometry& grid = settings.grid;
   const std::string transfer =
       settings.velocity_transfer == VelocityTransfer::apic
@@ -373,18 +354,64 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   log.info("grid {} × {} cells of {} m, {} shape functions, {}, {}, {}, Δt = {:.4g} s{}",
            grid.cells_x, grid.cells_y, grid.cell_size, to_string(settings.shape_function),
            to_string(settings.update_scheme), transfer, smoothing, dt,
-           c.mpm.time_step > 0.0 ? " (case)" : fmt::format(" (Courant C = {})", c.mpm.courant));
+           spec.time_step > 0.0 ? " (case)" : fmt::format(" (Courant C = {})", spec.courant));
+}
 
-  if (start.pure_mpm) initialise_pure_mpm(c, start.body, solver, dt, log);
+/// The state the time loop starts from: pure MPM's initial stresses, or the switch from
+/// the FE models to the MPM ones (METHOD.md §3: Mohr–Coulomb takes the transferred
+/// stresses and returns those outside its surface once; multi-yield continues the FE
+/// surfaces or freezes its strength from the transferred stress); the guard's references
+/// of a fresh run. A restart continues as it stopped.
+void prepare_start(const Case& c, Start& start, MpmSolver& solver, double dt, const Logger& log) {
+  if (start.pure_mpm) initialise_pure_mpm(c, solver, dt, log);
   if (start.fresh && !start.pure_mpm) {
-    // The switch from the FE models to the MPM ones (METHOD.md §3): Mohr–Coulomb takes the
-    // transferred stresses and returns those outside its surface once; multi-yield
-    // continues the FE surfaces or freezes its strength from the transferred stress.
     const std::size_t returned = solver.return_to_yield_surface();
     log.info("switch to the MPM models: {} of {} particles returned to the yield surface", returned,
              solver.particles().count());
   }
-  if (start.fresh) set_references(c, solver, refs, start.pure_mpm, log);
+  if (start.fresh) set_references(c, solver, start.references, start.pure_mpm, log);
+}
+
+void log_memory(const Logger& log, const MpmSolver& solver) {
+  const auto memory = solver.memory();
+  const auto per_particle = [&](std::size_t bytes) {
+    return static_cast<double>(bytes) /
+           static_cast<double>(std::max<std::size_t>(solver.particles().count(), 1));
+  };
+  log.info(
+      "memory: {:.0f} B/particle in particle arrays + {:.0f} B/particle sort peak + grid and "
+      "windows {:.2f} MB ({:.0f} B/particle) = {:.0f} B/particle",
+      per_particle(memory.particle_arrays), per_particle(memory.sort_peak),
+      static_cast<double>(memory.grid) / 1e6, per_particle(memory.grid),
+      per_particle(memory.total()));
+}
+
+}  // namespace
+
+RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) {
+  // ---- settings and particles: restart, particle file, or the case geometry
+  const MpmSettings settings = settings_for(c, options);
+  Start start = options.restart_file || options.particles_file ? start_from_file(c, options, log)
+                                                               : start_pure_mpm(c, settings, log);
+  const std::string source = options.restart_file     ? options.restart_file->string()
+                             : options.particles_file ? options.particles_file->string()
+                                                      : c.file.string();
+  validate_particles(start.particles, settings, c.materials.size(), source, start.clock.frozen);
+  MpmSolver solver(settings, c.materials, std::move(start.particles), start.clock);
+  if (start.stored_settings) {
+    for (const auto& change :
+         changed_settings(*start.stored_settings, settings, c.mpm.time_step, c.mpm.courant)) {
+      log.warning("restart with a changed setting (the case file's is used): {}", change);
+    }
+  }
+  RunReferences& refs = start.references;
+  refs.time_step = c.mpm.time_step;
+  refs.courant = c.mpm.courant;
+  // The first step, for the log and the gravity stage; MpmStage takes each anew.
+  const double dt =
+      c.mpm.time_step > 0.0 ? c.mpm.time_step : solver.courant_time_step(c.mpm.courant);
+  log_settings(log, settings, c.mpm, dt);
+  prepare_start(c, start, solver, dt, log);
 
   // ---- outputs
   const double end_time = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
@@ -402,16 +429,15 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
     vtk.emplace(options.output_dir,
                 start.fresh ? std::nullopt : std::optional(solver.clock().time));
   }
-  const double start_time = solver.clock().time;
-  Progress progress(log, "mpm", start_time, end_time);
+  Progress progress(log, "mpm", solver.clock().time, end_time);
   ExitLog exits(log, settings.particle_exit);
   MpmStage stage(c, options, schedule, solver, refs, start.transfer, history, vtk, progress, exits,
                  options.restart_file.value_or(fs::path()), log);
   if (start.fresh) stage.write_output(schedule.is_checkpoint(solver.clock().time));
 
-  // ---- the time loop
+  // ---- the time loop, then the final row and mpm_final.h5
   const auto wall_start = std::chrono::steady_clock::now();
-  run::drive(stage, schedule, false);  // the end's checkpoint is mpm_final.h5
+  run::drive(stage, schedule, false);
   progress.finish();
   exits.finish(solver.clock().time);
   const double wall =
@@ -425,17 +451,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   summary.wall_seconds = wall;
   summary.particle_steps_per_second = wall > 0.0 ? stage.particle_steps() / wall : 0.0;
   summary.end_time = solver.clock().time;
-  const auto memory = solver.memory();
-  const auto per_particle = [&](std::size_t bytes) {
-    return static_cast<double>(bytes) /
-           static_cast<double>(std::max<std::size_t>(summary.particles, 1));
-  };
-  log.info(
-      "memory: {:.0f} B/particle in particle arrays + {:.0f} B/particle sort peak + grid and "
-      "windows {:.2f} MB ({:.0f} B/particle) = {:.0f} B/particle",
-      per_particle(memory.particle_arrays), per_particle(memory.sort_peak),
-      static_cast<double>(memory.grid) / 1e6, per_particle(memory.grid),
-      per_particle(memory.total()));
+  log_memory(log, solver);
   return summary;
 }
 

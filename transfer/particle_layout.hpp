@@ -53,7 +53,7 @@ struct ParticleLayout {
 };
 
 /// Largest Gauss–Legendre order accepted per direction.
-inline constexpr int max_particle_order = 32;
+inline constexpr int max_particle_order = max_particles_per_direction;
 
 ParticleLayout quad_layout(int nx, int ny);
 /// Throws Error listing the supported counts unless has_triangle_rule(count)

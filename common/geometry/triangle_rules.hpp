@@ -9,6 +9,11 @@
 
 namespace slide {
 
+/// Largest number of material points per direction of the Gauss–Legendre layout of a
+/// quad (fem2mpm's NxM) or of an MPM cell (pure MPM): 32, the highest order the
+/// quadrature tables reach at full precision.
+inline constexpr int max_particles_per_direction = 32;
+
 /// Largest n of the n×n subdivision rule (n² points).
 inline constexpr int max_triangle_subdivision = 32;
 

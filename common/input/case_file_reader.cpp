@@ -1,6 +1,8 @@
 // The case reader's shared helpers (case_file_reader.hpp).
 #include "common/input/case_file_reader.hpp"
 
+#include "common/geometry/triangle_rules.hpp"
+
 namespace slide::case_reader {
 
 std::string format_point(const Vec2& p) {
@@ -49,7 +51,8 @@ std::pair<int, int> read_particle_layout(const Section& s, std::string_view key,
   if (!s.has(key)) return {fallback, fallback};
   const auto& reader = s.reader();
   const toml::node& node = s.node(key);
-  constexpr int most = 10;
+  // The bound fem2mpm's --particles-per-element has (common/geometry/triangle_rules.hpp).
+  constexpr int most = max_particles_per_direction;
   if (node.is_integer()) {
     const int n = reader.integer(node, s.dotted(key), 1, most);
     return {n, n};

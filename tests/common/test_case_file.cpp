@@ -479,7 +479,7 @@ const Broken broken_cases[] = {
      "fem.failure.boundaries.base", "base = \"friction\""},
     {"friction in the geostatic stage", "base = \"roller\"", "base = \"friction\"",
      "fem.geostatic.boundaries.base", "base = \"friction\""},
-    {"too many particles", "particles_per_element = [4, 4]", "particles_per_element = [11, 4]",
+    {"too many particles", "particles_per_element = [4, 4]", "particles_per_element = [33, 4]",
      "transfer.particles_per_element[0]", "particles_per_element"},
     {"no such triangle rule", "[transfer]\n", "[transfer]\nparticles_per_triangle = 5\n",
      "transfer.particles_per_triangle", "particles_per_triangle"},

@@ -181,5 +181,41 @@ TEST(ParticleLayout, CaseFileAcceptsTheTriangleCountsOfTheCommandLine) {
   }
 }
 
+// The same for quads: particles_per_element takes the n of fem2mpm's NxM (1 to 32 per
+// direction; the case file used to stop at 10).
+TEST(ParticleLayout, CaseFileAcceptsTheQuadLayoutsOfTheCommandLine) {
+  std::ifstream in(std::filesystem::path(SLIDE_SOURCE_DIR) / "cases" / "geostatic-4x4" /
+                   "case.toml");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string base = text.str();
+  const std::string line = "particles_per_element = [4, 4]\n";
+  const auto at = base.find(line);
+  ASSERT_NE(at, std::string::npos);
+  const auto accepted_by_case_file = [&](int n) {
+    std::string edited = base;
+    edited.replace(at, line.size(), fmt::format("particles_per_element = [{}, 2]\n", n));
+    try {
+      return parse_case(edited, "case.toml").transfer.particles_x == n;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  const auto accepted_by_command_line = [](int n) {
+    try {
+      const auto request =
+          parse_particles_per_element(fmt::format("{}x2", n), "--particles-per-element");
+      return make_layout(ElementShape::quad4, request).count() == 2 * n;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  EXPECT_TRUE(accepted_by_case_file(12));
+  EXPECT_FALSE(accepted_by_case_file(33));
+  for (int n = 0; n <= 34; ++n) {
+    EXPECT_EQ(accepted_by_case_file(n), accepted_by_command_line(n)) << n;
+  }
+}
+
 }  // namespace
 }  // namespace slide::transfer
