@@ -61,16 +61,7 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
       s.reject(key, "only used when fem.failure_stage = true");
     }
   }
-  const Range within_run{.min = 0.0,
-                         .max = fem.end_time,
-                         .max_closed = true,
-                         .unit = "s",
-                         .note = "within fem.end_time"};
-  fem.checkpoint_times = s.numbers("checkpoint_times", within_run, true);
-  fem.checkpoint_every = s.number("checkpoint_every", non_negative("s"), 0.0);
-  fem.output_every = s.number("output_every", non_negative("s"), 0.0);
-  fem.courant = s.number("courant", courant_range(), fem.courant);
-  fem.time_step = s.number("time_step", non_negative("s"), 0.0);
+  read_schedule_and_step(s, fem);
   fem.hourglass_coefficient =
       s.number("hourglass_coefficient", non_negative(), fem.hourglass_coefficient);
   fem.friction_coefficient = s.number("friction_coefficient", non_negative(), 0.0);

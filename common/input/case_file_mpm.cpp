@@ -84,16 +84,7 @@ void read_run(const Section& s, const TransferSpec& transfer, MpmSpec& mpm) {
       "end_time", Range{.min = latest_transfer,
                         .unit = "s",
                         .note = latest_transfer > 0.0 ? "after the latest transfer time" : ""});
-  const Range within_run{.min = 0.0,
-                         .max = mpm.end_time,
-                         .max_closed = true,
-                         .unit = "s",
-                         .note = "within mpm.end_time"};
-  mpm.checkpoint_times = s.numbers("checkpoint_times", within_run, true);
-  mpm.checkpoint_every = s.number("checkpoint_every", non_negative("s"), 0.0);
-  mpm.output_every = s.number("output_every", non_negative("s"), 0.0);
-  mpm.courant = s.number("courant", courant_range(), mpm.courant);
-  mpm.time_step = s.number("time_step", non_negative("s"), 0.0);
+  read_schedule_and_step(s, mpm);
   mpm.friction_coefficient = s.number("friction_coefficient", non_negative(), 0.0);
   mpm.boundaries = read_boundaries(s, "boundaries", grid_boundaries, friction_problem(s));
   mpm.local_damping = s.number("local_damping", unit_interval_open_above(), 0.0);

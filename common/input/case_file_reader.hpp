@@ -345,6 +345,23 @@ std::string friction_problem(const Section& s);
 std::string read_material_name(const Section& s, std::string_view key,
                                const MaterialTable& materials);
 
+/// The output schedule and time step of a stage section ([fem] or [mpm]), after its
+/// end_time: checkpoint_times (within the run), checkpoint_every, output_every, courant
+/// and time_step. One reading for both stages, as they share the run loop (common/run).
+template <class StageSpec>
+void read_schedule_and_step(const Section& s, StageSpec& spec) {
+  const Range within_run{.min = 0.0,
+                         .max = spec.end_time,
+                         .max_closed = true,
+                         .unit = "s",
+                         .note = fmt::format("within {}.end_time", s.path())};
+  spec.checkpoint_times = s.numbers("checkpoint_times", within_run, true);
+  spec.checkpoint_every = s.number("checkpoint_every", non_negative("s"), 0.0);
+  spec.output_every = s.number("output_every", non_negative("s"), 0.0);
+  spec.courant = s.number("courant", courant_range(), spec.courant);
+  spec.time_step = s.number("time_step", non_negative("s"), 0.0);
+}
+
 // ----------------------------------------------------------------------------- sections
 
 /// [[materials]] (case_file_materials.cpp).

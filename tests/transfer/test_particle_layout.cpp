@@ -140,15 +140,20 @@ TEST(ParticleLayout, ParsesParticlesPerElement) {
   EXPECT_EQ(tri.count(), 16);
 }
 
-// One rule for the particles of a triangle (common/geometry/triangle_rules.hpp): a case file's
-// particles_per_triangle takes every count fem2mpm's --particles-per-element takes (9
-// used to work on the command line and be refused in case.toml), and refuses the same.
-TEST(ParticleLayout, CaseFileAcceptsTheTriangleCountsOfTheCommandLine) {
+/// The text of cases/geostatic-4x4/case.toml, which the layout tests below edit.
+std::string geostatic_case_text() {
   std::ifstream in(std::filesystem::path(SLIDE_SOURCE_DIR) / "cases" / "geostatic-4x4" /
                    "case.toml");
   std::ostringstream text;
   text << in.rdbuf();
-  const std::string base = text.str();
+  return text.str();
+}
+
+// One rule for the particles of a triangle (common/geometry/triangle_rules.hpp): a case file's
+// particles_per_triangle takes every count fem2mpm's --particles-per-element takes (9
+// used to work on the command line and be refused in case.toml), and refuses the same.
+TEST(ParticleLayout, CaseFileAcceptsTheTriangleCountsOfTheCommandLine) {
+  const std::string base = geostatic_case_text();
   const std::string table = "[transfer]\n";
   const auto at = base.find(table);
   ASSERT_NE(at, std::string::npos);
@@ -184,11 +189,7 @@ TEST(ParticleLayout, CaseFileAcceptsTheTriangleCountsOfTheCommandLine) {
 // The same for quads: particles_per_element takes the n of fem2mpm's NxM (1 to 32 per
 // direction; the case file used to stop at 10).
 TEST(ParticleLayout, CaseFileAcceptsTheQuadLayoutsOfTheCommandLine) {
-  std::ifstream in(std::filesystem::path(SLIDE_SOURCE_DIR) / "cases" / "geostatic-4x4" /
-                   "case.toml");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const std::string base = text.str();
+  const std::string base = geostatic_case_text();
   const std::string line = "particles_per_element = [4, 4]\n";
   const auto at = base.find(line);
   ASSERT_NE(at, std::string::npos);
