@@ -254,6 +254,13 @@ struct Polygon {
 /// edges a → b of the counter-clockwise elements that have it (two for an inner edge).
 using Edges = std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>>;
 
+/// A line element of a boundary group, directed counter-clockwise along its element.
+struct BoundaryLine {
+  Index from;
+  Index to;  ///< counter-clockwise along the adjacent element
+  const RawElement* element;
+};
+
 /// Which raw nodes (of `node_count`) the surface elements use.
 std::vector<bool> used_nodes(const std::vector<Polygon>& polygons, std::size_t node_count) {
   std::vector<bool> used(node_count, false);
@@ -336,6 +343,27 @@ void add_connectivity(Mesh& mesh, ElementShape shape, const std::vector<Polygon>
       append_split_quadrangle(mesh, v, material);
     }
   }
+}
+
+/// Outward normal of boundary line `line`, |line| long: for an edge a → b of a
+/// counter-clockwise element, the tangent turned clockwise.
+Vec2 outward_normal(const Mesh& mesh, const BoundaryLine& line) {
+  const Vec2 t = mesh.nodes[static_cast<std::size_t>(line.to)] -
+                 mesh.nodes[static_cast<std::size_t>(line.from)];
+  return Vec2(t.y(), -t.x());
+}
+
+/// The diagonal of the bounding box of `lines`: the group's length scale.
+double bounding_size(const Mesh& mesh, const std::vector<BoundaryLine>& lines) {
+  Vec2 low = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
+  Vec2 high = low;
+  for (const BoundaryLine& line : lines) {
+    for (const Index node : {line.from, line.to}) {
+      low = low.cwiseMin(mesh.nodes[static_cast<std::size_t>(node)]);
+      high = high.cwiseMax(mesh.nodes[static_cast<std::size_t>(node)]);
+    }
+  }
+  return (high - low).norm();
 }
 
 using DimTag = std::pair<int, int>;
@@ -797,97 +825,107 @@ class GmshReader {
 
   /// One node set per 1-D physical group, with the outward normal of the surface-element
   /// edges its lines lie on.
-  void add_boundary_groups(
-      Mesh& mesh, const std::vector<Index>& new_index,
-      const std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>>& edges) const {
-    struct Line {
-      Index from;
-      Index to;  ///< counter-clockwise along the adjacent element
-      const RawElement* element;
-    };
-    std::map<int, std::vector<Line>> groups;  // physical tag → lines
+  void add_boundary_groups(Mesh& mesh, const std::vector<Index>& new_index,
+                           const Edges& edges) const {
+    for (const auto& [group, lines] : boundary_lines(new_index, edges)) {
+      mesh.node_sets.push_back(boundary_node_set(mesh, group_name(1, group), lines));
+    }
+  }
+
+  /// The lines of each 1-D physical group (physical tag → lines), each directed along
+  /// the one surface element whose edge it is.
+  std::map<int, std::vector<BoundaryLine>> boundary_lines(const std::vector<Index>& new_index,
+                                                          const Edges& edges) const {
+    std::map<int, std::vector<BoundaryLine>> groups;
     for (const RawElement& e : elements_) {
       if (e.type != gmsh_line) continue;
-      // Every line, in a physical group or not, must be an edge of the surface mesh: a
-      // dangling line is a curve meshed apart from the surfaces.
-      const Index a = new_index[raw_index(e, 0)];
-      const Index b = new_index[raw_index(e, 1)];
-      const auto found = edges.find({std::min(a, b), std::max(a, b)});
-      if (a < 0 || b < 0 || found == edges.end()) {
-        const std::string group =
-            e.physicals.empty()
-                ? std::string("in no physical group")
-                : fmt::format("of physical group '{}'", group_name(1, e.physicals.front()));
-        in_.fail(e.line,
-                 "line element {} (nodes {} and {}) {} is not an edge of any surface element",
-                 e.tag, e.nodes[0], e.nodes[1], group);
-      }
+      const auto& directed = edge_of_line(e, new_index, edges);
       for (const int group : e.physicals) {
-        if (found->second.size() > 1) {
+        if (directed.size() > 1) {
           in_.fail(e.line,
                    "line element {} of physical group '{}' lies between two surface elements (a "
                    "boundary group must lie on the outside of the mesh)",
                    e.tag, group_name(1, group));
         }
-        groups[group].push_back(
-            Line{found->second.front().first, found->second.front().second, &e});
+        groups[group].push_back(BoundaryLine{directed.front().first, directed.front().second, &e});
       }
     }
+    return groups;
+  }
 
-    for (const auto& [group, lines] : groups) {
-      const std::string name = group_name(1, group);
-      // Length-weighted mean outward normal: for an edge a → b of a counter-clockwise
-      // element, the outward normal is the tangent turned clockwise.
-      Vec2 sum = Vec2::Zero();
-      Vec2 low = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
-      Vec2 high = low;
-      for (const Line& line : lines) {
-        for (const Index node : {line.from, line.to}) {
-          low = low.cwiseMin(mesh.nodes[static_cast<std::size_t>(node)]);
-          high = high.cwiseMax(mesh.nodes[static_cast<std::size_t>(node)]);
-        }
-        const Vec2 t = mesh.nodes[static_cast<std::size_t>(line.to)] -
-                       mesh.nodes[static_cast<std::size_t>(line.from)];
-        sum += Vec2(t.y(), -t.x());
+  /// The directed element edges line element `e` lies on. Every line, in a physical
+  /// group or not, must be an edge of the surface mesh: a dangling line is a curve
+  /// meshed apart from the surfaces.
+  const Edges::mapped_type& edge_of_line(const RawElement& e, const std::vector<Index>& new_index,
+                                         const Edges& edges) const {
+    const Index a = new_index[raw_index(e, 0)];
+    const Index b = new_index[raw_index(e, 1)];
+    const auto found = edges.find({std::min(a, b), std::max(a, b)});
+    if (a < 0 || b < 0 || found == edges.end()) {
+      const std::string group =
+          e.physicals.empty()
+              ? std::string("in no physical group")
+              : fmt::format("of physical group '{}'", group_name(1, e.physicals.front()));
+      in_.fail(e.line, "line element {} (nodes {} and {}) {} is not an edge of any surface element",
+               e.tag, e.nodes[0], e.nodes[1], group);
+    }
+    return found->second;
+  }
+
+  /// The node set `name` of `lines`, whose normal is their length-weighted mean outward
+  /// normal; the group must be straight.
+  NodeSet boundary_node_set(const Mesh& mesh, const std::string& name,
+                            const std::vector<BoundaryLine>& lines) const {
+    const double size = bounding_size(mesh, lines);
+    const Vec2 normal = mean_outward_normal(mesh, name, lines, size);
+    const Vec2& origin = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
+    NodeSet set{name, {}, normal};
+    for (const BoundaryLine& line : lines) {
+      check_on_group_line(mesh, name, line, normal, origin, size);
+      set.nodes.insert(set.nodes.end(), {line.from, line.to});
+    }
+    std::sort(set.nodes.begin(), set.nodes.end());
+    set.nodes.erase(std::unique(set.nodes.begin(), set.nodes.end()), set.nodes.end());
+    return set;
+  }
+
+  /// The unit length-weighted mean outward normal of `lines`; an error when the normals
+  /// cancel out (relative to the group's size `size`).
+  Vec2 mean_outward_normal(const Mesh& mesh, const std::string& name,
+                           const std::vector<BoundaryLine>& lines, double size) const {
+    Vec2 sum = Vec2::Zero();
+    for (const BoundaryLine& line : lines) sum += outward_normal(mesh, line);
+    if (!(sum.norm() > straightness_tolerance * size)) {
+      in_.fail(lines.front().element->line,
+               "physical group '{}' is not straight (the outward normals of its lines cancel out)",
+               name);
+    }
+    return sum.normalized();
+  }
+
+  /// Line `line` of group `name` keeps the group straight: its outward normal is the
+  /// group's `normal` and its nodes lie on the group's line through `origin`.
+  void check_on_group_line(const Mesh& mesh, const std::string& name, const BoundaryLine& line,
+                           const Vec2& normal, const Vec2& origin, double size) const {
+    const double cosine = outward_normal(mesh, line).normalized().dot(normal);
+    if (cosine < 1.0 - normal_tolerance) {
+      in_.fail(line.element->line,
+               "physical group '{}' is not straight: line element {} is turned by {:.3g}° "
+               "from the group's mean normal ({:.6g}, {:.6g}) (a boundary needs one outward "
+               "normal)",
+               name, line.element->tag,
+               std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi, normal.x(),
+               normal.y());
+    }
+    for (const Index node : {line.from, line.to}) {
+      const Vec2& p = mesh.nodes[static_cast<std::size_t>(node)];
+      const double offset = std::abs((p - origin).dot(normal));
+      if (offset > straightness_tolerance * size) {
+        in_.fail(line.element->line,
+                 "physical group '{}' is not straight: node ({}, {}) of line element {} is "
+                 "{:.3g} m off the group's line (a boundary needs one outward normal)",
+                 name, p.x(), p.y(), line.element->tag, offset);
       }
-      const double size = (high - low).norm();
-      if (!(sum.norm() > straightness_tolerance * size)) {
-        in_.fail(
-            lines.front().element->line,
-            "physical group '{}' is not straight (the outward normals of its lines cancel out)",
-            name);
-      }
-      const Vec2 normal = sum.normalized();
-      const Vec2& origin = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
-      NodeSet set{name, {}, normal};
-      for (const Line& line : lines) {
-        const Vec2 t = mesh.nodes[static_cast<std::size_t>(line.to)] -
-                       mesh.nodes[static_cast<std::size_t>(line.from)];
-        const double cosine = Vec2(t.y(), -t.x()).normalized().dot(normal);
-        if (cosine < 1.0 - normal_tolerance) {
-          in_.fail(line.element->line,
-                   "physical group '{}' is not straight: line element {} is turned by {:.3g}° "
-                   "from the group's mean normal ({:.6g}, {:.6g}) (a boundary needs one outward "
-                   "normal)",
-                   name, line.element->tag,
-                   std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi, normal.x(),
-                   normal.y());
-        }
-        for (const Index node : {line.from, line.to}) {
-          const Vec2& p = mesh.nodes[static_cast<std::size_t>(node)];
-          const double offset = std::abs((p - origin).dot(normal));
-          if (offset > straightness_tolerance * size) {
-            in_.fail(line.element->line,
-                     "physical group '{}' is not straight: node ({}, {}) of line element {} is "
-                     "{:.3g} m off the group's line (a boundary needs one outward normal)",
-                     name, p.x(), p.y(), line.element->tag, offset);
-          }
-          set.nodes.push_back(node);
-        }
-      }
-      std::sort(set.nodes.begin(), set.nodes.end());
-      set.nodes.erase(std::unique(set.nodes.begin(), set.nodes.end()), set.nodes.end());
-      mesh.node_sets.push_back(std::move(set));
     }
   }
 
