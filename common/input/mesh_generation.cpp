@@ -194,6 +194,171 @@ void check_boundary_names(const Mesh& mesh, const BoundaryTable& table, std::str
   }
 }
 
+/// The blocks of a "blocks" mesh, checked and mapped to their grids of nodes, before
+/// coincident nodes are merged.
+struct MappedBlocks {
+  std::vector<std::vector<Vec2>> grids;                    ///< each block's nodes, u fastest
+  std::vector<std::int32_t> material;                      ///< each block's material id
+  double h_min = std::numeric_limits<double>::infinity();  ///< shortest grid edge
+  double extent = 0.0;                                     ///< largest |coordinate| of a corner
+};
+
+/// The grid of nodes of `block` by the bilinear map of its corners (transfinite
+/// interpolation with straight sides): x(s, t) = Σ corners × (1−s|s)(1−t|t).
+std::vector<Vec2> block_grid(const MeshBlock& block) {
+  const auto& p = block.corners;
+  const int nu = block.cells_u;
+  const int nv = block.cells_v;
+  std::vector<Vec2> grid;
+  grid.reserve(static_cast<std::size_t>((nu + 1) * (nv + 1)));
+  for (int j = 0; j <= nv; ++j) {
+    const double t = static_cast<double>(j) / nv;
+    for (int i = 0; i <= nu; ++i) {
+      const double s = static_cast<double>(i) / nu;
+      grid.push_back((1.0 - s) * (1.0 - t) * p[0] + s * (1.0 - t) * p[1] + s * t * p[2] +
+                     (1.0 - s) * t * p[3]);
+    }
+  }
+  return grid;
+}
+
+/// The shortest edge between neighbouring nodes of an nu × nv grid of cells.
+double smallest_grid_edge(const std::vector<Vec2>& grid, int nu, int nv) {
+  const auto at = [&](int i, int j) -> const Vec2& {
+    return grid[static_cast<std::size_t>(j * (nu + 1) + i)];
+  };
+  double h_min = std::numeric_limits<double>::infinity();
+  for (int j = 0; j <= nv; ++j) {
+    for (int i = 0; i <= nu; ++i) {
+      if (i < nu) h_min = std::min(h_min, (at(i + 1, j) - at(i, j)).norm());
+      if (j < nv) h_min = std::min(h_min, (at(i, j + 1) - at(i, j)).norm());
+    }
+  }
+  return h_min;
+}
+
+/// Each block checked (cell counts, corners, material, in that order) and mapped.
+MappedBlocks map_blocks(const std::vector<MeshBlock>& blocks, const MaterialTable& materials) {
+  MappedBlocks mapped;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const MeshBlock& block = blocks[b];
+    const std::string where = fmt::format("mesh.blocks[{}]", b);
+    if (block.cells_u < 1 || block.cells_v < 1) {
+      throw Error("{}: cells = [{}, {}] (expected at least one cell each way)", where,
+                  block.cells_u, block.cells_v);
+    }
+    if (const auto problem = block_corners_problem(block)) {
+      throw Error("{}: {}", where, *problem);
+    }
+    for (const Vec2& corner : block.corners) {
+      mapped.extent = std::max(mapped.extent, corner.cwiseAbs().maxCoeff());
+    }
+    mapped.material.push_back(material_id_of(materials, block.material, where + ".material"));
+    mapped.grids.push_back(block_grid(block));
+    mapped.h_min = std::min(mapped.h_min,
+                            smallest_grid_edge(mapped.grids.back(), block.cells_u, block.cells_v));
+  }
+  return mapped;
+}
+
+/// Two block nodes closer than this are one node. A degenerate block (zero-length edge)
+/// leaves no length scale: fall back to round-off of the coordinates; validate_mesh then
+/// rejects its elements.
+double merge_tolerance(const MappedBlocks& mapped) {
+  double tolerance = relative_tolerance * mapped.h_min;
+  if (!(tolerance > 0.0)) tolerance = 1e-12 * std::max(mapped.extent, 1.0);
+  return tolerance;
+}
+
+/// Adds the blocks' nodes to `mesh`: a node coincides with a node of an earlier block,
+/// or it is new. Returns each block's grid node → mesh node.
+std::vector<std::vector<Index>> merge_block_nodes(Mesh& mesh,
+                                                  const std::vector<std::vector<Vec2>>& grids,
+                                                  double tolerance) {
+  std::vector<int> first_block;  // block that created each mesh node
+  std::vector<std::vector<Index>> block_nodes(grids.size());
+  PointLocator locator(tolerance);
+  for (std::size_t b = 0; b < grids.size(); ++b) {
+    const int block_index = static_cast<int>(b);
+    for (const Vec2& p : grids[b]) {
+      Index id = locator.find(p, mesh.nodes, [&](Index m) {
+        return first_block[static_cast<std::size_t>(m)] != block_index;
+      });
+      if (id < 0) {
+        id = mesh.node_count();
+        mesh.nodes.push_back(p);
+        first_block.push_back(block_index);
+        locator.insert(p, id);
+      }
+      block_nodes[b].push_back(id);
+    }
+  }
+  return block_nodes;
+}
+
+/// Whether `p` lies within `tolerance` of an edge of `block`.
+bool on_block_edge(const Vec2& p, const MeshBlock& block, double tolerance) {
+  const auto& q = block.corners;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (distance_to_segment(p, q[k], q[(k + 1) % 4]) <= tolerance) return true;
+  }
+  return false;
+}
+
+/// Throws when node `id` at `p`, on the perimeter of block b, lies on an edge of another
+/// block that does not have it among its nodes (`sorted_nodes`: each block's mesh nodes,
+/// sorted).
+void check_perimeter_node(const std::vector<MeshBlock>& blocks, std::size_t b, const Vec2& p,
+                          Index id, const std::vector<std::vector<Index>>& sorted_nodes,
+                          double tolerance) {
+  for (std::size_t a = 0; a < blocks.size(); ++a) {
+    if (a == b) continue;
+    if (on_block_edge(p, blocks[a], tolerance) &&
+        !std::binary_search(sorted_nodes[a].begin(), sorted_nodes[a].end(), id)) {
+      throw Error(
+          "mesh.blocks[{}] and mesh.blocks[{}]: hanging node at ({}, {}): a node of "
+          "block {} lies on an edge of block {} that has no node there (blocks "
+          "sharing an edge need the same number of cells along it)",
+          std::min(a, b), std::max(a, b), p.x(), p.y(), b, a);
+    }
+  }
+}
+
+/// Hanging nodes: a node on the perimeter of block b that lies on an edge of block a
+/// must be a node of block a too, otherwise the two blocks do not share that edge's
+/// nodes (different cell counts along it) and the mesh is not conforming.
+void check_no_hanging_nodes(const std::vector<MeshBlock>& blocks,
+                            const std::vector<std::vector<Vec2>>& grids,
+                            const std::vector<std::vector<Index>>& block_nodes, double tolerance) {
+  std::vector<std::vector<Index>> sorted_nodes = block_nodes;
+  for (auto& ids : sorted_nodes) std::sort(ids.begin(), ids.end());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const int nu = blocks[b].cells_u;
+    const int nv = blocks[b].cells_v;
+    for (int j = 0; j <= nv; ++j) {
+      for (int i = 0; i <= nu; ++i) {
+        if (i != 0 && i != nu && j != 0 && j != nv) continue;
+        const auto g = static_cast<std::size_t>(j * (nu + 1) + i);
+        check_perimeter_node(blocks, b, grids[b][g], block_nodes[b][g], sorted_nodes, tolerance);
+      }
+    }
+  }
+}
+
+/// Appends each block's cells as elements of its material, blocks in order.
+void append_block_elements(Mesh& mesh, const std::vector<MeshBlock>& blocks,
+                           const std::vector<std::vector<Index>>& block_nodes,
+                           const std::vector<std::int32_t>& block_material) {
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const int nu = blocks[b].cells_u;
+    const auto& ids = block_nodes[b];
+    append_grid_elements(
+        mesh, nu, blocks[b].cells_v,
+        [&](int i, int j) { return ids[static_cast<std::size_t>(j * (nu + 1) + i)]; },
+        block_material[b]);
+  }
+}
+
 }  // namespace
 
 std::optional<std::string> block_corners_problem(const MeshBlock& block) {
@@ -325,117 +490,13 @@ Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id) {
 Mesh generate_block_mesh(const MeshSpec& spec, const MaterialTable& materials) {
   const auto& blocks = spec.blocks;
   if (blocks.empty()) throw Error("mesh.blocks: no blocks given");
-
-  // Each block's grid of nodes by the bilinear map of its corners (transfinite
-  // interpolation with straight sides): x(s, t) = Σ corners × (1−s|s)(1−t|t).
-  std::vector<std::vector<Vec2>> grids(blocks.size());
-  std::vector<std::int32_t> block_material(blocks.size());
-  double h_min = std::numeric_limits<double>::infinity();
-  double extent = 0.0;
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const MeshBlock& block = blocks[b];
-    const std::string where = fmt::format("mesh.blocks[{}]", b);
-    if (block.cells_u < 1 || block.cells_v < 1) {
-      throw Error("{}: cells = [{}, {}] (expected at least one cell each way)", where,
-                  block.cells_u, block.cells_v);
-    }
-    if (const auto problem = block_corners_problem(block)) {
-      throw Error("{}: {}", where, *problem);
-    }
-    const auto& p = block.corners;
-    for (const Vec2& corner : p) extent = std::max(extent, corner.cwiseAbs().maxCoeff());
-    block_material[b] = material_id_of(materials, block.material, where + ".material");
-
-    auto& grid = grids[b];
-    const int nu = block.cells_u;
-    const int nv = block.cells_v;
-    grid.reserve(static_cast<std::size_t>((nu + 1) * (nv + 1)));
-    for (int j = 0; j <= nv; ++j) {
-      const double t = static_cast<double>(j) / nv;
-      for (int i = 0; i <= nu; ++i) {
-        const double s = static_cast<double>(i) / nu;
-        grid.push_back((1.0 - s) * (1.0 - t) * p[0] + s * (1.0 - t) * p[1] + s * t * p[2] +
-                       (1.0 - s) * t * p[3]);
-      }
-    }
-    const auto at = [&](int i, int j) -> const Vec2& {
-      return grid[static_cast<std::size_t>(j * (nu + 1) + i)];
-    };
-    for (int j = 0; j <= nv; ++j) {
-      for (int i = 0; i <= nu; ++i) {
-        if (i < nu) h_min = std::min(h_min, (at(i + 1, j) - at(i, j)).norm());
-        if (j < nv) h_min = std::min(h_min, (at(i, j + 1) - at(i, j)).norm());
-      }
-    }
-  }
-  // A degenerate block (zero-length edge) leaves no length scale: fall back to round-off
-  // of the coordinates; validate_mesh then rejects its elements.
-  double tolerance = relative_tolerance * h_min;
-  if (!(tolerance > 0.0)) tolerance = 1e-12 * std::max(extent, 1.0);
-
-  // Merge: a node coincides with a node of an earlier block, or it is new.
+  const MappedBlocks mapped = map_blocks(blocks, materials);
+  const double tolerance = merge_tolerance(mapped);
   Mesh mesh;
   mesh.element_type = spec.element_type;
-  std::vector<int> first_block;                                // block that created each mesh node
-  std::vector<std::vector<Index>> block_nodes(blocks.size());  // grid node → mesh node
-  PointLocator locator(tolerance);
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const int block_index = static_cast<int>(b);
-    for (const Vec2& p : grids[b]) {
-      Index id = locator.find(p, mesh.nodes, [&](Index m) {
-        return first_block[static_cast<std::size_t>(m)] != block_index;
-      });
-      if (id < 0) {
-        id = mesh.node_count();
-        mesh.nodes.push_back(p);
-        first_block.push_back(block_index);
-        locator.insert(p, id);
-      }
-      block_nodes[b].push_back(id);
-    }
-  }
-
-  // Hanging nodes: a node on the perimeter of block b that lies on an edge of block a
-  // must be a node of block a too, otherwise the two blocks do not share that edge's
-  // nodes (different cell counts along it) and the mesh is not conforming.
-  std::vector<std::vector<Index>> sorted_nodes = block_nodes;
-  for (auto& ids : sorted_nodes) std::sort(ids.begin(), ids.end());
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const int nu = blocks[b].cells_u;
-    const int nv = blocks[b].cells_v;
-    for (int j = 0; j <= nv; ++j) {
-      for (int i = 0; i <= nu; ++i) {
-        if (i != 0 && i != nu && j != 0 && j != nv) continue;
-        const auto g = static_cast<std::size_t>(j * (nu + 1) + i);
-        const Vec2& p = grids[b][g];
-        const Index id = block_nodes[b][g];
-        for (std::size_t a = 0; a < blocks.size(); ++a) {
-          if (a == b) continue;
-          const auto& q = blocks[a].corners;
-          bool on_edge = false;
-          for (std::size_t k = 0; k < 4; ++k) {
-            on_edge = on_edge || distance_to_segment(p, q[k], q[(k + 1) % 4]) <= tolerance;
-          }
-          if (on_edge && !std::binary_search(sorted_nodes[a].begin(), sorted_nodes[a].end(), id)) {
-            throw Error(
-                "mesh.blocks[{}] and mesh.blocks[{}]: hanging node at ({}, {}): a node of "
-                "block {} lies on an edge of block {} that has no node there (blocks "
-                "sharing an edge need the same number of cells along it)",
-                std::min(a, b), std::max(a, b), p.x(), p.y(), b, a);
-          }
-        }
-      }
-    }
-  }
-
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const int nu = blocks[b].cells_u;
-    const auto& ids = block_nodes[b];
-    append_grid_elements(
-        mesh, nu, blocks[b].cells_v,
-        [&](int i, int j) { return ids[static_cast<std::size_t>(j * (nu + 1) + i)]; },
-        block_material[b]);
-  }
+  const auto block_nodes = merge_block_nodes(mesh, mapped.grids, tolerance);
+  check_no_hanging_nodes(blocks, mapped.grids, block_nodes, tolerance);
+  append_block_elements(mesh, blocks, block_nodes, mapped.material);
   add_boundary_node_sets(mesh, tolerance);
   return mesh;
 }
