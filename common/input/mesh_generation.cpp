@@ -19,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -194,6 +195,301 @@ void check_boundary_names(const Mesh& mesh, const BoundaryTable& table, std::str
   }
 }
 
+/// The blocks of a "blocks" mesh, checked and mapped to their grids of nodes, before
+/// coincident nodes are merged.
+struct MappedBlocks {
+  std::vector<std::vector<Vec2>> grids;                    ///< each block's nodes, u fastest
+  std::vector<std::int32_t> material;                      ///< each block's material id
+  double h_min = std::numeric_limits<double>::infinity();  ///< shortest grid edge
+  double extent = 0.0;                                     ///< largest |coordinate| of a corner
+};
+
+/// The grid of nodes of `block` by the bilinear map of its corners (transfinite
+/// interpolation with straight sides): x(s, t) = Σ corners × (1−s|s)(1−t|t).
+std::vector<Vec2> block_grid(const MeshBlock& block) {
+  const auto& p = block.corners;
+  const int nu = block.cells_u;
+  const int nv = block.cells_v;
+  std::vector<Vec2> grid;
+  grid.reserve(static_cast<std::size_t>((nu + 1) * (nv + 1)));
+  for (int j = 0; j <= nv; ++j) {
+    const double t = static_cast<double>(j) / nv;
+    for (int i = 0; i <= nu; ++i) {
+      const double s = static_cast<double>(i) / nu;
+      grid.push_back((1.0 - s) * (1.0 - t) * p[0] + s * (1.0 - t) * p[1] + s * t * p[2] +
+                     (1.0 - s) * t * p[3]);
+    }
+  }
+  return grid;
+}
+
+/// The shortest edge between neighbouring nodes of an nu × nv grid of cells.
+double smallest_grid_edge(const std::vector<Vec2>& grid, int nu, int nv) {
+  const auto at = [&](int i, int j) -> const Vec2& {
+    return grid[static_cast<std::size_t>(j * (nu + 1) + i)];
+  };
+  double h_min = std::numeric_limits<double>::infinity();
+  for (int j = 0; j <= nv; ++j) {
+    for (int i = 0; i <= nu; ++i) {
+      if (i < nu) h_min = std::min(h_min, (at(i + 1, j) - at(i, j)).norm());
+      if (j < nv) h_min = std::min(h_min, (at(i, j + 1) - at(i, j)).norm());
+    }
+  }
+  return h_min;
+}
+
+/// Each block checked (cell counts, corners, material, in that order) and mapped.
+MappedBlocks map_blocks(const std::vector<MeshBlock>& blocks, const MaterialTable& materials) {
+  MappedBlocks mapped;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const MeshBlock& block = blocks[b];
+    const std::string where = fmt::format("mesh.blocks[{}]", b);
+    if (block.cells_u < 1 || block.cells_v < 1) {
+      throw Error("{}: cells = [{}, {}] (expected at least one cell each way)", where,
+                  block.cells_u, block.cells_v);
+    }
+    if (const auto problem = block_corners_problem(block)) {
+      throw Error("{}: {}", where, *problem);
+    }
+    for (const Vec2& corner : block.corners) {
+      mapped.extent = std::max(mapped.extent, corner.cwiseAbs().maxCoeff());
+    }
+    mapped.material.push_back(material_id_of(materials, block.material, where + ".material"));
+    mapped.grids.push_back(block_grid(block));
+    mapped.h_min = std::min(mapped.h_min,
+                            smallest_grid_edge(mapped.grids.back(), block.cells_u, block.cells_v));
+  }
+  return mapped;
+}
+
+/// Two block nodes closer than this are one node. A degenerate block (zero-length edge)
+/// leaves no length scale: fall back to round-off of the coordinates; validate_mesh then
+/// rejects its elements.
+double merge_tolerance(const MappedBlocks& mapped) {
+  double tolerance = relative_tolerance * mapped.h_min;
+  if (!(tolerance > 0.0)) tolerance = 1e-12 * std::max(mapped.extent, 1.0);
+  return tolerance;
+}
+
+/// Adds the blocks' nodes to `mesh`: a node coincides with a node of an earlier block,
+/// or it is new. Returns each block's grid node → mesh node.
+std::vector<std::vector<Index>> merge_block_nodes(Mesh& mesh,
+                                                  const std::vector<std::vector<Vec2>>& grids,
+                                                  double tolerance) {
+  std::vector<int> first_block;  // block that created each mesh node
+  std::vector<std::vector<Index>> block_nodes(grids.size());
+  PointLocator locator(tolerance);
+  for (std::size_t b = 0; b < grids.size(); ++b) {
+    const int block_index = static_cast<int>(b);
+    for (const Vec2& p : grids[b]) {
+      Index id = locator.find(p, mesh.nodes, [&](Index m) {
+        return first_block[static_cast<std::size_t>(m)] != block_index;
+      });
+      if (id < 0) {
+        id = mesh.node_count();
+        mesh.nodes.push_back(p);
+        first_block.push_back(block_index);
+        locator.insert(p, id);
+      }
+      block_nodes[b].push_back(id);
+    }
+  }
+  return block_nodes;
+}
+
+/// Whether `p` lies within `tolerance` of an edge of `block`.
+bool on_block_edge(const Vec2& p, const MeshBlock& block, double tolerance) {
+  const auto& q = block.corners;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (distance_to_segment(p, q[k], q[(k + 1) % 4]) <= tolerance) return true;
+  }
+  return false;
+}
+
+/// Throws when node `id` at `p`, on the perimeter of block b, lies on an edge of another
+/// block that does not have it among its nodes (`sorted_nodes`: each block's mesh nodes,
+/// sorted).
+void check_perimeter_node(const std::vector<MeshBlock>& blocks, std::size_t b, const Vec2& p,
+                          Index id, const std::vector<std::vector<Index>>& sorted_nodes,
+                          double tolerance) {
+  for (std::size_t a = 0; a < blocks.size(); ++a) {
+    if (a == b) continue;
+    if (on_block_edge(p, blocks[a], tolerance) &&
+        !std::binary_search(sorted_nodes[a].begin(), sorted_nodes[a].end(), id)) {
+      throw Error(
+          "mesh.blocks[{}] and mesh.blocks[{}]: hanging node at ({}, {}): a node of "
+          "block {} lies on an edge of block {} that has no node there (blocks "
+          "sharing an edge need the same number of cells along it)",
+          std::min(a, b), std::max(a, b), p.x(), p.y(), b, a);
+    }
+  }
+}
+
+/// Hanging nodes: a node on the perimeter of block b that lies on an edge of block a
+/// must be a node of block a too, otherwise the two blocks do not share that edge's
+/// nodes (different cell counts along it) and the mesh is not conforming.
+void check_no_hanging_nodes(const std::vector<MeshBlock>& blocks,
+                            const std::vector<std::vector<Vec2>>& grids,
+                            const std::vector<std::vector<Index>>& block_nodes, double tolerance) {
+  std::vector<std::vector<Index>> sorted_nodes = block_nodes;
+  for (auto& ids : sorted_nodes) std::sort(ids.begin(), ids.end());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const int nu = blocks[b].cells_u;
+    const int nv = blocks[b].cells_v;
+    for (int j = 0; j <= nv; ++j) {
+      for (int i = 0; i <= nu; ++i) {
+        if (i != 0 && i != nu && j != 0 && j != nv) continue;
+        const auto g = static_cast<std::size_t>(j * (nu + 1) + i);
+        check_perimeter_node(blocks, b, grids[b][g], block_nodes[b][g], sorted_nodes, tolerance);
+      }
+    }
+  }
+}
+
+/// Appends each block's cells as elements of its material, blocks in order.
+void append_block_elements(Mesh& mesh, const std::vector<MeshBlock>& blocks,
+                           const std::vector<std::vector<Index>>& block_nodes,
+                           const std::vector<std::int32_t>& block_material) {
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const int nu = blocks[b].cells_u;
+    const auto& ids = block_nodes[b];
+    append_grid_elements(
+        mesh, nu, blocks[b].cells_v,
+        [&](int i, int j) { return ids[static_cast<std::size_t>(j * (nu + 1) + i)]; },
+        block_material[b]);
+  }
+}
+
+/// The mesh is not empty, its connectivity has the size of its elements, its nodes are
+/// finite points.
+void check_mesh_sizes(const Mesh& mesh, std::string_view source) {
+  const int n = mesh.nodes_per_element();
+  const Index element_count = mesh.element_count();
+  if (element_count == 0) throw Error("{}: the mesh has no elements", source);
+  if (mesh.connectivity.size() != static_cast<std::size_t>(element_count * n)) {
+    throw Error("{}: connectivity has {} entries for {} elements of {} nodes", source,
+                mesh.connectivity.size(), element_count, n);
+  }
+  for (Index i = 0; i < mesh.node_count(); ++i) {
+    const Vec2& p = mesh.nodes[static_cast<std::size_t>(i)];
+    if (!p.allFinite()) throw Error("{}: node {} has a coordinate that is not finite", source, i);
+  }
+}
+
+/// The mean of an element's `n` node coordinates `x`, where its messages place it.
+Vec2 element_centre(const ElementNodes& x, int n) {
+  Vec2 centre = Vec2::Zero();
+  for (int k = 0; k < n; ++k) centre += x.row(k).transpose() / n;
+  return centre;
+}
+
+/// Element `e` (nodes `nodes` at `x`) is neither inverted nor of zero area: a triangle's
+/// signed area, a quadrangle's det J at each corner, above a fraction of its size.
+void check_element_not_inverted(ElementShape shape, Index e, std::span<const Index> nodes,
+                                const ElementNodes& x, const Vec2& centre,
+                                std::string_view source) {
+  const double threshold = degenerate_jacobian_fraction * longest_edge_squared(shape, x);
+  if (shape == ElementShape::tri3) {
+    const double area = element_area(shape, x);
+    if (area <= threshold) {
+      throw Error(
+          "{}: element {} at ({}, {}) is inverted or has zero area (signed area {} "
+          "m²)",
+          source, e, centre.x(), centre.y(), area);
+    }
+    return;
+  }
+  const auto corners = reference_corners(shape);
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    const double det = jacobian(shape, x, corners[k]).determinant();
+    if (det <= 0.25 * threshold) {
+      throw Error(
+          "{}: element {} at ({}, {}) is inverted or has zero area: det J = {} at its "
+          "corner {} (node {} at ({}, {}))",
+          source, e, centre.x(), centre.y(), det, k, nodes[k], x(static_cast<int>(k), 0),
+          x(static_cast<int>(k), 1));
+    }
+  }
+}
+
+/// Checks each element in turn (node indices in range, material id in range, not
+/// inverted); returns which nodes the elements reference.
+std::vector<bool> check_elements(const Mesh& mesh, std::string_view source,
+                                 std::size_t material_count) {
+  const Index node_count = mesh.node_count();
+  std::vector<bool> referenced(static_cast<std::size_t>(node_count), false);
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const auto nodes = mesh.element(e);
+    for (const Index node : nodes) {
+      if (node < 0 || node >= node_count) {
+        throw Error("{}: element {} refers to node {}, out of range (the mesh has {} nodes)",
+                    source, e, node, node_count);
+      }
+      referenced[static_cast<std::size_t>(node)] = true;
+    }
+    const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
+    const Vec2 centre = element_centre(x, mesh.nodes_per_element());
+    const auto material = mesh.material_id[static_cast<std::size_t>(e)];
+    if (material < 0 || static_cast<std::size_t>(material) >= material_count) {
+      throw Error(
+          "{}: element {} at ({}, {}) has material id {}, out of range (the case has {} "
+          "materials)",
+          source, e, centre.x(), centre.y(), material, material_count);
+    }
+    check_element_not_inverted(mesh.shape(), e, nodes, x, centre, source);
+  }
+  return referenced;
+}
+
+/// Every node is a node of an element (`referenced`).
+void check_nodes_referenced(const Mesh& mesh, const std::vector<bool>& referenced,
+                            std::string_view source) {
+  for (Index i = 0; i < mesh.node_count(); ++i) {
+    if (!referenced[static_cast<std::size_t>(i)]) {
+      const Vec2& p = mesh.nodes[static_cast<std::size_t>(i)];
+      throw Error("{}: node {} at ({}, {}) belongs to no element", source, i, p.x(), p.y());
+    }
+  }
+}
+
+/// Node set `set`: not empty, in range, one outward unit normal, straight (every node
+/// within `straightness` of the line through the first node perpendicular to the normal).
+void check_node_set(const Mesh& mesh, const NodeSet& set, double straightness,
+                    std::string_view source) {
+  const Index node_count = mesh.node_count();
+  if (set.nodes.empty()) throw Error("{}: node set '{}' is empty", source, set.name);
+  for (const Index node : set.nodes) {
+    if (node < 0 || node >= node_count) {
+      throw Error("{}: node set '{}' refers to node {}, out of range (the mesh has {} nodes)",
+                  source, set.name, node, node_count);
+    }
+  }
+  if (std::abs(set.normal.norm() - 1.0) > 1e-9) {
+    throw Error("{}: node set '{}' has a normal ({}, {}) that is not a unit vector", source,
+                set.name, set.normal.x(), set.normal.y());
+  }
+  const Vec2& origin = mesh.nodes[static_cast<std::size_t>(set.nodes.front())];
+  for (const Index node : set.nodes) {
+    const Vec2& p = mesh.nodes[static_cast<std::size_t>(node)];
+    if (std::abs((p - origin).dot(set.normal)) > straightness) {
+      throw Error(
+          "{}: node set '{}' is not straight: node {} at ({}, {}) is {} m off the line "
+          "through node {} normal to ({}, {})",
+          source, set.name, node, p.x(), p.y(), std::abs((p - origin).dot(set.normal)),
+          set.nodes.front(), set.normal.x(), set.normal.y());
+    }
+  }
+}
+
+/// Every node set passes check_node_set, with a straightness tolerance relative to the
+/// mesh's extent.
+void check_node_sets(const Mesh& mesh, std::string_view source) {
+  double extent = 0.0;
+  for (const Vec2& p : mesh.nodes) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  const double straightness = relative_tolerance * std::max(extent, 1.0);
+  for (const auto& set : mesh.node_sets) check_node_set(mesh, set, straightness, source);
+}
+
 }  // namespace
 
 std::optional<std::string> block_corners_problem(const MeshBlock& block) {
@@ -325,215 +621,23 @@ Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id) {
 Mesh generate_block_mesh(const MeshSpec& spec, const MaterialTable& materials) {
   const auto& blocks = spec.blocks;
   if (blocks.empty()) throw Error("mesh.blocks: no blocks given");
-
-  // Each block's grid of nodes by the bilinear map of its corners (transfinite
-  // interpolation with straight sides): x(s, t) = Σ corners × (1−s|s)(1−t|t).
-  std::vector<std::vector<Vec2>> grids(blocks.size());
-  std::vector<std::int32_t> block_material(blocks.size());
-  double h_min = std::numeric_limits<double>::infinity();
-  double extent = 0.0;
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const MeshBlock& block = blocks[b];
-    const std::string where = fmt::format("mesh.blocks[{}]", b);
-    if (block.cells_u < 1 || block.cells_v < 1) {
-      throw Error("{}: cells = [{}, {}] (expected at least one cell each way)", where,
-                  block.cells_u, block.cells_v);
-    }
-    if (const auto problem = block_corners_problem(block)) {
-      throw Error("{}: {}", where, *problem);
-    }
-    const auto& p = block.corners;
-    for (const Vec2& corner : p) extent = std::max(extent, corner.cwiseAbs().maxCoeff());
-    block_material[b] = material_id_of(materials, block.material, where + ".material");
-
-    auto& grid = grids[b];
-    const int nu = block.cells_u;
-    const int nv = block.cells_v;
-    grid.reserve(static_cast<std::size_t>((nu + 1) * (nv + 1)));
-    for (int j = 0; j <= nv; ++j) {
-      const double t = static_cast<double>(j) / nv;
-      for (int i = 0; i <= nu; ++i) {
-        const double s = static_cast<double>(i) / nu;
-        grid.push_back((1.0 - s) * (1.0 - t) * p[0] + s * (1.0 - t) * p[1] + s * t * p[2] +
-                       (1.0 - s) * t * p[3]);
-      }
-    }
-    const auto at = [&](int i, int j) -> const Vec2& {
-      return grid[static_cast<std::size_t>(j * (nu + 1) + i)];
-    };
-    for (int j = 0; j <= nv; ++j) {
-      for (int i = 0; i <= nu; ++i) {
-        if (i < nu) h_min = std::min(h_min, (at(i + 1, j) - at(i, j)).norm());
-        if (j < nv) h_min = std::min(h_min, (at(i, j + 1) - at(i, j)).norm());
-      }
-    }
-  }
-  // A degenerate block (zero-length edge) leaves no length scale: fall back to round-off
-  // of the coordinates; validate_mesh then rejects its elements.
-  double tolerance = relative_tolerance * h_min;
-  if (!(tolerance > 0.0)) tolerance = 1e-12 * std::max(extent, 1.0);
-
-  // Merge: a node coincides with a node of an earlier block, or it is new.
+  const MappedBlocks mapped = map_blocks(blocks, materials);
+  const double tolerance = merge_tolerance(mapped);
   Mesh mesh;
   mesh.element_type = spec.element_type;
-  std::vector<int> first_block;                                // block that created each mesh node
-  std::vector<std::vector<Index>> block_nodes(blocks.size());  // grid node → mesh node
-  PointLocator locator(tolerance);
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const int block_index = static_cast<int>(b);
-    for (const Vec2& p : grids[b]) {
-      Index id = locator.find(p, mesh.nodes, [&](Index m) {
-        return first_block[static_cast<std::size_t>(m)] != block_index;
-      });
-      if (id < 0) {
-        id = mesh.node_count();
-        mesh.nodes.push_back(p);
-        first_block.push_back(block_index);
-        locator.insert(p, id);
-      }
-      block_nodes[b].push_back(id);
-    }
-  }
-
-  // Hanging nodes: a node on the perimeter of block b that lies on an edge of block a
-  // must be a node of block a too, otherwise the two blocks do not share that edge's
-  // nodes (different cell counts along it) and the mesh is not conforming.
-  std::vector<std::vector<Index>> sorted_nodes = block_nodes;
-  for (auto& ids : sorted_nodes) std::sort(ids.begin(), ids.end());
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const int nu = blocks[b].cells_u;
-    const int nv = blocks[b].cells_v;
-    for (int j = 0; j <= nv; ++j) {
-      for (int i = 0; i <= nu; ++i) {
-        if (i != 0 && i != nu && j != 0 && j != nv) continue;
-        const auto g = static_cast<std::size_t>(j * (nu + 1) + i);
-        const Vec2& p = grids[b][g];
-        const Index id = block_nodes[b][g];
-        for (std::size_t a = 0; a < blocks.size(); ++a) {
-          if (a == b) continue;
-          const auto& q = blocks[a].corners;
-          bool on_edge = false;
-          for (std::size_t k = 0; k < 4; ++k) {
-            on_edge = on_edge || distance_to_segment(p, q[k], q[(k + 1) % 4]) <= tolerance;
-          }
-          if (on_edge && !std::binary_search(sorted_nodes[a].begin(), sorted_nodes[a].end(), id)) {
-            throw Error(
-                "mesh.blocks[{}] and mesh.blocks[{}]: hanging node at ({}, {}): a node of "
-                "block {} lies on an edge of block {} that has no node there (blocks "
-                "sharing an edge need the same number of cells along it)",
-                std::min(a, b), std::max(a, b), p.x(), p.y(), b, a);
-          }
-        }
-      }
-    }
-  }
-
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const int nu = blocks[b].cells_u;
-    const auto& ids = block_nodes[b];
-    append_grid_elements(
-        mesh, nu, blocks[b].cells_v,
-        [&](int i, int j) { return ids[static_cast<std::size_t>(j * (nu + 1) + i)]; },
-        block_material[b]);
-  }
+  const auto block_nodes = merge_block_nodes(mesh, mapped.grids, tolerance);
+  check_no_hanging_nodes(blocks, mapped.grids, block_nodes, tolerance);
+  append_block_elements(mesh, blocks, block_nodes, mapped.material);
   add_boundary_node_sets(mesh, tolerance);
   return mesh;
 }
 
+// The checks run in this order, and each in mesh order: the first fault is reported.
 void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t material_count) {
-  const int n = mesh.nodes_per_element();
-  const Index element_count = mesh.element_count();
-  const Index node_count = mesh.node_count();
-  if (element_count == 0) throw Error("{}: the mesh has no elements", source);
-  if (mesh.connectivity.size() != static_cast<std::size_t>(element_count * n)) {
-    throw Error("{}: connectivity has {} entries for {} elements of {} nodes", source,
-                mesh.connectivity.size(), element_count, n);
-  }
-  for (Index i = 0; i < node_count; ++i) {
-    const Vec2& p = mesh.nodes[static_cast<std::size_t>(i)];
-    if (!p.allFinite()) throw Error("{}: node {} has a coordinate that is not finite", source, i);
-  }
-
-  std::vector<bool> referenced(static_cast<std::size_t>(node_count), false);
-  const ElementShape shape = mesh.shape();
-  for (Index e = 0; e < element_count; ++e) {
-    const auto nodes = mesh.element(e);
-    for (const Index node : nodes) {
-      if (node < 0 || node >= node_count) {
-        throw Error("{}: element {} refers to node {}, out of range (the mesh has {} nodes)",
-                    source, e, node, node_count);
-      }
-      referenced[static_cast<std::size_t>(node)] = true;
-    }
-    const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
-    Vec2 centre = Vec2::Zero();
-    for (int k = 0; k < n; ++k) centre += x.row(k).transpose() / n;
-    const auto material = mesh.material_id[static_cast<std::size_t>(e)];
-    if (material < 0 || static_cast<std::size_t>(material) >= material_count) {
-      throw Error(
-          "{}: element {} at ({}, {}) has material id {}, out of range (the case has {} "
-          "materials)",
-          source, e, centre.x(), centre.y(), material, material_count);
-    }
-    const double threshold = degenerate_jacobian_fraction * longest_edge_squared(shape, x);
-    if (shape == ElementShape::tri3) {
-      const double area = element_area(shape, x);
-      if (area <= threshold) {
-        throw Error(
-            "{}: element {} at ({}, {}) is inverted or has zero area (signed area {} "
-            "m²)",
-            source, e, centre.x(), centre.y(), area);
-      }
-      continue;
-    }
-    const auto corners = reference_corners(shape);
-    for (std::size_t k = 0; k < corners.size(); ++k) {
-      const double det = jacobian(shape, x, corners[k]).determinant();
-      if (det <= 0.25 * threshold) {
-        throw Error(
-            "{}: element {} at ({}, {}) is inverted or has zero area: det J = {} at its "
-            "corner {} (node {} at ({}, {}))",
-            source, e, centre.x(), centre.y(), det, k, nodes[k], x(static_cast<int>(k), 0),
-            x(static_cast<int>(k), 1));
-      }
-    }
-  }
-  for (Index i = 0; i < node_count; ++i) {
-    if (!referenced[static_cast<std::size_t>(i)]) {
-      const Vec2& p = mesh.nodes[static_cast<std::size_t>(i)];
-      throw Error("{}: node {} at ({}, {}) belongs to no element", source, i, p.x(), p.y());
-    }
-  }
-
-  // Node sets: not empty, in range, one outward unit normal, straight (every node on the
-  // line through the first node perpendicular to the normal).
-  double extent = 0.0;
-  for (const Vec2& p : mesh.nodes) extent = std::max(extent, p.cwiseAbs().maxCoeff());
-  const double straightness = relative_tolerance * std::max(extent, 1.0);
-  for (const auto& set : mesh.node_sets) {
-    if (set.nodes.empty()) throw Error("{}: node set '{}' is empty", source, set.name);
-    for (const Index node : set.nodes) {
-      if (node < 0 || node >= node_count) {
-        throw Error("{}: node set '{}' refers to node {}, out of range (the mesh has {} nodes)",
-                    source, set.name, node, node_count);
-      }
-    }
-    if (std::abs(set.normal.norm() - 1.0) > 1e-9) {
-      throw Error("{}: node set '{}' has a normal ({}, {}) that is not a unit vector", source,
-                  set.name, set.normal.x(), set.normal.y());
-    }
-    const Vec2& origin = mesh.nodes[static_cast<std::size_t>(set.nodes.front())];
-    for (const Index node : set.nodes) {
-      const Vec2& p = mesh.nodes[static_cast<std::size_t>(node)];
-      if (std::abs((p - origin).dot(set.normal)) > straightness) {
-        throw Error(
-            "{}: node set '{}' is not straight: node {} at ({}, {}) is {} m off the line "
-            "through node {} normal to ({}, {})",
-            source, set.name, node, p.x(), p.y(), std::abs((p - origin).dot(set.normal)),
-            set.nodes.front(), set.normal.x(), set.normal.y());
-      }
-    }
-  }
+  check_mesh_sizes(mesh, source);
+  const std::vector<bool> referenced = check_elements(mesh, source, material_count);
+  check_nodes_referenced(mesh, referenced, source);
+  check_node_sets(mesh, source);
 }
 
 Mesh build_mesh(const Case& c) {

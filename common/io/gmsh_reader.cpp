@@ -242,6 +242,130 @@ struct PhysicalName {
   std::size_t line;
 };
 
+/// A surface element as the mesh takes it: the raw indices of its nodes, its material.
+struct Polygon {
+  std::array<std::size_t, 4> nodes;
+  int count;
+  std::int32_t material;
+  std::size_t element;  ///< index in the reader's elements
+};
+
+/// The edges of the surface elements: the node pair (lower index first) → the directed
+/// edges a → b of the counter-clockwise elements that have it (two for an inner edge).
+using Edges = std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>>;
+
+/// A line element of a boundary group, directed counter-clockwise along its element.
+struct BoundaryLine {
+  Index from;
+  Index to;  ///< counter-clockwise along the adjacent element
+  const RawElement* element;
+};
+
+/// Which raw nodes (of `node_count`) the surface elements use.
+std::vector<bool> used_nodes(const std::vector<Polygon>& polygons, std::size_t node_count) {
+  std::vector<bool> used(node_count, false);
+  for (const Polygon& polygon : polygons) {
+    for (int k = 0; k < polygon.count; ++k) used[polygon.nodes[static_cast<std::size_t>(k)]] = true;
+  }
+  return used;
+}
+
+/// Each surface element's nodes in the mesh's numbering, counter-clockwise (the elements
+/// of a clockwise entity turned); a triangle's fourth node is -1.
+std::vector<std::array<Index, 4>> counter_clockwise_elements(const std::vector<Polygon>& polygons,
+                                                             const std::vector<int>& orientation,
+                                                             const std::vector<Index>& new_index) {
+  std::vector<std::array<Index, 4>> elements;
+  for (std::size_t i = 0; i < polygons.size(); ++i) {
+    const Polygon& polygon = polygons[i];
+    std::array<Index, 4> v{};
+    for (std::size_t k = 0; k < 4; ++k) {
+      v[k] = k < static_cast<std::size_t>(polygon.count) ? new_index[polygon.nodes[k]] : -1;
+    }
+    const auto count = static_cast<std::size_t>(polygon.count);
+    if (orientation[i] < 0) std::reverse(v.begin() + 1, v.begin() + static_cast<long>(count));
+    elements.push_back(v);
+  }
+  return elements;
+}
+
+/// The directed edges of the counter-clockwise elements, by node pair.
+Edges element_edges(const std::vector<Polygon>& polygons,
+                    const std::vector<std::array<Index, 4>>& elements) {
+  Edges edges;
+  for (std::size_t i = 0; i < polygons.size(); ++i) {
+    const auto& v = elements[i];
+    const auto count = static_cast<std::size_t>(polygons[i].count);
+    for (std::size_t k = 0; k < count; ++k) {
+      const Index a = v[k];
+      const Index b = v[(k + 1) % count];
+      edges[{std::min(a, b), std::max(a, b)}].emplace_back(a, b);
+    }
+  }
+  return edges;
+}
+
+/// Appends counter-clockwise quadrangle `v` as two triangles, split along the shorter
+/// diagonal of those that leave both triangles counter-clockwise (a–c on a tie, and when
+/// neither does).
+void append_split_quadrangle(Mesh& mesh, const std::array<Index, 4>& v, std::int32_t material) {
+  const auto x_of = [&](Index node) -> const Vec2& {
+    return mesh.nodes[static_cast<std::size_t>(node)];
+  };
+  const auto twice_area = [&](Index a, Index b, Index c) {
+    const Vec2 ab = x_of(b) - x_of(a);
+    const Vec2 ac = x_of(c) - x_of(a);
+    return ab.x() * ac.y() - ab.y() * ac.x();
+  };
+  const bool ac_valid = twice_area(v[0], v[1], v[2]) > 0.0 && twice_area(v[0], v[2], v[3]) > 0.0;
+  const bool bd_valid = twice_area(v[0], v[1], v[3]) > 0.0 && twice_area(v[1], v[2], v[3]) > 0.0;
+  const double ac = (x_of(v[2]) - x_of(v[0])).norm();
+  const double bd = (x_of(v[3]) - x_of(v[1])).norm();
+  if ((ac_valid && (!bd_valid || ac <= bd)) || (!ac_valid && !bd_valid)) {
+    mesh.connectivity.insert(mesh.connectivity.end(), {v[0], v[1], v[2], v[0], v[2], v[3]});
+  } else {
+    mesh.connectivity.insert(mesh.connectivity.end(), {v[0], v[1], v[3], v[1], v[2], v[3]});
+  }
+  mesh.material_id.insert(mesh.material_id.end(), {material, material});
+}
+
+/// The connectivity of `elements` in element shape `shape`: as they are, or for tri3
+/// each quadrangle split in two.
+void add_connectivity(Mesh& mesh, ElementShape shape, const std::vector<Polygon>& polygons,
+                      const std::vector<std::array<Index, 4>>& elements) {
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const auto& v = elements[i];
+    const std::int32_t material = polygons[i].material;
+    if (polygons[i].count == 3 || shape == ElementShape::quad4) {
+      mesh.connectivity.insert(mesh.connectivity.end(), v.begin(), v.begin() + polygons[i].count);
+      mesh.material_id.push_back(material);
+    } else {
+      append_split_quadrangle(mesh, v, material);
+    }
+  }
+}
+
+/// Outward normal of boundary line `line`, |line| long: for an edge a → b of a
+/// counter-clockwise element, the tangent turned clockwise.
+Vec2 outward_normal(const Mesh& mesh, const BoundaryLine& line) {
+  const Vec2 t = mesh.nodes[static_cast<std::size_t>(line.to)] -
+                 mesh.nodes[static_cast<std::size_t>(line.from)];
+  return Vec2(t.y(), -t.x());
+}
+
+/// The diagonal of the bounding box of `lines`: the group's length scale.
+double bounding_size(const Mesh& mesh, const std::vector<BoundaryLine>& lines) {
+  Vec2 low = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
+  Vec2 high = low;
+  for (const BoundaryLine& line : lines) {
+    for (const Index node : {line.from, line.to}) {
+      low = low.cwiseMin(mesh.nodes[static_cast<std::size_t>(node)]);
+      high = high.cwiseMax(mesh.nodes[static_cast<std::size_t>(node)]);
+    }
+  }
+  return (high - low).norm();
+}
+
 using DimTag = std::pair<int, int>;
 
 class GmshReader {
@@ -613,20 +737,32 @@ class GmshReader {
     return orientation;
   }
 
+  /// The mesh of the surface elements, after the checks of the file comment.
   Mesh assemble() {
     check_node_references();
-    const ElementShape shape = shape_of(type_);
-    // Surface elements: nodes (still raw), material, and which raw nodes are used.
-    struct Polygon {
-      std::array<std::size_t, 4> nodes;
-      int count;
-      std::int32_t material;
-      std::size_t element;  ///< index in elements_
-    };
-    std::vector<Polygon> polygons;
-    std::vector<bool> used(nodes_.size(), false);
-    std::unordered_set<std::int64_t> surface_tags;
+    const std::vector<Polygon> polygons = surface_polygons();
     std::vector<std::size_t> surface;
+    for (const Polygon& polygon : polygons) surface.push_back(polygon.element);
+    check_physical_groups_have_elements();
+    const std::vector<int> orientation = consistent_orientations(surface);
+
+    Mesh mesh;
+    mesh.element_type = type_;
+    const std::vector<bool> used = used_nodes(polygons, nodes_.size());
+    const std::vector<Index> new_index = renumber_used_nodes(mesh, used);
+    const auto elements = counter_clockwise_elements(polygons, orientation, new_index);
+    add_connectivity(mesh, shape_of(type_), polygons, elements);
+    add_boundary_groups(mesh, new_index, element_edges(polygons, elements));
+    check_unused_nodes(used);
+    return mesh;
+  }
+
+  /// The triangles and quadrangles with their raw nodes and material. A triangle in a
+  /// quad4 mesh, an element listed twice and a file with none are errors.
+  std::vector<Polygon> surface_polygons() const {
+    const ElementShape shape = shape_of(type_);
+    std::vector<Polygon> polygons;
+    std::unordered_set<std::int64_t> surface_tags;
     for (std::size_t i = 0; i < elements_.size(); ++i) {
       const RawElement& e = elements_[i];
       if (e.type != gmsh_triangle && e.type != gmsh_quadrangle) continue;
@@ -645,22 +781,19 @@ class GmshReader {
       }
       Polygon polygon{{}, e.node_count, material_of(e), i};
       for (int k = 0; k < e.node_count; ++k) {
-        const std::size_t raw = raw_index(e, static_cast<std::size_t>(k));
-        polygon.nodes[static_cast<std::size_t>(k)] = raw;
-        used[raw] = true;
+        polygon.nodes[static_cast<std::size_t>(k)] = raw_index(e, static_cast<std::size_t>(k));
       }
       polygons.push_back(polygon);
-      surface.push_back(i);
     }
     if (polygons.empty()) {
       throw Error("{}: no quadrangles or triangles (a 2-D mesh is expected)", in_.file());
     }
-    check_physical_groups_have_elements();
-    const std::vector<int> orientation = consistent_orientations(surface);
+    return polygons;
+  }
 
-    // Renumber the used nodes in increasing tag order.
-    Mesh mesh;
-    mesh.element_type = type_;
+  /// Adds the used nodes to `mesh` in increasing tag order (so a 2.2 and a 4.1 export
+  /// read the same); returns each raw node's new index, -1 if unused.
+  std::vector<Index> renumber_used_nodes(Mesh& mesh, const std::vector<bool>& used) const {
     std::vector<std::size_t> by_tag(nodes_.size());
     for (std::size_t r = 0; r < nodes_.size(); ++r) by_tag[r] = r;
     std::sort(by_tag.begin(), by_tag.end(),
@@ -671,62 +804,7 @@ class GmshReader {
       new_index[r] = mesh.node_count();
       mesh.nodes.push_back(nodes_[r].x);
     }
-    const auto x_of = [&](Index node) -> const Vec2& {
-      return mesh.nodes[static_cast<std::size_t>(node)];
-    };
-    const auto twice_area = [&](Index a, Index b, Index c) {
-      const Vec2 ab = x_of(b) - x_of(a);
-      const Vec2 ac = x_of(c) - x_of(a);
-      return ab.x() * ac.y() - ab.y() * ac.x();
-    };
-
-    // Counter-clockwise surface elements (the clockwise entities turned) and their
-    // directed edges.
-    std::vector<std::array<Index, 4>> elements;
-    std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>> edges;
-    for (std::size_t i = 0; i < polygons.size(); ++i) {
-      const Polygon& polygon = polygons[i];
-      std::array<Index, 4> v{};
-      for (std::size_t k = 0; k < 4; ++k) {
-        v[k] = k < static_cast<std::size_t>(polygon.count) ? new_index[polygon.nodes[k]] : -1;
-      }
-      const auto count = static_cast<std::size_t>(polygon.count);
-      if (orientation[i] < 0) std::reverse(v.begin() + 1, v.begin() + static_cast<long>(count));
-      for (std::size_t k = 0; k < count; ++k) {
-        const Index a = v[k];
-        const Index b = v[(k + 1) % count];
-        edges[{std::min(a, b), std::max(a, b)}].emplace_back(a, b);
-      }
-      elements.push_back(v);
-    }
-
-    // Connectivity in the requested shape.
-    for (std::size_t i = 0; i < elements.size(); ++i) {
-      const auto& v = elements[i];
-      const std::int32_t material = polygons[i].material;
-      if (polygons[i].count == 3 || shape == ElementShape::quad4) {
-        mesh.connectivity.insert(mesh.connectivity.end(), v.begin(), v.begin() + polygons[i].count);
-        mesh.material_id.push_back(material);
-        continue;
-      }
-      // tri3 from a quadrangle: the shorter valid diagonal (a–c on a tie).
-      const bool ac_valid =
-          twice_area(v[0], v[1], v[2]) > 0.0 && twice_area(v[0], v[2], v[3]) > 0.0;
-      const bool bd_valid =
-          twice_area(v[0], v[1], v[3]) > 0.0 && twice_area(v[1], v[2], v[3]) > 0.0;
-      const double ac = (x_of(v[2]) - x_of(v[0])).norm();
-      const double bd = (x_of(v[3]) - x_of(v[1])).norm();
-      if ((ac_valid && (!bd_valid || ac <= bd)) || (!ac_valid && !bd_valid)) {
-        mesh.connectivity.insert(mesh.connectivity.end(), {v[0], v[1], v[2], v[0], v[2], v[3]});
-      } else {
-        mesh.connectivity.insert(mesh.connectivity.end(), {v[0], v[1], v[3], v[1], v[2], v[3]});
-      }
-      mesh.material_id.insert(mesh.material_id.end(), {material, material});
-    }
-
-    add_boundary_groups(mesh, new_index, edges);
-    check_unused_nodes(used);
-    return mesh;
+    return new_index;
   }
 
   /// A node no surface element uses is an error, unless only point elements refer to it
@@ -747,97 +825,107 @@ class GmshReader {
 
   /// One node set per 1-D physical group, with the outward normal of the surface-element
   /// edges its lines lie on.
-  void add_boundary_groups(
-      Mesh& mesh, const std::vector<Index>& new_index,
-      const std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>>& edges) const {
-    struct Line {
-      Index from;
-      Index to;  ///< counter-clockwise along the adjacent element
-      const RawElement* element;
-    };
-    std::map<int, std::vector<Line>> groups;  // physical tag → lines
+  void add_boundary_groups(Mesh& mesh, const std::vector<Index>& new_index,
+                           const Edges& edges) const {
+    for (const auto& [group, lines] : boundary_lines(new_index, edges)) {
+      mesh.node_sets.push_back(boundary_node_set(mesh, group_name(1, group), lines));
+    }
+  }
+
+  /// The lines of each 1-D physical group (physical tag → lines), each directed along
+  /// the one surface element whose edge it is.
+  std::map<int, std::vector<BoundaryLine>> boundary_lines(const std::vector<Index>& new_index,
+                                                          const Edges& edges) const {
+    std::map<int, std::vector<BoundaryLine>> groups;
     for (const RawElement& e : elements_) {
       if (e.type != gmsh_line) continue;
-      // Every line, in a physical group or not, must be an edge of the surface mesh: a
-      // dangling line is a curve meshed apart from the surfaces.
-      const Index a = new_index[raw_index(e, 0)];
-      const Index b = new_index[raw_index(e, 1)];
-      const auto found = edges.find({std::min(a, b), std::max(a, b)});
-      if (a < 0 || b < 0 || found == edges.end()) {
-        const std::string group =
-            e.physicals.empty()
-                ? std::string("in no physical group")
-                : fmt::format("of physical group '{}'", group_name(1, e.physicals.front()));
-        in_.fail(e.line,
-                 "line element {} (nodes {} and {}) {} is not an edge of any surface element",
-                 e.tag, e.nodes[0], e.nodes[1], group);
-      }
+      const auto& directed = edge_of_line(e, new_index, edges);
       for (const int group : e.physicals) {
-        if (found->second.size() > 1) {
+        if (directed.size() > 1) {
           in_.fail(e.line,
                    "line element {} of physical group '{}' lies between two surface elements (a "
                    "boundary group must lie on the outside of the mesh)",
                    e.tag, group_name(1, group));
         }
-        groups[group].push_back(
-            Line{found->second.front().first, found->second.front().second, &e});
+        groups[group].push_back(BoundaryLine{directed.front().first, directed.front().second, &e});
       }
     }
+    return groups;
+  }
 
-    for (const auto& [group, lines] : groups) {
-      const std::string name = group_name(1, group);
-      // Length-weighted mean outward normal: for an edge a → b of a counter-clockwise
-      // element, the outward normal is the tangent turned clockwise.
-      Vec2 sum = Vec2::Zero();
-      Vec2 low = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
-      Vec2 high = low;
-      for (const Line& line : lines) {
-        for (const Index node : {line.from, line.to}) {
-          low = low.cwiseMin(mesh.nodes[static_cast<std::size_t>(node)]);
-          high = high.cwiseMax(mesh.nodes[static_cast<std::size_t>(node)]);
-        }
-        const Vec2 t = mesh.nodes[static_cast<std::size_t>(line.to)] -
-                       mesh.nodes[static_cast<std::size_t>(line.from)];
-        sum += Vec2(t.y(), -t.x());
+  /// The directed element edges line element `e` lies on. Every line, in a physical
+  /// group or not, must be an edge of the surface mesh: a dangling line is a curve
+  /// meshed apart from the surfaces.
+  const Edges::mapped_type& edge_of_line(const RawElement& e, const std::vector<Index>& new_index,
+                                         const Edges& edges) const {
+    const Index a = new_index[raw_index(e, 0)];
+    const Index b = new_index[raw_index(e, 1)];
+    const auto found = edges.find({std::min(a, b), std::max(a, b)});
+    if (a < 0 || b < 0 || found == edges.end()) {
+      const std::string group =
+          e.physicals.empty()
+              ? std::string("in no physical group")
+              : fmt::format("of physical group '{}'", group_name(1, e.physicals.front()));
+      in_.fail(e.line, "line element {} (nodes {} and {}) {} is not an edge of any surface element",
+               e.tag, e.nodes[0], e.nodes[1], group);
+    }
+    return found->second;
+  }
+
+  /// The node set `name` of `lines`, whose normal is their length-weighted mean outward
+  /// normal; the group must be straight.
+  NodeSet boundary_node_set(const Mesh& mesh, const std::string& name,
+                            const std::vector<BoundaryLine>& lines) const {
+    const double size = bounding_size(mesh, lines);
+    const Vec2 normal = mean_outward_normal(mesh, name, lines, size);
+    const Vec2& origin = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
+    NodeSet set{name, {}, normal};
+    for (const BoundaryLine& line : lines) {
+      check_on_group_line(mesh, name, line, normal, origin, size);
+      set.nodes.insert(set.nodes.end(), {line.from, line.to});
+    }
+    std::sort(set.nodes.begin(), set.nodes.end());
+    set.nodes.erase(std::unique(set.nodes.begin(), set.nodes.end()), set.nodes.end());
+    return set;
+  }
+
+  /// The unit length-weighted mean outward normal of `lines`; an error when the normals
+  /// cancel out (relative to the group's size `size`).
+  Vec2 mean_outward_normal(const Mesh& mesh, const std::string& name,
+                           const std::vector<BoundaryLine>& lines, double size) const {
+    Vec2 sum = Vec2::Zero();
+    for (const BoundaryLine& line : lines) sum += outward_normal(mesh, line);
+    if (!(sum.norm() > straightness_tolerance * size)) {
+      in_.fail(lines.front().element->line,
+               "physical group '{}' is not straight (the outward normals of its lines cancel out)",
+               name);
+    }
+    return sum.normalized();
+  }
+
+  /// Line `line` of group `name` keeps the group straight: its outward normal is the
+  /// group's `normal` and its nodes lie on the group's line through `origin`.
+  void check_on_group_line(const Mesh& mesh, const std::string& name, const BoundaryLine& line,
+                           const Vec2& normal, const Vec2& origin, double size) const {
+    const double cosine = outward_normal(mesh, line).normalized().dot(normal);
+    if (cosine < 1.0 - normal_tolerance) {
+      in_.fail(line.element->line,
+               "physical group '{}' is not straight: line element {} is turned by {:.3g}° "
+               "from the group's mean normal ({:.6g}, {:.6g}) (a boundary needs one outward "
+               "normal)",
+               name, line.element->tag,
+               std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi, normal.x(),
+               normal.y());
+    }
+    for (const Index node : {line.from, line.to}) {
+      const Vec2& p = mesh.nodes[static_cast<std::size_t>(node)];
+      const double offset = std::abs((p - origin).dot(normal));
+      if (offset > straightness_tolerance * size) {
+        in_.fail(line.element->line,
+                 "physical group '{}' is not straight: node ({}, {}) of line element {} is "
+                 "{:.3g} m off the group's line (a boundary needs one outward normal)",
+                 name, p.x(), p.y(), line.element->tag, offset);
       }
-      const double size = (high - low).norm();
-      if (!(sum.norm() > straightness_tolerance * size)) {
-        in_.fail(
-            lines.front().element->line,
-            "physical group '{}' is not straight (the outward normals of its lines cancel out)",
-            name);
-      }
-      const Vec2 normal = sum.normalized();
-      const Vec2& origin = mesh.nodes[static_cast<std::size_t>(lines.front().from)];
-      NodeSet set{name, {}, normal};
-      for (const Line& line : lines) {
-        const Vec2 t = mesh.nodes[static_cast<std::size_t>(line.to)] -
-                       mesh.nodes[static_cast<std::size_t>(line.from)];
-        const double cosine = Vec2(t.y(), -t.x()).normalized().dot(normal);
-        if (cosine < 1.0 - normal_tolerance) {
-          in_.fail(line.element->line,
-                   "physical group '{}' is not straight: line element {} is turned by {:.3g}° "
-                   "from the group's mean normal ({:.6g}, {:.6g}) (a boundary needs one outward "
-                   "normal)",
-                   name, line.element->tag,
-                   std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi, normal.x(),
-                   normal.y());
-        }
-        for (const Index node : {line.from, line.to}) {
-          const Vec2& p = mesh.nodes[static_cast<std::size_t>(node)];
-          const double offset = std::abs((p - origin).dot(normal));
-          if (offset > straightness_tolerance * size) {
-            in_.fail(line.element->line,
-                     "physical group '{}' is not straight: node ({}, {}) of line element {} is "
-                     "{:.3g} m off the group's line (a boundary needs one outward normal)",
-                     name, p.x(), p.y(), line.element->tag, offset);
-          }
-          set.nodes.push_back(node);
-        }
-      }
-      std::sort(set.nodes.begin(), set.nodes.end());
-      set.nodes.erase(std::unique(set.nodes.begin(), set.nodes.end()), set.nodes.end());
-      mesh.node_sets.push_back(std::move(set));
     }
   }
 
