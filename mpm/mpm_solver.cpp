@@ -89,7 +89,8 @@ MpmSolver::Settling MpmSolver::settle_under_gravity(double duration, double loca
   settling.kinetic_energy = energies().kinetic;
   settings_.damping = kept;
   use_elastic_models(false);
-  Particles& q = particles();
+  Particles& q = particles_;
+  located_ = false;
   for (std::size_t k = 0; k < q.count(); ++k) {
     q.velocity[k].setZero();
     if (!q.affine_velocity.empty()) q.affine_velocity[k].setZero();

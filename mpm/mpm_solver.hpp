@@ -114,12 +114,9 @@ class MpmSolver {
 
   const MpmSettings& settings() const { return settings_; }
   const MaterialTable& materials() const { return materials_; }
+  /// The particles, read-only: a run sets them up before the solver takes them, and the
+  /// solver's own setup steps (settle_under_gravity) reset what they change.
   const Particles& particles() const { return particles_; }
-  /// Direct access for setup (initial stresses, resets); not during a step.
-  Particles& particles() {
-    located_ = false;
-    return particles_;
-  }
   const SolverClock& clock() const { return clock_; }
   std::size_t active_count() const { return particles_.count() - clock_.frozen; }
 
