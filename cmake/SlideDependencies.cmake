@@ -1,7 +1,7 @@
 # Every dependency is a Debian 12 package (see tools/install-deps.sh).
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(HDF5 REQUIRED COMPONENTS C)
-find_package(VTK 9 REQUIRED COMPONENTS CommonCore CommonDataModel IOXML)
+find_package(VTK 9 REQUIRED COMPONENTS CommonCore CommonDataModel CommonMisc IOXML)
 find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(fmt REQUIRED)

@@ -1,13 +1,16 @@
 #include "common/io/vtk_output.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <string_view>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -65,6 +68,21 @@ vtkNew<vtkPoints> make_points(std::span<const Vec2> points) {
   return vtk_points;
 }
 
+/// True when the file's last non-blank bytes are the closing tag of a VTK XML file.
+bool ends_with_closing_tag(const std::filesystem::path& file) {
+  constexpr std::string_view tag = "</VTKFile>";
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in.tellg();
+  if (!in || size < static_cast<std::streamoff>(tag.size())) return false;
+  const std::streamoff tail = std::min<std::streamoff>(size, 64);
+  std::string end(static_cast<std::size_t>(tail), '\0');
+  in.seekg(size - tail);
+  in.read(end.data(), tail);
+  const auto last = end.find_last_not_of(" \t\r\n");
+  return in && last != std::string::npos && last + 1 >= tag.size() &&
+         std::string_view(end).substr(last + 1 - tag.size(), tag.size()) == tag;
+}
+
 void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     vtkNew<vtkXMLUnstructuredGridWriter> writer;
@@ -73,7 +91,17 @@ void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();
     writer->SetCompressorTypeToZLib();
-    if (writer->Write() != 1) throw Error("{}: VTK writer failed", path.string());
+    const int written = writer->Write();
+    if (written != 1 || writer->GetErrorCode() != vtkErrorCode::NoError) {
+      throw Error("{}: VTK writer failed ({})", path.string(),
+                  vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
+    }
+    // On a full disk the XML writer can report success with the file cut short: the
+    // frame is only renamed into place when it is complete.
+    if (!ends_with_closing_tag(temporary)) {
+      throw Error("{}: the frame was cut short (disk full?); the former file is kept",
+                  path.string());
+    }
   });
 }
 

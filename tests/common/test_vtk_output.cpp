@@ -1,6 +1,8 @@
 // VTK output read back with VTK's own XML reader, as ParaView reads it: the mesh's cells,
 // points and fields, a point cloud's fields, and the .pvd collection a run appends to and
 // a restart resumes.
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -8,6 +10,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
@@ -15,6 +18,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "common/base/error.hpp"
 #include "common/io/vtk_output.hpp"
 #include "tests/support/programs.hpp"
 
@@ -164,6 +168,61 @@ TEST(VtkOutput, CollectionListsItsFramesAndAResumeKeepsTheEarlierOnes) {
   EXPECT_NE(resumed.find("file=\"vtk/mpm_1.vtu\""), std::string::npos) << resumed;
   EXPECT_EQ(resumed.find("file=\"vtk/mpm_2.vtu\""), std::string::npos) << resumed;
   EXPECT_NE(resumed.find("file=\"vtk/mpm_r2.vtu\""), std::string::npos) << resumed;
+}
+
+/// A 64 KiB tmpfs mounted at `folder` for the life of the object (root only: `mounted`
+/// false otherwise, and the test skips).
+class SmallDisk {
+ public:
+  explicit SmallDisk(const fs::path& folder) : folder_(folder) {
+    fs::create_directories(folder_);
+    const std::string command =
+        "mount -t tmpfs -o size=64k slide-test-tmpfs '" + folder_.string() + "' 2>/dev/null";
+    mounted_ = geteuid() == 0 && std::system(command.c_str()) == 0;
+  }
+  ~SmallDisk() {
+    if (mounted_) std::system(("umount '" + folder_.string() + "'").c_str());
+  }
+  SmallDisk(const SmallDisk&) = delete;
+  SmallDisk& operator=(const SmallDisk&) = delete;
+  bool mounted() const { return mounted_; }
+
+ private:
+  fs::path folder_;
+  bool mounted_ = false;
+};
+
+// On a full disk VTK's XML writer returns success with the file cut short; the frame
+// must fail with an error naming it, leave no temporary behind, and keep the frame of
+// that name it was to replace.
+TEST(VtkOutput, AFullDiskIsAnErrorAndKeepsTheFormerFrame) {
+  const fs::path dir = scratch("full-disk");
+  SmallDisk disk(dir / "disk");
+  if (!disk.mounted()) GTEST_SKIP() << "needs root to mount a 64 KiB tmpfs";
+  const fs::path frame = dir / "disk" / "frame.vtu";
+  const std::vector<Vec2> few{{0.0, 0.0}, {1.0, 0.0}};
+  write_vtk_points(frame, few, {});
+  const std::string former = read_text(frame);
+  std::vector<Vec2> many(20000);
+  std::vector<double> values(many.size());
+  for (std::size_t i = 0; i < many.size(); ++i) {
+    many[i] = Vec2(std::sin(0.37 * static_cast<double>(i)), std::cos(1.1 * static_cast<double>(i)));
+    values[i] = std::exp(std::sin(static_cast<double>(i)));  // incompressible enough
+  }
+  try {
+    write_vtk_points(frame, many, {vtk_field("value", values)});
+    FAIL() << "a frame larger than the disk was written without an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(frame.string()), std::string::npos) << e.what();
+    std::printf("full disk: %s\n", e.what());
+  }
+  EXPECT_EQ(read_text(frame), former);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "disk")) {
+    ++files;
+    EXPECT_EQ(entry.path().filename(), "frame.vtu") << "left behind: " << entry.path();
+  }
+  EXPECT_EQ(files, 1U);
 }
 
 }  // namespace
