@@ -143,6 +143,10 @@ FemRun::FemRun(const Case& c, const FemOptions& options, const Logger& logger)
     throw Error("--checkpoint-every {} is not admissible (expected ≥ 0 s)",
                 options_.checkpoint_every);
   }
+  // Every checkpoint under a name of its own (fem_t0.000.h5 is the geostatic state).
+  run::check_checkpoint_cadence(options_.checkpoint_every, "--checkpoint-every");
+  run::check_checkpoint_cadence(case_.fem.checkpoint_every, "fem.checkpoint_every");
+  run::check_checkpoint_times(case_.fem.checkpoint_times, "fem", "fem.checkpoint_times", {0.0});
 }
 
 FemRunSummary FemRun::execute() {

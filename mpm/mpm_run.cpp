@@ -397,6 +397,10 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
                              : options.particles_file ? options.particles_file->string()
                                                       : c.file.string();
   validate_particles(start.particles, settings, c.materials.size(), source, start.clock.frozen);
+  // Every checkpoint under a name of its own (a fresh run checkpoints its start).
+  run::check_checkpoint_cadence(c.mpm.checkpoint_every, "mpm.checkpoint_every");
+  run::check_checkpoint_times(c.mpm.checkpoint_times, "mpm", "mpm.checkpoint_times",
+                              {start.clock.time});
   MpmSolver solver(settings, c.materials, std::move(start.particles), start.clock);
   if (start.stored_settings) {
     for (const auto& change :

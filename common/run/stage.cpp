@@ -1,5 +1,7 @@
 #include "common/run/stage.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "common/base/error.hpp"
@@ -19,6 +21,31 @@ bool drive(Stage& stage, const OutputSchedule& schedule, bool checkpoint_at_end)
 
 std::string checkpoint_file_name(std::string_view prefix, double time) {
   return fmt::format("{}_t{:.3f}.h5", prefix, time);
+}
+
+void check_checkpoint_cadence(double every, std::string_view what) {
+  if (every > 0.0 && every < checkpoint_name_resolution) {
+    throw Error(
+        "{} = {} s is finer than the checkpoint names' {} s (checkpoints would replace each "
+        "other under one name): use at least {} s",
+        what, every, checkpoint_name_resolution, checkpoint_name_resolution);
+  }
+}
+
+void check_checkpoint_times(std::vector<double> times, std::string_view prefix,
+                            std::string_view what, std::vector<double> also) {
+  times.insert(times.end(), also.begin(), also.end());
+  std::sort(times.begin(), times.end());
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    const double a = times[i - 1], b = times[i];
+    if (b - a > OutputSchedule::tolerance(b) &&
+        checkpoint_file_name(prefix, a) == checkpoint_file_name(prefix, b)) {
+      throw Error(
+          "{}: the checkpoint times {} s and {} s would both be {} (names have three "
+          "decimals)",
+          what, a, b, checkpoint_file_name(prefix, b));
+    }
+  }
 }
 
 void check_restart_materials(const MaterialTable& from_checkpoint, const MaterialTable& from_case,

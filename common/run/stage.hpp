@@ -38,6 +38,20 @@ bool drive(Stage& stage, const OutputSchedule& schedule, bool checkpoint_at_end)
 /// time t, three decimals (CONTRACT.md).
 std::string checkpoint_file_name(std::string_view prefix, double time);
 
+/// The resolution of the checkpoint names (three decimals of a second), s.
+inline constexpr double checkpoint_name_resolution = 1e-3;
+
+/// Refuses a checkpoint cadence the names cannot tell apart: 0 < `every` < 1 ms would
+/// write several checkpoints under one name, each replacing the last (and a cadence of
+/// 1e-12 s would never end). Error naming `what` (the key or option) otherwise.
+void check_checkpoint_cadence(double every, std::string_view what);
+
+/// Refuses checkpoint times (`times`, plus `also`, e.g. the geostatic state at t = 0)
+/// that are different times with the same file name `prefix`_t<T>.h5. Error naming
+/// `what` and the two times.
+void check_checkpoint_times(std::vector<double> times, std::string_view prefix,
+                            std::string_view what, std::vector<double> also = {});
+
 /// On restart the materials must be the case's own: Error naming `source` and the first
 /// difference (count, name, model or density) otherwise.
 void check_restart_materials(const MaterialTable& from_checkpoint, const MaterialTable& from_case,

@@ -600,6 +600,15 @@ class FemSolveBadInput : public ::testing::Test {
   std::map<std::string, std::string> before_;
 };
 
+// Issue 13: --checkpoint-every 0.0004 wrote several checkpoints under one name, among
+// them fem_t0.000.h5, which then held t = 0.0004 instead of the geostatic state.
+TEST_F(FemSolveBadInput, CheckpointCadenceFinerThanTheNames) {
+  expect_one_line_error(run_case(ColumnCase{}.text(), "--checkpoint-every 0.0004"),
+                        "--checkpoint-every = 0.0004 s is finer than the checkpoint names");
+  expect_one_line_error(run_case(ColumnCase{}.text(), "--checkpoint-every 1e-12"),
+                        "finer than the checkpoint names' 0.001 s");
+}
+
 TEST_F(FemSolveBadInput, ClockwiseBlockCorners) {
   ColumnCase column;
   column.mesh =

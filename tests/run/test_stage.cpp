@@ -111,6 +111,23 @@ TEST(CheckRestartMaterials, NamesTheFirstDifference) {
   }
 }
 
+TEST(CheckpointNames, ACadenceOrListTheNamesCannotTellApartIsRefused) {
+  EXPECT_NO_THROW(check_checkpoint_cadence(0.0, "x"));  // no cadence
+  EXPECT_NO_THROW(check_checkpoint_cadence(0.001, "x"));
+  EXPECT_THROW(check_checkpoint_cadence(0.0004, "x"), Error);
+  EXPECT_THROW(check_checkpoint_cadence(1e-12, "x"), Error);
+  EXPECT_NO_THROW(check_checkpoint_times({0.5, 1.0, 1.001}, "fem", "x", {0.0}));
+  EXPECT_NO_THROW(check_checkpoint_times({0.3, 0.1 * 3}, "fem", "x"));  // one time
+  try {
+    check_checkpoint_times({0.0004, 1.0}, "fem", "fem.checkpoint_times", {0.0});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("0 s and 0.0004 s would both be fem_t0.000.h5"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CheckpointFileName, HasThreeDecimals) {
   EXPECT_EQ(checkpoint_file_name("fem", 2.0), "fem_t2.000.h5");
   EXPECT_EQ(checkpoint_file_name("mpm", 0.1 * 3), "mpm_t0.300.h5");
