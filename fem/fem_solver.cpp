@@ -232,6 +232,7 @@ void FemRun::prepare_restart() {
 
 void FemRun::create_outputs(bool resume) {
   std::filesystem::create_directories(options_.output_dir);
+  run::remove_temporaries_of_killed_runs(options_.output_dir, logger_);
   history_ = std::make_unique<FemHistory>(options_.output_dir / "fem_history.csv");
   if (options_.write_vtk) vtk_ = std::make_unique<VtkSeries>(options_.output_dir);
   if (!resume) return;

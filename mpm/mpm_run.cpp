@@ -426,6 +426,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   const run::OutputSchedule schedule(end_time, c.mpm.output_every, {c.mpm.checkpoint_every},
                                      c.mpm.checkpoint_times);
   fs::create_directories(options.output_dir);
+  run::remove_temporaries_of_killed_runs(options.output_dir, log);
   MpmHistory history(options.output_dir / "mpm_history.csv", c.metrics);
   if (!start.fresh) history.resume(solver.clock().time, log);
   std::optional<VtkWriter> vtk;

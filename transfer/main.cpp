@@ -63,6 +63,14 @@ transfer::TransferOptions options_for(const CommandLine& line, const CLI::App& a
 
 void run(const CommandLine& line, const CLI::App& app) {
   const Logger logger("fem2mpm", line.quiet);
+  std::error_code same_error;
+  if (std::filesystem::equivalent(line.input, line.output, same_error)) {
+    throw Error("-o {}: is the FE checkpoint being read; write the particles to another file",
+                line.output);
+  }
+  const std::filesystem::path folder = std::filesystem::path(line.output).parent_path();
+  const std::size_t removed = remove_stale_temporaries(folder.empty() ? "." : folder);
+  if (removed > 0) logger.info("removed {} temporary file(s) that killed runs left", removed);
   const transfer::TransferOptions options = options_for(line, app);
   const FemCheckpoint fem = read_fem_checkpoint(line.input);
   logger.info("read {} (t = {} s, case \"{}\")", line.input, fem.header.time, fem.header.case_name);

@@ -1,8 +1,12 @@
 #include "common/io/atomic_file.hpp"
 
+#include <cerrno>
+#include <csignal>
 #include <fstream>
+#include <string>
 #include <system_error>
 
+#include <sys/types.h>
 #include <unistd.h>
 
 #include "common/base/error.hpp"
@@ -42,6 +46,28 @@ void write_text_atomically(const std::filesystem::path& target, std::string_view
     out.close();
     if (!out) throw Error("{}: write failed", target.string());
   });
+}
+
+std::size_t remove_stale_temporaries(const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::size_t removed = 0;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    const auto mark = name.rfind(".tmp-");
+    if (name.empty() || name[0] != '.' || mark == std::string::npos) continue;
+    const std::string digits = name.substr(mark + 5);
+    if (digits.empty() || digits.size() > 9 ||
+        digits.find_first_not_of("0123456789") != std::string::npos) {
+      continue;
+    }
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    // kill(pid, 0) fails with ESRCH once the process is gone (EPERM: it runs as another user).
+    if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH && entry.is_regular_file(ec)) {
+      if (fs::remove(entry.path(), ec)) ++removed;
+    }
+  }
+  return removed;
 }
 
 }  // namespace slide

@@ -3,6 +3,7 @@
 // existing file stays intact when the writer fails.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <string_view>
@@ -17,5 +18,11 @@ void write_atomically(const std::filesystem::path& target,
 
 /// Writes `text` to `target` atomically.
 void write_text_atomically(const std::filesystem::path& target, std::string_view text);
+
+/// Removes the temporaries a killed writer left in `folder` (not its subfolders): the
+/// hidden files `.<name>.tmp-<pid>` of write_atomically whose process no longer runs.
+/// Those of live processes (another run writing into the same folder) stay. Returns how
+/// many were removed; a missing folder has none.
+std::size_t remove_stale_temporaries(const std::filesystem::path& folder);
 
 }  // namespace slide

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "common/base/error.hpp"
+#include "common/io/atomic_file.hpp"
 
 namespace slide::run {
 
@@ -45,6 +46,15 @@ void check_checkpoint_times(std::vector<double> times, std::string_view prefix,
           "decimals)",
           what, a, b, checkpoint_file_name(prefix, b));
     }
+  }
+}
+
+void remove_temporaries_of_killed_runs(const std::filesystem::path& output_dir, const Logger& log) {
+  const std::size_t removed =
+      remove_stale_temporaries(output_dir) + remove_stale_temporaries(output_dir / "vtk");
+  if (removed > 0) {
+    log.info("removed {} temporary file{} that killed runs left in {}", removed,
+             removed == 1 ? "" : "s", output_dir.string());
   }
 }
 

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "common/io/checkpoint.hpp"
 #include "tests/support/fem_checkpoints.hpp"
@@ -159,6 +160,38 @@ void poison_dataset(const fs::path& path, const char* dataset_path) {
   H5Sclose(space);
   H5Dclose(d);
   H5Fclose(f);
+}
+
+// Issue 13: "fem2mpm X.h5 -o X.h5" replaced its own input with particles.
+TEST_F(Fem2mpm, RefusesToWriteOverItsInput) {
+  write_checkpoint(file("fem.h5"), geostatic_checkpoint());
+  const std::string before = read_text(file("fem.h5"));
+  const ProgramRun r = run(file("fem.h5").string() + " -o " + file("fem.h5").string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("is the FE checkpoint being read"), std::string::npos) << r.err;
+  EXPECT_EQ(read_text(file("fem.h5")), before);
+  // Also through another spelling of the same path.
+  const ProgramRun dotted =
+      run(file("fem.h5").string() + " -o " + (folder_ / "." / "fem.h5").string());
+  EXPECT_NE(dotted.status, 0);
+  EXPECT_EQ(read_text(file("fem.h5")), before);
+}
+
+// A killed run's temporary (its process gone) is removed at the next start; the
+// temporary of a live process stays.
+TEST_F(Fem2mpm, RemovesTheTemporariesOfKilledRuns) {
+  write_checkpoint(file("fem.h5"), geostatic_checkpoint());
+  // Above the kernel's largest pid (4194304), so no process can have it.
+  std::ofstream(file(".particles.h5.tmp-999999999")) << "cut";
+  const std::string live = ".other.h5.tmp-" + std::to_string(::getpid());
+  std::ofstream(file(live)) << "being written";
+  const ProgramRun r = run(file("fem.h5").string() + " -o " + file("particles.h5").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(file(".particles.h5.tmp-999999999")));
+  EXPECT_TRUE(fs::exists(file(live)));
+  EXPECT_NE(r.out.find("removed 1 temporary file(s) that killed runs left"), std::string::npos)
+      << r.out;
 }
 
 TEST_F(Fem2mpm, RefusesNanStressesInOneLine) {
