@@ -22,6 +22,16 @@ namespace {
 // once, by us, as one line. Process-wide and idempotent, so calling it on every file
 // open is harmless.
 void silence_hdf5_errors() {
+  // No library shutdown at exit: after a write that failed (a full disk) HDF5 keeps the
+  // half-closed file in its tables, and its exit handler then crashed closing it again
+  // (SIGSEGV in H5F__close_cb after the one-line error). Every file of ours is closed
+  // (and, when written, flushed) by File before the program ends, so the shutdown has
+  // nothing left to do. Only effective before the library's first call, hence here.
+  static const bool no_shutdown = [] {
+    H5dont_atexit();
+    return true;
+  }();
+  (void)no_shutdown;
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
 }
 
@@ -493,7 +503,11 @@ Dataset Group::write_dataset(std::string_view name, const void* values, std::siz
 File File::create(const std::filesystem::path& path, std::string label) {
   silence_hdf5_errors();
   if (label.empty()) label = path.string();
-  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), &H5Fclose,
+  // Closing the file closes every object still open in it, so a write that failed
+  // (a full disk) leaves nothing for the library's shutdown to close again.
+  Handle access = checked(H5Pcreate(H5P_FILE_ACCESS), &H5Pclose, label, "cannot create HDF5 file");
+  check(H5Pset_fclose_degree(access.id(), H5F_CLOSE_STRONG), label, "cannot create HDF5 file");
+  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id()), &H5Fclose,
                         label, "cannot create HDF5 file");
   return File(std::move(file), std::move(label), "/");
 }

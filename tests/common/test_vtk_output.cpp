@@ -10,7 +10,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkNew.h>
@@ -21,6 +20,7 @@
 #include "common/base/error.hpp"
 #include "common/io/vtk_output.hpp"
 #include "tests/support/programs.hpp"
+#include "tests/support/small_disk.hpp"
 
 namespace slide {
 namespace {
@@ -170,34 +170,12 @@ TEST(VtkOutput, CollectionListsItsFramesAndAResumeKeepsTheEarlierOnes) {
   EXPECT_NE(resumed.find("file=\"vtk/mpm_r2.vtu\""), std::string::npos) << resumed;
 }
 
-/// A 64 KiB tmpfs mounted at `folder` for the life of the object (root only: `mounted`
-/// false otherwise, and the test skips).
-class SmallDisk {
- public:
-  explicit SmallDisk(const fs::path& folder) : folder_(folder) {
-    fs::create_directories(folder_);
-    const std::string command =
-        "mount -t tmpfs -o size=64k slide-test-tmpfs '" + folder_.string() + "' 2>/dev/null";
-    mounted_ = geteuid() == 0 && std::system(command.c_str()) == 0;
-  }
-  ~SmallDisk() {
-    if (mounted_) std::system(("umount '" + folder_.string() + "'").c_str());
-  }
-  SmallDisk(const SmallDisk&) = delete;
-  SmallDisk& operator=(const SmallDisk&) = delete;
-  bool mounted() const { return mounted_; }
-
- private:
-  fs::path folder_;
-  bool mounted_ = false;
-};
-
 // On a full disk VTK's XML writer returns success with the file cut short; the frame
 // must fail with an error naming it, leave no temporary behind, and keep the frame of
 // that name it was to replace.
 TEST(VtkOutput, AFullDiskIsAnErrorAndKeepsTheFormerFrame) {
   const fs::path dir = scratch("full-disk");
-  SmallDisk disk(dir / "disk");
+  const testing::SmallDisk disk(dir / "disk", 64);
   if (!disk.mounted()) GTEST_SKIP() << "needs root to mount a 64 KiB tmpfs";
   const fs::path frame = dir / "disk" / "frame.vtu";
   const std::vector<Vec2> few{{0.0, 0.0}, {1.0, 0.0}};

@@ -27,6 +27,7 @@
 #include "common/io/checkpoint.hpp"
 #include "tests/support/column_case.hpp"
 #include "tests/support/programs.hpp"
+#include "tests/support/small_disk.hpp"
 #include "tests/support/soil.hpp"
 
 namespace slide::fem {
@@ -607,6 +608,23 @@ TEST_F(FemSolveBadInput, CheckpointCadenceFinerThanTheNames) {
                         "--checkpoint-every = 0.0004 s is finer than the checkpoint names");
   expect_one_line_error(run_case(ColumnCase{}.text(), "--checkpoint-every 1e-12"),
                         "finer than the checkpoint names' 0.001 s");
+}
+
+// Issue 13: after the one-line "No space left on device" error, fem-solve crashed at
+// exit inside HDF5's shutdown (status 139). Now: status 1, one line, nothing left on
+// the disk under a final or a temporary name.
+TEST(FemSolveCli, AFullDiskIsOneLineAndACleanExit) {
+  const fs::path dir = scratch("full-disk");
+  const testing::SmallDisk disk(dir / "disk", 300);
+  if (!disk.mounted()) GTEST_SKIP() << "needs root to mount a 300 KiB tmpfs";
+  const fs::path case_file = fs::path(SLIDE_SOURCE_DIR) / "cases" / "column-short" / "case.toml";
+  const ProgramRun run =
+      fem_solve(case_file.string() + " -q --no-vtk -o " + (dir / "disk" / "out").string(), dir);
+  EXPECT_EQ(run.status, 1) << run.err;
+  expect_one_line_error(run, "No space left on device");
+  for (const auto& entry : fs::recursive_directory_iterator(dir / "disk")) {
+    EXPECT_TRUE(entry.is_directory()) << "left on the full disk: " << entry.path();
+  }
 }
 
 TEST_F(FemSolveBadInput, ClockwiseBlockCorners) {
