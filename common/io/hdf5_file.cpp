@@ -503,11 +503,7 @@ Dataset Group::write_dataset(std::string_view name, const void* values, std::siz
 File File::create(const std::filesystem::path& path, std::string label) {
   silence_hdf5_errors();
   if (label.empty()) label = path.string();
-  // Closing the file closes every object still open in it, so a write that failed
-  // (a full disk) leaves nothing for the library's shutdown to close again.
-  Handle access = checked(H5Pcreate(H5P_FILE_ACCESS), &H5Pclose, label, "cannot create HDF5 file");
-  check(H5Pset_fclose_degree(access.id(), H5F_CLOSE_STRONG), label, "cannot create HDF5 file");
-  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id()), &H5Fclose,
+  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), &H5Fclose,
                         label, "cannot create HDF5 file");
   return File(std::move(file), std::move(label), "/");
 }
