@@ -415,10 +415,21 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   const double dt =
       c.mpm.time_step > 0.0 ? c.mpm.time_step : solver.courant_time_step(c.mpm.courant);
   log_settings(log, settings, c.mpm, dt);
+  const double end_time = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
+  // A step that small would never end (pure MPM's gravity stage included).
+  const double gravity_stage = start.pure_mpm && c.mpm.initial_stress != InitialStress::k0
+                                   ? c.mpm.gravity_stage_duration
+                                   : 0.0;
+  run::check_step_count(
+      gravity_stage + end_time - solver.clock().time, dt,
+      c.mpm.time_step > 0.0
+          ? std::string("mpm.time_step is too small")
+          : fmt::format("the Courant step C h / c is that small because a particle's p-wave "
+                        "speed c = sqrt(M V / m) is {:.3g} m/s",
+                        c.mpm.courant * settings.grid.cell_size / dt));
   prepare_start(c, start, solver, dt, log);
 
   // ---- outputs
-  const double end_time = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
   if (end_time < solver.clock().time) {
     throw Error("{}: the run would end at t = {} s, before its start at t = {} s{}", source,
                 end_time, solver.clock().time, options.until ? " (--until)" : " (mpm.end_time)");

@@ -24,6 +24,14 @@ std::string checkpoint_file_name(std::string_view prefix, double time) {
   return fmt::format("{}_t{:.3f}.h5", prefix, time);
 }
 
+void check_step_count(double duration, double dt, std::string_view cause) {
+  const double steps = duration / dt;
+  if (!(steps <= max_steps)) {
+    throw Error("the run would take {:.3g} steps of {:.3g} s (at most {:.0e}): {}", steps, dt,
+                max_steps, cause);
+  }
+}
+
 void check_checkpoint_cadence(double every, std::string_view what) {
   if (every > 0.0 && every < checkpoint_name_resolution) {
     throw Error(

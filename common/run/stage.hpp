@@ -39,6 +39,15 @@ bool drive(Stage& stage, const OutputSchedule& schedule, bool checkpoint_at_end)
 /// time t, three decimals (CONTRACT.md).
 std::string checkpoint_file_name(std::string_view prefix, double time);
 
+/// More steps than a stage may take: 10⁹ steps of a 2000-element mesh are two days on
+/// one core, of 32,000 particles a month; beyond it the step is a mistake, not a plan.
+inline constexpr double max_steps = 1e9;
+
+/// Refuses a run of `duration` s in steps of `dt` s that would take more than max_steps
+/// steps (it would never end): Error naming the step count, dt and `cause` (what made
+/// the step that small).
+void check_step_count(double duration, double dt, std::string_view cause);
+
 /// The resolution of the checkpoint names (three decimals of a second), s.
 inline constexpr double checkpoint_name_resolution = 1e-3;
 

@@ -1,5 +1,6 @@
 // mpm-solve as users and scripts see it: restart bit for bit, bad particle files, particles
 // leaving the grid, the summary line, the instability guard.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -151,6 +152,31 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
   const std::string history = read_text(split / "mpm_history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
             "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");
+}
+
+// Issue 13: mpm.time_step = 1e-300 and E = 1e300 (a Courant step of 1e-149 s) hung
+// mpm-solve. It now refuses a run of more than 10⁹ steps before it starts, naming what
+// made the step small, and writes nothing.
+TEST(MpmSolveCli, RefusesARunThatWouldNeverEnd) {
+  const fs::path folder = fresh_folder("never-ending");
+  const auto expect_refused = [&](std::string text, const std::string& from, const std::string& to,
+                                  const std::string& cause) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const fs::path c = write_case(folder, text);
+    const fs::path out = folder / "out";
+    const ProgramRun r = run_solver(folder, c.string() + " -q --no-vtk -o " + out.string());
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("steps of"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(cause), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << "a refused run wrote " << out;
+  };
+  expect_refused(small_case("time_step = 1e-300\n"), "time_step = 1e-300", "time_step = 1e-300",
+                 "mpm.time_step is too small");
+  expect_refused(small_case(), "youngs_modulus = 23.8e6", "youngs_modulus = 1e300",
+                 "p-wave speed c = sqrt(M V / m) is");
 }
 
 TEST(MpmSolveCli, MultiYieldInMpmKeepsItsSurfacesAndRestartsBitForBit) {
