@@ -89,10 +89,17 @@ Case load_case(const std::filesystem::path& path) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("{}: cannot open the case file", path.string());
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read at most one byte more than any case file may have: a file that never ends
+  // (/dev/zero) was read to 4.2 GB before failing.
+  std::string text(max_case_file_bytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (in.bad()) throw Error("{}: cannot read the case file", path.string());
-  return parse_case(text.str(), path);
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > max_case_file_bytes) {
+    throw Error("{}: larger than {} MiB, not a case file", path.string(),
+                max_case_file_bytes >> 20);
+  }
+  return parse_case(text, path);
 }
 
 }  // namespace slide

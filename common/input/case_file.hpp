@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -176,6 +177,10 @@ struct Case {
   /// Index of the material called `name`; throws Error when there is none.
   std::int32_t material_index(std::string_view name) const;
 };
+
+/// The largest case file load_case reads: 4 MiB (the cases are a few kB; a Gmsh mesh
+/// lives in its own file).
+inline constexpr std::size_t max_case_file_bytes = std::size_t{4} << 20;
 
 /// Reads and validates a case file; throws Error (file:line: key: problem) on any fault.
 Case load_case(const std::filesystem::path& path);

@@ -299,6 +299,27 @@ TEST(CaseFile, TensionCutoffDefaultsToTheApexAndIsInfiniteWithoutFriction) {
   EXPECT_DOUBLE_EQ(parse_case(text, "case.toml").materials[0].tension_cutoff, 250.0);
 }
 
+// Issue 13: a case file that never ends (/dev/zero) was read to 4.2 GB before failing.
+// One byte over the cap is refused at once, naming the file; the cap itself is read.
+TEST(CaseFile, AFileLargerThanTheCapIsRefusedWithoutReadingIt) {
+  try {
+    load_case("/dev/zero");
+    FAIL() << "/dev/zero was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "/dev/zero: larger than 4 MiB, not a case file");
+  }
+  const std::filesystem::path big =
+      std::filesystem::path(SLIDE_BINARY_DIR) / "tests" / "common" / "big_case.toml";
+  std::filesystem::create_directories(big.parent_path());
+  std::ofstream(big) << std::string(max_case_file_bytes, '#');  // comments only: in the cap
+  try {
+    load_case(big);
+    FAIL() << "a file of comments was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find("larger than"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CaseFile, GmshFileIsFoundRelativeToTheCaseFolder) {
   const fs::path folder = fs::temp_directory_path() / "slide-test-case-file-gmsh";
   fs::create_directories(folder);
