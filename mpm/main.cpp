@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   app.add_option("--vtk-every", vtk_every,
                  "VTK frames every this many seconds (default: every output step)")
       ->check(non_negative_number());
+  bool other_case = false;
+  app.add_flag("--other-case", other_case,
+               "accept a --particles or --restart file written for another case (warns)");
   app.add_flag("-q,--quiet", quiet, "print warnings, errors and the summary line only");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 
@@ -53,6 +56,7 @@ int main(int argc, char** argv) {
     if (!restart.empty()) options.restart_file = restart;
     if (app.count("--until") > 0) options.until = until;
     options.write_vtk = !no_vtk;
+    options.other_case = other_case;
     options.vtk_every = vtk_every;
     if (!shape.empty())
       options.shape_function = shape == "gimp" ? ShapeFunction::gimp : ShapeFunction::linear;

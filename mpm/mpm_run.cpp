@@ -50,6 +50,16 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
   const bool restart = options.restart_file.has_value();
   const fs::path path = restart ? *options.restart_file : *options.particles_file;
   ParticleCheckpoint file = read_particle_checkpoint(path);
+  if (file.header.case_name != c.name) {
+    if (!options.other_case) {
+      throw Error(
+          "{}: written for case \"{}\", not for case \"{}\" of {} (--other-case to use it "
+          "anyway)",
+          path.string(), file.header.case_name, c.name, c.file.string());
+    }
+    log.warning("{}: written for case \"{}\", run with case \"{}\" (--other-case)", path.string(),
+                file.header.case_name, c.name);
+  }
   if (restart) {
     run::check_restart_materials(file.materials, c.materials, path.string());
   } else {

@@ -18,6 +18,9 @@ struct RunOptions {
   std::optional<std::filesystem::path> restart_file;    ///< --restart
   std::optional<double> until;                          ///< --until: stop earlier than the case
   bool write_vtk = true;
+  /// --other-case: a particle file or checkpoint of another case is used (with a
+  /// warning) instead of refused.
+  bool other_case = false;
   /// VTK frames every this many seconds (0: at every output step, as the history).
   double vtk_every = 0.0;
   std::optional<ShapeFunction> shape_function;  ///< overrides the case

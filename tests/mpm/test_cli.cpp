@@ -179,6 +179,36 @@ TEST(MpmSolveCli, RefusesARunThatWouldNeverEnd) {
                  "p-wave speed c = sqrt(M V / m) is");
 }
 
+// Issue 13: --restart and --particles from another case only warned (fem-solve refuses).
+// Now a one-line error, unless --other-case says it is meant (a warning then).
+TEST(MpmSolveCli, RefusesTheFilesOfAnotherCaseUnlessAsked) {
+  const fs::path folder = fresh_folder("other-case");
+  const fs::path first = write_case(folder, small_case("", 0.1));
+  ASSERT_EQ(
+      run_solver(folder, first.string() + " -q --no-vtk -o " + (folder / "a").string()).status, 0);
+  std::string other = small_case("", 0.2);
+  const std::string name = "name = \"small-column\"";
+  other.replace(other.find(name), name.size(), "name = \"other-column\"");
+  const fs::path second = write_case(folder / "other", other);
+  const std::string checkpoint = (folder / "a" / "mpm_final.h5").string();
+  for (const std::string option : {"--restart ", "--particles "}) {
+    const ProgramRun refused =
+        run_solver(folder, second.string() + " -q --no-vtk -o " + (folder / "b").string() + " " +
+                               option + checkpoint);
+    EXPECT_EQ(refused.status, 1) << option << refused.err;
+    EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+    EXPECT_NE(refused.err.find("written for case \"small-column\", not for case \"other-column\""),
+              std::string::npos)
+        << refused.err;
+    EXPECT_FALSE(fs::exists(folder / "b"));
+  }
+  const ProgramRun asked =
+      run_solver(folder, second.string() + " -q --no-vtk --other-case -o " +
+                             (folder / "c").string() + " --restart " + checkpoint);
+  EXPECT_EQ(asked.status, 0) << asked.err;
+  EXPECT_NE(asked.err.find("(--other-case)"), std::string::npos) << asked.err;
+}
+
 TEST(MpmSolveCli, MultiYieldInMpmKeepsItsSurfacesAndRestartsBitForBit) {
   // Pure MPM with the multi-yield model in MPM: the switch freezes every particle's
   // strength from its K0 confinement; the strengths and the 20 surfaces per particle go
