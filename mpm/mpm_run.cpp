@@ -382,6 +382,22 @@ void prepare_start(const Case& c, Start& start, MpmSolver& solver, double dt, co
   if (start.fresh) set_references(c, solver, start.references, start.pure_mpm, log);
 }
 
+/// Refuses a run whose step is so small that it would never end (pure MPM's gravity
+/// stage included), naming what made the step small.
+void check_run_length(const Case& c, const Start& start, double duration, double dt,
+                      double cell_size) {
+  const double gravity_stage = start.pure_mpm && c.mpm.initial_stress != InitialStress::k0
+                                   ? c.mpm.gravity_stage_duration
+                                   : 0.0;
+  run::check_step_count(
+      gravity_stage + duration, dt,
+      c.mpm.time_step > 0.0
+          ? std::string("mpm.time_step is too small")
+          : fmt::format("the Courant step C h / c is that small because a particle's p-wave "
+                        "speed c = sqrt(M V / m) is {:.3g} m/s",
+                        c.mpm.courant * cell_size / dt));
+}
+
 void log_memory(const Logger& log, const MpmSolver& solver) {
   const auto memory = solver.memory();
   const auto per_particle = [&](std::size_t bytes) {
@@ -426,17 +442,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
       c.mpm.time_step > 0.0 ? c.mpm.time_step : solver.courant_time_step(c.mpm.courant);
   log_settings(log, settings, c.mpm, dt);
   const double end_time = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
-  // A step that small would never end (pure MPM's gravity stage included).
-  const double gravity_stage = start.pure_mpm && c.mpm.initial_stress != InitialStress::k0
-                                   ? c.mpm.gravity_stage_duration
-                                   : 0.0;
-  run::check_step_count(
-      gravity_stage + end_time - solver.clock().time, dt,
-      c.mpm.time_step > 0.0
-          ? std::string("mpm.time_step is too small")
-          : fmt::format("the Courant step C h / c is that small because a particle's p-wave "
-                        "speed c = sqrt(M V / m) is {:.3g} m/s",
-                        c.mpm.courant * settings.grid.cell_size / dt));
+  check_run_length(c, start, end_time - solver.clock().time, dt, settings.grid.cell_size);
   prepare_start(c, start, solver, dt, log);
 
   // ---- outputs
