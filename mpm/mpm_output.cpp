@@ -1,6 +1,7 @@
 #include "mpm/mpm_output.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -100,10 +101,25 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
                 to_string(checkpoint.header.kind));
   }
   const SolverSettings& s = checkpoint.solver;
+  // Every counter and reference is checked here, so that a damaged value is named at
+  // once instead of surfacing later as a misleading failure (a NaN step as a
+  // "non-finite position").
+  const auto at_least = [&](const std::string& key, double low) {
+    const double value = setting<double>(s, key, source);
+    if (!(std::isfinite(value) && value >= low)) {
+      throw Error("{}: /solver attribute {} = {} is out of range (expected a finite value ≥ {})",
+                  source, key, value, low);
+    }
+    return value;
+  };
   clock.time = checkpoint.header.time;
   clock.step = checkpoint.header.step;
-  clock.previous_dt = setting<double>(s, "previous_time_step", source);
+  clock.previous_dt = at_least("previous_time_step", 0.0);
   clock.steps_since_sort = setting<std::int64_t>(s, "steps_since_sort", source);
+  if (clock.steps_since_sort < 0) {
+    throw Error("{}: /solver attribute steps_since_sort = {} is out of range (expected ≥ 0)",
+                source, clock.steps_since_sort);
+  }
   clock.sorted_once = true;
   const auto frozen = setting<std::int64_t>(s, "frozen_particles", source);
   if (frozen < 0 || static_cast<std::size_t>(frozen) > checkpoint.particles.count()) {
@@ -111,14 +127,15 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
   }
   clock.frozen = static_cast<std::size_t>(frozen);
   references.pe0 = checkpoint.header.pe0;
-  references.reference_height = setting<double>(s, "reference_height", source);
-  references.energy.initial_energy = setting<double>(s, "initial_energy", source);
-  references.energy.energy_scale = setting<double>(s, "energy_scale", source);
-  references.rest_timer = setting<double>(s, "rest_timer", source);
-  references.time_step = setting<double>(s, "time_step", source);
+  references.reference_height = at_least("reference_height", 0.0);
+  references.energy.initial_energy =
+      at_least("initial_energy", std::numeric_limits<double>::lowest());
+  references.energy.energy_scale = at_least("energy_scale", 0.0);
+  references.rest_timer = at_least("rest_timer", 0.0);
+  references.time_step = at_least("time_step", 0.0);
   // Checkpoints before the step followed the particles' current density stored the
   // step itself and no Courant number.
-  if (s.contains("courant")) references.courant = setting<double>(s, "courant", source);
+  if (s.contains("courant")) references.courant = at_least("courant", 0.0);
 }
 
 std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,

@@ -209,6 +209,39 @@ TEST(MpmSolveCli, RefusesTheFilesOfAnotherCaseUnlessAsked) {
   EXPECT_NE(asked.err.find("(--other-case)"), std::string::npos) << asked.err;
 }
 
+// Issue 13: negative steps_since_sort and a NaN or negative previous step were read
+// without complaint (the NaN surfaced later as a "non-finite position"). Each damaged
+// /solver value is now one line naming it, before anything is written.
+TEST(MpmSolveCli, ARestartNamesADamagedSolverValue) {
+  const fs::path folder = fresh_folder("damaged-solver");
+  const fs::path c = write_case(folder, small_case("", 0.1));
+  ASSERT_EQ(run_solver(folder, c.string() + " -q --no-vtk -o " + (folder / "a").string()).status,
+            0);
+  const ParticleCheckpoint good = read_particle_checkpoint(folder / "a" / "mpm_final.h5");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::pair<std::string, SettingValue>> damages{
+      {"previous_time_step", nan},
+      {"previous_time_step", -1e-3},
+      {"steps_since_sort", std::int64_t{-1}},
+      {"rest_timer", -1.0},
+      {"reference_height", nan},
+      {"energy_scale", -5.0},
+      {"initial_energy", std::numeric_limits<double>::infinity()}};
+  for (const auto& [key, value] : damages) {
+    ParticleCheckpoint bad = good;
+    bad.solver[key] = value;
+    const fs::path file = folder / "bad.h5";
+    write_checkpoint(file, bad);
+    const fs::path out = folder / "out";
+    const ProgramRun r = run_solver(
+        folder, c.string() + " -q --no-vtk -o " + out.string() + " --restart " + file.string());
+    EXPECT_EQ(r.status, 1) << key << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("/solver attribute " + key), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << key;
+  }
+}
+
 TEST(MpmSolveCli, MultiYieldInMpmKeepsItsSurfacesAndRestartsBitForBit) {
   // Pure MPM with the multi-yield model in MPM: the switch freezes every particle's
   // strength from its K0 confinement; the strengths and the 20 surfaces per particle go
