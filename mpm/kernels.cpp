@@ -289,11 +289,11 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
 /// One particle's stress update from its velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x,
 /// ∂vy/∂y]: the point update FE Gauss points share (advance_point: strain increment,
 /// Jaumann rotation, the constitutive update of the particle's material), the εq of the
-/// accumulated strain, and the volume from the deformation-gradient increment: V_{n+1} = det(I + Δt
-/// l) V_n (with volumetric smoothing, l carries the cell's volumetric rate). Not inlined into the
-/// gather: it then compiles to the arithmetic of the former separate stress pass (inlined,
-/// -march=native contracts some products into FMAs differently), so results stay bit-identical to
-/// that pass's.
+/// accumulated strain, and the volume from the deformation-gradient increment,
+/// V_{n+1} = det(I + Δt l) V_n (with volumetric smoothing, l carries the cell's volumetric
+/// rate). Not inlined into the gather: it then compiles to the arithmetic of the former
+/// separate stress pass (inlined, -march=native contracts some products into FMAs
+/// differently), so results stay bit-identical to that pass's.
 [[gnu::noinline]] void update_stress(Particles& particles,
                                      std::span<const ConstitutiveModel> models, double dt,
                                      const Vec4& l, std::size_t p) {

@@ -232,6 +232,12 @@ class ExitLog {
   double first_exit_ = 0.0, first_unreported_ = 0.0;
 };
 
+/// The step: the case's, or the Courant step at the particles' current densities, taken
+/// anew every step (mpm/README.md, "Time step").
+double time_step(const MpmSpec& spec, const MpmSolver& solver) {
+  return spec.time_step > 0.0 ? spec.time_step : solver.courant_time_step(spec.courant);
+}
+
 /// mpm-solve's time loop (run::Stage): steps of the case's Δt or of the Courant step at
 /// the particles' current densities, landing on the schedule's times; the rest
 /// detection; at each output the guard, the history row, the VTK frame, the checkpoint.
@@ -258,17 +264,10 @@ class MpmStage final : public run::Stage {
   std::int64_t steps() const { return steps_; }
   double particle_steps() const { return particle_steps_; }
 
-  /// The step: the case's, or the Courant step at the particles' current densities,
-  /// taken anew every step (mpm/README.md, "Time step").
-  double next_time_step() const {
-    return case_.mpm.time_step > 0.0 ? case_.mpm.time_step
-                                     : solver_.courant_time_step(case_.mpm.courant);
-  }
-
   bool advance_to(double stop) override {
     for (;;) {
       const double time = solver_.clock().time;
-      const double step = next_time_step();
+      const double step = time_step(case_.mpm, solver_);
       const bool landing = time + step >= stop;
       particle_steps_ += static_cast<double>(solver_.active_count());
       const StepReport report = solver_.step(landing ? stop - time : step);
@@ -438,8 +437,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   refs.time_step = c.mpm.time_step;
   refs.courant = c.mpm.courant;
   // The first step, for the log and the gravity stage; MpmStage takes each anew.
-  const double dt =
-      c.mpm.time_step > 0.0 ? c.mpm.time_step : solver.courant_time_step(c.mpm.courant);
+  const double dt = time_step(c.mpm, solver);
   log_settings(log, settings, c.mpm, dt);
   const double end_time = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
   check_run_length(c, start, end_time - solver.clock().time, dt, settings.grid.cell_size);

@@ -111,6 +111,16 @@ namespace {
 
 using namespace testing;
 
+/// A grid over [0, upper] of 1 m cells under gravity g, its base a Coulomb contact of
+/// friction coefficient μ, its other edges free: the sliding tests' floor.
+MpmSettings on_a_frictional_base(const Vec2& upper, double mu, double g) {
+  MpmSettings s = settings_on(Vec2(0, 0), upper, 1.0);
+  s.gravity = Vec2(0, -g);
+  set_edge(s, edge_base, BoundaryCondition::friction);
+  s.boundaries.friction_coefficient = mu;
+  return s;
+}
+
 // A block sliding on the frictional base at v0 decelerates at μg and stops after
 // d = v0²/(2μg). It starts from its lithostatic (K0) stresses so that it does not drop
 // onto the base. The block is Mohr–Coulomb (φ = 35° > atan μ, so it carries the base
@@ -120,10 +130,7 @@ using namespace testing;
 // bounds it, as in the soils of the cases.
 TEST(SlidingBlock, StopsAfterVSquaredOverTwoMuG) {
   const double mu = 0.466, v0 = 5.0, g = 9.81;
-  MpmSettings s = settings_on(Vec2(0, 0), Vec2(30, 6), 1.0);
-  s.gravity = Vec2(0, -g);
-  set_edge(s, edge_base, BoundaryCondition::friction);
-  s.boundaries.friction_coefficient = mu;
+  const MpmSettings s = on_a_frictional_base(Vec2(30, 6), mu, g);
   Material block = elastic_soil(2000.0, 2.0e8, 0.25);
   block.model = MaterialModel::mohr_coulomb;
   block.friction_angle = 35.0;
@@ -164,12 +171,9 @@ TEST(SlidingBlock, StopsAfterVSquaredOverTwoMuG) {
 // case's MPM settings (APIC, cell volumetric smoothing, 4 × 4 layout on 1 m cells).
 TEST(SlidingBlock, LoneParticlesOfAPartedFrontStopAfterVSquaredOverTwoMuG) {
   const double g = 9.81, mu = 0.1763;
-  MpmSettings s = settings_on(Vec2(0, 0), Vec2(60, 4), 1.0);
-  s.gravity = Vec2(0, -g);
+  MpmSettings s = on_a_frictional_base(Vec2(60, 4), mu, g);
   s.velocity_transfer = VelocityTransfer::apic;
   s.volumetric_smoothing = VolumetricSmoothing::cell;
-  set_edge(s, edge_base, BoundaryCondition::friction);
-  s.boundaries.friction_coefficient = mu;
   Material soil = elastic_soil(1925.0, 172.0e6, 0.23);
   soil.model = MaterialModel::mohr_coulomb;
   soil.friction_angle = 10.0;
