@@ -79,9 +79,22 @@ Handle scalar_space() {
   return Handle(H5Screate(H5S_SCALAR), &H5Sclose);
 }
 
-Handle utf8_string_type() {
+// The memory type for reading a variable-length UTF-8 string (files written by h5py).
+Handle variable_utf8_string_type() {
   Handle type(H5Tcopy(H5T_C_S1), &H5Tclose);
   H5Tset_size(type.id(), H5T_VARIABLE);
+  H5Tset_cset(type.id(), H5T_CSET_UTF8);
+  return type;
+}
+
+// The type we write strings with: fixed-length UTF-8 of the string's byte count (at
+// least 1), null-padded. A fixed-length string lives in the attribute itself; a
+// variable-length one lives in the file's global heap, and a damaged heap entry crashed
+// libhdf5 inside H5HG_read before it could report anything.
+Handle fixed_utf8_string_type(std::size_t bytes) {
+  Handle type(H5Tcopy(H5T_C_S1), &H5Tclose);
+  H5Tset_size(type.id(), std::max<std::size_t>(bytes, 1));
+  H5Tset_strpad(type.id(), H5T_STR_NULLPAD);
   H5Tset_cset(type.id(), H5T_CSET_UTF8);
   return type;
 }
@@ -197,12 +210,12 @@ Handle create_attribute(hid_t location, std::string_view name, hid_t type, hid_t
 }  // namespace
 
 void Object::write_string_attribute(std::string_view name, std::string_view value) {
-  const Handle type = utf8_string_type();
+  const Handle type = fixed_utf8_string_type(value.size());
   const Handle space = scalar_space();
   const Handle attribute = create_attribute(handle_.id(), name, type.id(), space.id(), where());
-  const std::string text(value);
-  const char* pointer = text.c_str();
-  check(H5Awrite(attribute.id(), type.id(), &pointer), where(),
+  std::string buffer(value);
+  buffer.resize(std::max<std::size_t>(value.size(), 1), '\0');
+  check(H5Awrite(attribute.id(), type.id(), buffer.data()), where(),
         fmt::format("attribute {}: cannot write", name));
 }
 
@@ -262,7 +275,7 @@ std::string Object::read_string_attribute(std::string_view name) const {
       checked_attribute_type(attribute.id(), where(), name, {TypeClass::string}, true, "string");
   const std::string what = fmt::format("attribute {}: cannot read", name);
   if (H5Tis_variable_str(file_type.id()) > 0) {
-    const Handle memory_type = utf8_string_type();
+    const Handle memory_type = variable_utf8_string_type();
     H5Tset_cset(memory_type.id(), H5Tget_cset(file_type.id()));
     char* pointer = nullptr;
     check(H5Aread(attribute.id(), memory_type.id(), &pointer), where(), what);
@@ -418,6 +431,23 @@ Handle untimed_creation_properties(hid_t property_class) {
   return properties;
 }
 
+// Row-chunked storage with HDF5's Fletcher32 checksum on every chunk: a damaged byte in
+// the data then fails the read as "data error detected by Fletcher32 checksum" instead
+// of passing as a wrong number. Chunks hold whole rows, about 1 MiB each. Scalars and
+// empty datasets stay contiguous (nothing to chunk; a scalar is checked by its range).
+void add_checksum(hid_t properties, const std::vector<hsize_t>& extents, std::size_t value_bytes,
+                  std::string_view where) {
+  if (extents.empty() || std::find(extents.begin(), extents.end(), 0) != extents.end()) return;
+  hsize_t row_bytes = value_bytes;
+  for (std::size_t i = 1; i < extents.size(); ++i) row_bytes *= extents[i];
+  constexpr hsize_t chunk_bytes = 1 << 20;
+  std::vector<hsize_t> chunk = extents;
+  chunk[0] = std::clamp<hsize_t>(chunk_bytes / std::max<hsize_t>(row_bytes, 1), 1, extents[0]);
+  check(H5Pset_chunk(properties, static_cast<int>(chunk.size()), chunk.data()), where,
+        "cannot set chunks");
+  check(H5Pset_fletcher32(properties), where, "cannot set the Fletcher32 checksum");
+}
+
 }  // namespace
 
 Group Group::create_group(std::string_view name) {
@@ -487,6 +517,7 @@ Dataset Group::write_dataset(std::string_view name, const void* values, std::siz
           : Handle(H5Screate_simple(static_cast<int>(extents.size()), extents.data(), nullptr),
                    &H5Sclose);
   const Handle properties = untimed_creation_properties(H5P_DATASET_CREATE);
+  add_checksum(properties.id(), extents, H5Tget_size(static_cast<hid_t>(file_type)), at);
   Handle dataset = checked(H5Dcreate2(handle_.id(), c_string(name).c_str(), file_type, space.id(),
                                       H5P_DEFAULT, properties.id(), H5P_DEFAULT),
                            &H5Dclose, at, "cannot create dataset");
@@ -503,8 +534,17 @@ Dataset Group::write_dataset(std::string_view name, const void* values, std::siz
 File File::create(const std::filesystem::path& path, std::string label) {
   silence_hdf5_errors();
   if (label.empty()) label = path.string();
-  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), &H5Fclose,
-                        label, "cannot create HDF5 file");
+  // The 1.8 file format, no older and no newer: its object headers and the other
+  // metadata carry checksums, so a damaged header is reported as damaged too, and any
+  // HDF5 from 1.8 on reads it, whichever HDF5 wrote it.
+  const Handle access(H5Pcreate(H5P_FILE_ACCESS), &H5Pclose);
+  check(H5Pset_libver_bounds(access.id(), H5F_LIBVER_V18, H5F_LIBVER_V18), label,
+        "cannot select the file format");
+  // The root group's header carries time stamps in this format unless told not to, like
+  // every other object (see untimed_creation_properties).
+  const Handle creation = untimed_creation_properties(H5P_FILE_CREATE);
+  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, creation.id(), access.id()),
+                        &H5Fclose, label, "cannot create HDF5 file");
   return File(std::move(file), std::move(label), "/");
 }
 

@@ -20,6 +20,13 @@ import numpy as np
 DTYPE_KINDS = {"float64": "f", "int64": "i", "int32": "i"}
 
 
+def text_attrs(obj):
+    """The attributes of `obj` as a dict, strings as str. The programs write strings as
+    fixed-length UTF-8 (no global heap: see the schema page), which h5py returns as bytes."""
+    return {key: value.decode("utf-8") if isinstance(value, bytes) else value
+            for key, value in obj.attrs.items()}
+
+
 def documented_schema(schema_page):
     """The datasets and material attributes the schema page documents, parsed from its
     tables: {kind section: {name: (columns or None, dtype kind, units, optional)}}, with
@@ -112,15 +119,15 @@ def check_datasets(f, documented, rows_of):
             check(d.shape == expected, f"{label}: /{name}: shape {d.shape}, expected {expected}")
         check(d.dtype.kind == kind and d.dtype.itemsize in (4, 8),
               f"{label}: /{name}: dtype {d.dtype}, expected kind {kind}")
-        check(d.attrs.get("units") == units,
-              f"{label}: /{name}: units {d.attrs.get('units')!r}, expected {units!r}")
+        check(text_attrs(d).get("units") == units,
+              f"{label}: /{name}: units {text_attrs(d).get('units')!r}, expected {units!r}")
         if kind == "f":
             check(np.all(np.isfinite(d[...])), f"{label}: /{name}: non-finite values")
 
 
 def check_header(f, kind, time, step):
     label = Path(f.filename).name
-    a = f.attrs
+    a = text_attrs(f)
     check(a["schema"] == "fem-mpm-checkpoint", f"{label}: schema {a['schema']!r}")
     check(int(a["schema_version"]) == 1, f"{label}: schema_version {a['schema_version']}")
     check(a["kind"] == kind, f"{label}: kind {a['kind']!r}, expected {kind!r}")
@@ -137,8 +144,8 @@ def check_materials(f):
     materials = f["materials"]
     check(sorted(materials.keys()) == ["0", "1"], f"{label}: /materials {list(materials)}")
     for key in MATERIAL_ATTRIBUTES:
-        check(key in materials["0"].attrs, f"{label}: /materials/0: attribute {key} missing")
-    soil, rock = materials["0"].attrs, materials["1"].attrs
+        check(key in text_attrs(materials["0"]), f"{label}: /materials/0: attribute {key} missing")
+    soil, rock = text_attrs(materials["0"]), text_attrs(materials["1"])
     check(soil["name"] == "soil" and soil["model"] == "mohr-coulomb", f"{label}: material 0")
     check(soil["friction_angle"] == 30.0 and soil["cohesion"] == 5000.0, f"{label}: soil φ, c")
     check(rock["name"] == "rock" and rock["model"] == "linear-elastic", f"{label}: material 1")
@@ -164,8 +171,8 @@ def read_fem(path):
         check_datasets(f, FEM_DATASETS, rows_of)
 
         connectivity = f["elements/connectivity"]
-        check(connectivity.attrs["type"] == "quad4", "fem: connectivity type")
-        check(connectivity.attrs["integration"] == "quad4-2x2", "fem: connectivity integration")
+        check(text_attrs(connectivity)["type"] == "quad4", "fem: connectivity type")
+        check(text_attrs(connectivity)["integration"] == "quad4-2x2", "fem: connectivity integration")
         check(connectivity[...].tolist() == [[0, 1, 4, 3], [1, 2, 5, 4]], "fem: connectivity")
         check(f["elements/material_id"][...].tolist() == [0, 1], "fem: material_id")
 
@@ -188,16 +195,16 @@ def read_fem(path):
         check(np.allclose(f["gauss_points/state/plastic_shear_strain"][...], 0.01 * g), "fem: state")
 
         boundary = f["boundary"]
-        check(boundary.attrs["friction_coefficient"] == 0.4, "fem: friction coefficient")
+        check(text_attrs(boundary)["friction_coefficient"] == 0.4, "fem: friction coefficient")
         base = boundary["base"]
-        check(base.attrs["condition"] == "friction", "fem: base condition")
-        check(base.attrs["normal"].tolist() == [0.0, -1.0], "fem: base normal")
+        check(text_attrs(base)["condition"] == "friction", "fem: base condition")
+        check(text_attrs(base)["normal"].tolist() == [0.0, -1.0], "fem: base normal")
         check(base["nodes"][...].tolist() == [0, 1, 2], "fem: base nodes")
-        order = sorted(boundary.keys(), key=lambda name: int(boundary[name].attrs["index"]))
+        order = sorted(boundary.keys(), key=lambda name: int(text_attrs(boundary[name])["index"]))
         check(order == ["left", "right", "base"], f"fem: boundary order {order}")
-        check(boundary["left"].attrs["condition"] == "roller", "fem: left condition")
+        check(text_attrs(boundary["left"])["condition"] == "roller", "fem: left condition")
 
-        solver = f["solver"].attrs
+        solver = text_attrs(f["solver"])
         check(solver["stage"] == "failure" and int(solver["steps"]) == 40, "fem: solver settings")
         check(float(solver["time_step"]) == 1.0e-3, "fem: solver time_step")
 
@@ -218,7 +225,7 @@ def read_particles(path, kind, time, step):
         check(np.array_equal(p["stress"][:, 1], -2000.0 * (g + 1)), f"{kind}: σyy")
         check(np.array_equal(p["element"][...], g // 4), f"{kind}: source element")
 
-        transfer = f["transfer"].attrs
+        transfer = text_attrs(f["transfer"])
         check(float(transfer["transfer_time"]) == 2.0, f"{kind}: transfer_time")
         check(transfer["particles_per_element"] == "2x2", f"{kind}: particles_per_element")
         check(transfer["stress_interpolation"] == "rbf", f"{kind}: stress_interpolation")
@@ -228,7 +235,7 @@ def read_particles(path, kind, time, step):
         return {name: f[name][...] for name in ("particles/coordinates", "particles/velocity",
                                                  "particles/affine_velocity_gradient")
                 if name in f} | {
-            "solver": dict(f["solver"].attrs)}
+            "solver": text_attrs(f["solver"])}
 
 
 def main():
