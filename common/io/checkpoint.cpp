@@ -74,6 +74,78 @@ void require_finite(std::string_view where, std::span<const double> values, std:
   }
 }
 
+/// What a float dataset of a given name may hold beyond being finite: a magnitude no
+/// landslide model reaches (so a number from a damaged or hand-edited file, such as a
+/// strain of 4.9e226, is refused on reading, not at the end of a run), and a sign.
+struct ValueRule {
+  std::string_view dataset;  ///< the dataset's name, in any group
+  double limit;              ///< |value| ≤ limit
+  std::string_view unit;
+  bool non_negative;
+};
+
+// The limits are orders of magnitude above anything physical, so no real state is
+// refused: 10⁷ m is a quarter of the Earth's circumference; 10⁵ m/s is 15 times the
+// P-wave speed of intact rock; 10¹² m/s² reaches that speed in one explicit step of 10⁻⁷ s;
+// 10¹³ Pa is 50 times the Young's modulus of steel; a strain of 10⁶ is a
+// fibre stretched a million times its length.
+constexpr std::array value_rules{
+    ValueRule{"reference_coordinates", 1e7, "m", false},
+    ValueRule{"coordinates", 1e7, "m", false},
+    ValueRule{"displacement", 1e7, "m", false},
+    ValueRule{"velocity", 1e5, "m/s", false},
+    ValueRule{"acceleration", 1e12, "m/s²", false},
+    ValueRule{"stress", 1e13, "Pa", false},
+    ValueRule{"surface_stress", 1e13, "Pa", false},
+    ValueRule{"pore_pressure", 1e13, "Pa", false},
+    ValueRule{"peak_strength", 1e13, "Pa", false},
+    ValueRule{"strain", 1e6, "", false},
+    ValueRule{"plastic_volumetric_strain", 1e6, "", false},
+    ValueRule{"eps_q", 1e6, "", true},
+    ValueRule{"plastic_shear_strain", 1e6, "", true},
+    ValueRule{"size", 1e7, "m", false},
+};
+
+/// Finite values, and within the dataset's ValueRule when it has one.
+void require_admissible(std::string_view where, std::string_view dataset,
+                        std::span<const double> values, std::size_t width, const Rows& rows) {
+  require_finite(where, values, width, rows);
+  const auto rule = std::find_if(value_rules.begin(), value_rules.end(),
+                                 [&](const ValueRule& r) { return r.dataset == dataset; });
+  if (rule == value_rules.end()) return;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (std::abs(values[i]) > rule->limit) {
+      throw Error("{}: {} {} has {}{}{}, beyond ±{:g}{}{} (no landslide reaches it: damaged data?)",
+                  where, rows.noun, i / width, values[i], rule->unit.empty() ? "" : " ", rule->unit,
+                  rule->limit, rule->unit.empty() ? "" : " ", rule->unit);
+    }
+    if (rule->non_negative && values[i] < 0.0) {
+      throw Error("{}: {} {} has {}, expected ≥ 0", where, rows.noun, i / width, values[i]);
+    }
+  }
+}
+
+/// The last component of a dataset path: "/particles/state/eps_q" → "eps_q".
+std::string_view dataset_name(std::string_view path) {
+  return path.substr(path.find_last_of('/') + 1);
+}
+
+/// Particle ids: each ≥ 0 and none twice (restarts and the tools match particles by id).
+void require_unique_ids(std::string_view where, std::span<const std::int64_t> ids,
+                        const Rows& rows) {
+  std::vector<std::pair<std::int64_t, std::size_t>> sorted(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) sorted[i] = {ids[i], i};
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 0; k < sorted.size(); ++k) {
+    const auto [id, row] = sorted[k];
+    if (id < 0) throw Error("{}: {} {} has id {}, expected ≥ 0", where, rows.noun, row, id);
+    if (k > 0 && sorted[k - 1].first == id) {
+      throw Error("{}: {}s {} and {} share id {}, expected unique ids", where, rows.noun,
+                  sorted[k - 1].second, row, id);
+    }
+  }
+}
+
 /// The admissible values of an index dataset, [low, high), and what bounds them.
 struct IndexRange {
   static constexpr std::int64_t unbounded = std::numeric_limits<std::int64_t>::max();
@@ -109,6 +181,16 @@ void require_positive(std::string_view where, std::span<const double> values, co
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!(values[i] > 0.0)) {
       throw Error("{}: {} {} has {} {}, expected > 0", where, rows.noun, i, quantity, values[i]);
+    }
+  }
+}
+
+/// Particle sizes (the domain a particle fills): both sides > 0.
+void require_positive_sizes(std::string_view where, std::span<const Vec2> sizes, const Rows& rows) {
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    if (!(sizes[i].x() > 0.0 && sizes[i].y() > 0.0)) {
+      throw Error("{}: {} {} has size ({}, {}), expected both > 0", where, rows.noun, i,
+                  sizes[i].x(), sizes[i].y());
     }
   }
 }
@@ -182,7 +264,7 @@ class Writer {
                std::size_t width, const Rows& rows, std::string_view units) {
     const std::string at = where(group, name);
     require_count(at, values.size(), width, rows);
-    require_finite(at, values, std::max<std::size_t>(width, 1), rows);
+    require_admissible(at, name, values, std::max<std::size_t>(width, 1), rows);
     group.write_dataset(name, values, shape(width, rows))
         .write_string_attribute(units_attribute, units);
   }
@@ -377,6 +459,8 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
   if (!c.scaled_jacobian.empty()) {
     writer.doubles(e, "scaled_jacobian", c.scaled_jacobian, 0, elements, "1");
   }
+  require_positive(writer.where(e, "volume_reference"), c.volume_reference, elements,
+                   "reference volume");
   writer.doubles(e, "volume_reference", c.volume_reference, 0, elements, "m^3/m");
   writer.doubles(e, "volume", c.volume, 0, elements, "m^3/m");
   if (!c.hourglass_force.empty()) {
@@ -387,6 +471,7 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
   writer.indices(g, "element", c.gauss_element, 0, gauss, below(elements.count, "n_elements"));
   writer.vectors<2>(g, "local_coordinates", c.gauss_local_coordinates, gauss, "1");
   writer.vectors<2>(g, "coordinates", c.gauss_coordinates, gauss, "m");
+  require_positive(writer.where(g, "weight"), c.gauss_weight, gauss, "weight");
   writer.doubles(g, "weight", c.gauss_weight, 0, gauss, "1");
   writer.vectors<4>(g, "stress", c.stress, gauss, "Pa");
   writer.vectors<4>(g, "strain", c.strain, gauss, "1");
@@ -437,9 +522,11 @@ void write_particles(Writer& writer, const ParticleCheckpoint& c) {
   writer.doubles(g, "volume", p.volume, 0, particles, "m^3/m");
   require_positive(writer.where(g, "mass"), p.mass, particles, "mass");
   writer.doubles(g, "mass", p.mass, 0, particles, "kg/m");
+  require_positive_sizes(writer.where(g, "size"), p.size, particles);
   writer.vectors<2>(g, "size", p.size, particles, "m");
   writer.material_ids(g, p.material_id, particles, c.materials.size());
   writer.indices(g, "element", p.element, 0, particles, source_element_range);
+  require_unique_ids(writer.where(g, "id"), p.id, particles);
   writer.indices(g, "id", p.id, 0, particles, std::nullopt);
   writer.state(g, p.state, p.surface_stress, particles);
   // APIC's affine velocity C_p: only particles that carry it (an APIC run) write it.
@@ -482,7 +569,8 @@ class Reader {
   std::vector<double> doubles(std::string_view path, std::size_t width, const Rows& rows) const {
     const hdf5::Dataset dataset = open(path, TypeClass::floating_point, width, rows);
     std::vector<double> values = dataset.read_doubles();
-    require_finite(where(path), values, std::max<std::size_t>(width, 1), rows);
+    require_admissible(where(path), dataset_name(path), values, std::max<std::size_t>(width, 1),
+                       rows);
     return values;
   }
 
@@ -822,6 +910,8 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
     c.scaled_jacobian = reader.doubles("/elements/scaled_jacobian", 0, elements);
   }
   c.volume_reference = reader.doubles("/elements/volume_reference", 0, elements);
+  require_positive(reader.where("/elements/volume_reference"), c.volume_reference, elements,
+                   "reference volume");
   c.volume = reader.doubles("/elements/volume", 0, elements);
   if (reader.file().contains("elements/hourglass_force")) {
     c.hourglass_force = reader.vectors<2>("/elements/hourglass_force", elements);
@@ -834,6 +924,7 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   c.gauss_local_coordinates = reader.vectors<2>("/gauss_points/local_coordinates", gauss);
   c.gauss_coordinates = reader.vectors<2>("/gauss_points/coordinates", gauss);
   c.gauss_weight = reader.doubles("/gauss_points/weight", 0, gauss);
+  require_positive(reader.where("/gauss_points/weight"), c.gauss_weight, gauss, "weight");
   c.stress = reader.vectors<4>("/gauss_points/stress", gauss);
   c.strain = reader.vectors<4>("/gauss_points/strain", gauss);
   c.eps_q = reader.doubles("/gauss_points/eps_q", 0, gauss);
@@ -871,6 +962,8 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
   p.material_id = reader.material_ids("/particles/material_id", particles, c.materials.size());
   p.element = reader.indices("/particles/element", 0, particles, source_element_range);
   p.id = reader.indices("/particles/id", 0, particles, std::nullopt);
+  require_unique_ids(reader.where("/particles/id"), p.id, particles);
+  require_positive_sizes(reader.where("/particles/size"), p.size, particles);
   p.state = reader.state("/particles/state", particles);
   p.surface_stress = reader.surface_stress("/particles/state", particles);
   // Optional: absent (FLIP/PIC runs, fem2mpm) leaves it empty; an APIC run then starts

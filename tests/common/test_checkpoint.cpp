@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -28,17 +29,18 @@ namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------------------------------
 // Sample checkpoints: small, but every field holds distinct, awkward values (negative
-// zero, a subnormal, huge and tiny magnitudes, irrational numbers) so that any
-// conversion, rounding or mix-up of fields shows.
+// zero, a subnormal, large and tiny magnitudes, irrational numbers) so that any
+// conversion, rounding or mix-up of fields shows. "Large" stays below the smallest of
+// the schema's magnitude limits (10⁵ m/s for velocities): beyond them nothing is written.
 
 double awkward(std::size_t i) {
   static const double specials[] = {-0.0,
                                     std::numeric_limits<double>::denorm_min(),
-                                    -1.0e300,
+                                    -9.75e4,
                                     std::numbers::pi,
                                     1.0 / 3.0,
                                     -2.5e-17,
-                                    std::numeric_limits<double>::max(),
+                                    99999.99999999999,
                                     std::numbers::e};
   const std::size_t n = std::size(specials);
   return i % 3 == 0 ? specials[(i / 3) % n] : std::sqrt(2.0) * static_cast<double>(i) - 7.25;
@@ -61,6 +63,20 @@ struct Filler {
     for (auto& x : v) x = scalar();
     return v;
   }
+  /// Values > 0 (volumes, sizes): the magnitudes of the sequence, kept off zero.
+  std::vector<double> positives(std::size_t n) {
+    std::vector<double> v(n);
+    for (auto& x : v) x = std::abs(scalar()) + std::numeric_limits<double>::denorm_min();
+    return v;
+  }
+  std::vector<Vec2> positive_vec2s(std::size_t n) {
+    std::vector<Vec2> v(n);
+    for (auto& x : v) {
+      const double a = std::abs(scalar()) + std::numeric_limits<double>::denorm_min();
+      x = {a, std::abs(scalar()) + std::numeric_limits<double>::denorm_min()};
+    }
+    return v;
+  }
   std::vector<Vec2> vec2s(std::size_t n) {
     std::vector<Vec2> v(n);
     for (auto& x : v) x = vec2();
@@ -74,7 +90,7 @@ struct Filler {
   std::vector<MaterialState> states(std::size_t n) {
     std::vector<MaterialState> v(n);
     for (auto& s : v) {
-      s.plastic_shear_strain = scalar();
+      s.plastic_shear_strain = std::abs(scalar());
       s.plastic_volumetric_strain = scalar();
     }
     return v;
@@ -154,7 +170,7 @@ FemCheckpoint sample_fem(ElementType type) {
   c.jacobian_ratio = f.scalars(n_elements);
   // Optional: the triangles' sample goes without it, as a file written before it existed.
   if (type != ElementType::tri3) c.scaled_jacobian = f.scalars(n_elements);
-  c.volume_reference = f.scalars(n_elements);
+  c.volume_reference = f.positives(n_elements);
   c.volume = f.scalars(n_elements);
   if (type == ElementType::quad4_1gp) c.hourglass_force = f.vec2s(n_elements);
 
@@ -169,7 +185,7 @@ FemCheckpoint sample_fem(ElementType type) {
   c.gauss_coordinates = f.vec2s(n_gp);
   c.stress = f.vec4s(n_gp);
   c.strain = f.vec4s(n_gp);
-  c.eps_q = f.scalars(n_gp);
+  c.eps_q = f.positives(n_gp);
   c.state = f.states(n_gp);
 
   c.materials = sample_materials();
@@ -196,9 +212,9 @@ ParticleCheckpoint sample_particles(CheckpointKind kind, std::size_t n = 7) {
   p.velocity = f.vec2s(n);
   p.stress = f.vec4s(n);
   p.strain = f.vec4s(n);
-  p.eps_q = f.scalars(n);
+  p.eps_q = f.positives(n);
   p.pore_pressure = f.scalars(n);
-  p.size = f.vec2s(n);
+  p.size = f.positive_vec2s(n);
   p.state = f.states(n);
   for (std::size_t i = 0; i < n; ++i) {
     p.volume.push_back(0.01 + std::numbers::pi * 1.0e-3 * static_cast<double>(i));
@@ -900,6 +916,110 @@ TEST_F(Checkpoint, NonPositiveParticleMassOrVolumeIsNamed) {
   Damage(path).set_double("/particles/volume", 0, -1.0e-3);
   EXPECT_EQ(particle_error(path),
             path.string() + ": /particles/volume: particle 0 has volume -0.001, expected > 0");
+}
+
+TEST_F(Checkpoint, MagnitudesNoLandslideReachesAreRefusedOnReading) {
+  const fs::path path = file("particles.h5");
+  write_checkpoint(path, sample_particles(CheckpointKind::mpm));
+  Damage(path).set_double("/particles/strain", 4 * 3 + 1, 4.9e226);
+  EXPECT_EQ(particle_error(path),
+            path.string() +
+                ": /particles/strain: particle 3 has 4.9e+226, beyond ±1e+06 (no landslide "
+                "reaches it: damaged data?)");
+  write_checkpoint(path, sample_particles(CheckpointKind::mpm));
+  Damage(path).set_double("/particles/velocity", 2 * 2, -2.0e5);
+  EXPECT_NE(particle_error(path).find("/particles/velocity: particle 2 has -200000 m/s, beyond "
+                                      "±100000 m/s"),
+            std::string::npos);
+  const fs::path fem = file("fem.h5");
+  write_checkpoint(fem, sample_fem(ElementType::quad4_2x2));
+  Damage(fem).set_double("/gauss_points/stress", 4 * 9, -1.0e27);
+  EXPECT_NE(fem_error(fem).find("/gauss_points/stress: Gauss point 9 has -1e+27 Pa, beyond ±1e+13"),
+            std::string::npos);
+  // The writer refuses the same values, so nothing it writes fails to read back.
+  ParticleCheckpoint c = sample_particles(CheckpointKind::mpm);
+  c.particles.strain[3][1] = 4.9e226;
+  EXPECT_NE(error_of([&] {
+              write_checkpoint(file("w.h5"), c);
+            }).find("cannot write /particles/strain: particle 3 has 4.9e+226"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(file("w.h5")));
+}
+
+TEST_F(Checkpoint, NegativeAccumulatedStrainsRepeatedIdsAndEmptySizesAreRefused) {
+  const fs::path path = file("particles.h5");
+  write_checkpoint(path, sample_particles(CheckpointKind::mpm));
+  Damage(path).set_double("/particles/state/plastic_shear_strain", 2, -0.5);
+  EXPECT_EQ(particle_error(path), path.string() +
+                                      ": /particles/state/plastic_shear_strain: particle 2 has "
+                                      "-0.5, expected ≥ 0");
+  write_checkpoint(path, sample_particles(CheckpointKind::mpm));
+  Damage(path).set_double("/particles/eps_q", 5, -1e-9);
+  EXPECT_NE(particle_error(path).find("/particles/eps_q: particle 5 has -1e-09, expected ≥ 0"),
+            std::string::npos);
+  write_checkpoint(path, sample_particles(CheckpointKind::mpm));
+  Damage(path).set_int("/particles/id", 6, 1000 + 3 * 2);  // particle 2's id
+  EXPECT_EQ(
+      particle_error(path),
+      path.string() + ": /particles/id: particles 2 and 6 share id 1006, expected unique ids");
+  write_checkpoint(path, sample_particles(CheckpointKind::mpm));
+  Damage(path).set_int("/particles/id", 0, -4);
+  EXPECT_EQ(particle_error(path),
+            path.string() + ": /particles/id: particle 0 has id -4, expected ≥ 0");
+  write_checkpoint(path, sample_particles(CheckpointKind::mpm));
+  Damage(path).set_double("/particles/size", 2 * 4 + 1, 0.0);
+  EXPECT_NE(particle_error(path).find("/particles/size: particle 4 has size ("), std::string::npos);
+  const fs::path fem = file("fem.h5");
+  write_checkpoint(fem, sample_fem(ElementType::quad4_2x2));
+  Damage(fem).set_double("/gauss_points/weight", 7, 0.0);
+  EXPECT_NE(fem_error(fem).find("/gauss_points/weight: Gauss point 7 has weight 0, expected > 0"),
+            std::string::npos);
+}
+
+/// The byte offset of the first occurrence of the 8 bytes of `value` in `bytes`.
+std::size_t offset_of(const std::string& bytes, double value) {
+  std::string pattern(sizeof value, '\0');
+  std::memcpy(pattern.data(), &value, sizeof value);
+  return bytes.find(pattern);
+}
+
+TEST_F(Checkpoint, ADamagedDataByteIsReportedByItsChecksum) {
+  // A value that occurs once, in /particles/volume (row 5), flipped in its last bit on
+  // disk: without the checksum it would read as a slightly different volume.
+  const fs::path path = file("particles.h5");
+  const ParticleCheckpoint c = sample_particles(CheckpointKind::mpm);
+  write_checkpoint(path, c);
+  std::string bytes = bytes_of(path);
+  const std::size_t at = offset_of(bytes, c.particles.volume[5]);
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_EQ(offset_of(bytes.substr(at + 1), c.particles.volume[5]), std::string::npos);
+  bytes[at] = static_cast<char>(bytes[at] ^ 1);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  const std::string message = particle_error(path);
+  EXPECT_NE(message.find("/particles/volume"), std::string::npos) << message;
+  EXPECT_NE(message.find("Fletcher32"), std::string::npos) << message;
+}
+
+TEST_F(Checkpoint, StringsAreWrittenFixedLengthAndNothingGoesToTheGlobalHeap) {
+  const fs::path path = file("fem.h5");
+  write_checkpoint(path, sample_fem(ElementType::quad4_2x2));
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  for (const auto& [object, name] :
+       {std::pair{"/", "kind"}, std::pair{"/materials/0", "name"},
+        std::pair{"/nodes/coordinates", "units"}, std::pair{"/solver", "stage"}}) {
+    const hid_t attribute = H5Aopen_by_name(f, object, name, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(attribute, 0) << object << " " << name;
+    const hid_t type = H5Aget_type(attribute);
+    EXPECT_EQ(H5Tget_class(type), H5T_STRING);
+    EXPECT_EQ(H5Tis_variable_str(type), 0) << object << " " << name;
+    EXPECT_EQ(H5Tget_cset(type), H5T_CSET_UTF8);
+    H5Tclose(type);
+    H5Aclose(attribute);
+  }
+  H5Fclose(f);
+  // No global heap collection ("GCOL" signature) anywhere in the file.
+  EXPECT_EQ(bytes_of(path).find("GCOL"), std::string::npos);
 }
 
 TEST_F(Checkpoint, InconsistentElementTypeAndInadmissibleMaterialAreRejected) {
