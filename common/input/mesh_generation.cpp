@@ -584,6 +584,16 @@ Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id) {
     }
   }
 
+  double top_max = 0.0;
+  for (const auto& p : surface) top_max = std::max(top_max, p.y());
+  const double requested = (surface.back().x() / h) * (top_max / h);
+  if (!(requested <= max_generated_elements)) {
+    throw Error(
+        "mesh.element_size = {} m asks for about {:.3g} elements over this {} m × {} m profile, "
+        "more than the {:g} the mesher builds",
+        h, requested, surface.back().x(), top_max, max_generated_elements);
+  }
+
   // Node columns: every surface segment gets its own equal columns, so each surface
   // point is a column and the surface is followed exactly.
   std::vector<double> column_x{surface[0].x()};
@@ -598,8 +608,6 @@ Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id) {
       column_top.push_back(c == cells ? b.y() : a.y() + (b.y() - a.y()) * c / cells);
     }
   }
-  double top_max = 0.0;
-  for (const auto& p : surface) top_max = std::max(top_max, p.y());
   const int columns = static_cast<int>(column_x.size()) - 1;
   const int rows = std::max(1, static_cast<int>(std::lround(top_max / h)));
 
@@ -621,6 +629,16 @@ Mesh generate_profile_mesh(const MeshSpec& spec, std::int32_t material_id) {
 Mesh generate_block_mesh(const MeshSpec& spec, const MaterialTable& materials) {
   const auto& blocks = spec.blocks;
   if (blocks.empty()) throw Error("mesh.blocks: no blocks given");
+  double requested = 0.0;
+  for (const MeshBlock& block : blocks) {
+    requested += static_cast<double>(block.cells_u) * static_cast<double>(block.cells_v);
+  }
+  if (requested > max_generated_elements) {
+    throw Error(
+        "mesh.blocks: the cells of the {} block(s) make {:.3g} elements, more than the "
+        "{:g} the mesher builds",
+        blocks.size(), requested, max_generated_elements);
+  }
   const MappedBlocks mapped = map_blocks(blocks, materials);
   const double tolerance = merge_tolerance(mapped);
   Mesh mesh;

@@ -24,6 +24,12 @@
 
 namespace slide {
 
+/// The largest mesh the generators build: 10⁷ elements, about 3 GB of FE state and, at
+/// the element sizes that resolve a slope (0.1–1 m), a slope 1,000–30,000 times its own
+/// height across. A larger request is a unit or typing error (element_size = 1e-300
+/// asks for 10³⁰⁰ elements); refusing it names the key instead of failing to allocate.
+inline constexpr double max_generated_elements = 1.0e7;
+
 /// The mesh of `c.mesh` with material ids from `c.materials`; validated.
 Mesh build_mesh(const Case& c);
 

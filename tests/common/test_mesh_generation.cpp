@@ -422,5 +422,30 @@ TEST(BuildMesh, PrefixesGeneratorErrorsWithTheCaseFile) {
             "cases/column-short/case.toml: mesh.surface[1]: y = -1 is not above the base y = 0");
 }
 
+// An element size that asks for more elements than the mesher builds (a typing or unit
+// error: 1e-300 m over 50 m × 40 m is 2·10⁶⁰³ elements) is refused naming the key; before,
+// the column count overflowed and the run went on with a single element.
+TEST(ProfileMesh, AnElementSizeThatAsksForMoreThanTenMillionElementsIsRefused) {
+  const std::vector<Vec2> surface{{0, 40}, {50, 40}};
+  EXPECT_EQ(error_of([&] {
+              generate_profile_mesh(profile_spec(surface, 1e-300, ElementType::quad4_1gp), 0);
+            }),
+            "mesh.element_size = 1e-300 m asks for about inf elements over this 50 m × 40 m "
+            "profile, more than the 1e+07 the mesher builds");
+  const std::string fine = error_of(
+      [&] { generate_profile_mesh(profile_spec(surface, 0.01, ElementType::quad4_1gp), 0); });
+  EXPECT_NE(fine.find("asks for about 2e+07 elements"), std::string::npos) << fine;
+  // 0.02 m gives 5·10⁶ elements: admissible (not built here, it would take seconds).
+}
+
+TEST(BlockMesh, CellsThatMakeMoreThanTenMillionElementsAreRefused) {
+  MeshSpec spec = slope_frictional_blocks(ElementType::quad4_1gp);
+  spec.blocks[0].cells_u = 100000;
+  spec.blocks[0].cells_v = 100001;
+  EXPECT_EQ(error_of([&] { generate_block_mesh(spec, one_soil()); }),
+            "mesh.blocks: the cells of the 4 block(s) make 1e+10 elements, more than the 1e+07 "
+            "the mesher builds");
+}
+
 }  // namespace
 }  // namespace slide
