@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 
@@ -24,7 +25,14 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
 CLI::Validator positive_number();
 CLI::Validator non_negative_number();
 
-/// Runs `body`; an exception becomes "program: error: message" on stderr and status 1.
+/// `text` as one line of valid UTF-8 for a terminal: each byte that is not part of a
+/// well-formed UTF-8 sequence, and each control character (line breaks included),
+/// becomes a visible escape such as \xff or \n. Names read from damaged files can
+/// hold any bytes; an error message that quotes them must still be one readable line.
+std::string printable_line(std::string_view text);
+
+/// Runs `body`; an exception becomes "program: error: message" on stderr and status 1
+/// (the message passed through printable_line).
 int run_main(const std::string& program, const std::function<void()>& body);
 
 }  // namespace slide
