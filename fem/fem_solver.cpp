@@ -299,6 +299,13 @@ void FemRun::set_guard_limits(bool fresh_stage) {
   if (!initial) initial = setting_double(restart_settings_, "initial_total_energy");
   const auto scale = setting_double(restart_settings_, "energy_scale");
   if (initial && scale) {
+    // A NaN reference would switch the energy guard off (no comparison with NaN fails).
+    if (!std::isfinite(*initial) || !std::isfinite(*scale) || !(*scale > 0.0)) {
+      throw Error(
+          "{}: /solver energy reference initial_energy = {}, energy_scale = {} (expected "
+          "finite values, energy_scale > 0)",
+          last_checkpoint_.string(), *initial, *scale);
+    }
     limits_.energy.initial_energy = *initial;
     limits_.energy.energy_scale = *scale;
   } else {

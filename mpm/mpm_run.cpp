@@ -33,15 +33,23 @@ struct Start {
   Mesh body;              ///< pure MPM: the body's mesh (surface heights for K0)
 };
 
+// A particle file's materials must be the case's by count, name and density (its
+// particle masses were computed with that density); their other properties may differ:
+// rerunning the runout of one transfer with other strengths is a study users make, so
+// the case file's values are used and the change is logged.
 void compare_materials(const MaterialTable& from_file, const MaterialTable& from_case,
                        const std::string& source, const Logger& log) {
-  bool same = from_file.size() == from_case.size();
-  for (std::size_t m = 0; same && m < from_file.size(); ++m) {
-    same = from_file[m].name == from_case[m].name && from_file[m].model == from_case[m].model &&
-           from_file[m].density == from_case[m].density;
-  }
-  if (!same) {
-    log.warning("{}: its materials differ from the case file's; the case file's are used", source);
+  run::check_restart_materials(from_file, from_case, source);
+  for (std::size_t m = 0; m < from_file.size(); ++m) {
+    const Material& a = from_file[m];
+    const Material& b = from_case[m];
+    if (a.model != b.model || a.mpm_model != b.mpm_model || a.youngs_modulus != b.youngs_modulus ||
+        a.poisson_ratio != b.poisson_ratio || a.friction_angle != b.friction_angle ||
+        a.cohesion != b.cohesion || a.dilation_angle != b.dilation_angle ||
+        a.tension_cutoff != b.tension_cutoff) {
+      log.warning("{}: material \"{}\" differs from the case file's; the case file's is used",
+                  source, b.name);
+    }
   }
 }
 

@@ -437,13 +437,15 @@ TEST(MpmSolveCli, BadParticleFilesAreOneLineErrorsNamingTheParticle) {
       particle_file("outside",
                     [](ParticleCheckpoint& p) { p.particles.coordinates[5] = Vec2(45.0, 3.0); }),
       "outside the grid", "particle 5");
+  // A material the case does not have: refused by the material tables, before any
+  // particle is looked at (their masses were computed with the file's densities).
   expect_rejected(particle_file("material",
                                 [](ParticleCheckpoint& p) {
                                   p.materials.push_back(p.materials[0]);
                                   p.materials[1].name = "other";
                                   p.particles.material_id[7] = 1;
                                 }),
-                  "unknown material id", "particle 7");
+                  "has 2 materials, the case 1", "material.h5");
   const fs::path nan_velocity = particle_file("nan_velocity", [](ParticleCheckpoint&) {});
   patch_value(nan_velocity, "/particles/velocity", 3, 0, std::numeric_limits<double>::quiet_NaN());
   expect_rejected(nan_velocity, "velocity", "particle 3");
