@@ -266,7 +266,7 @@ def damage_bytes(path, edits):
 
 
 def signature_offset(data, signature, path):
-    """Offset of the middle occurrence of an HDF5 structure signature (TREE, HEAP, SNOD)."""
+    """Offset of the middle occurrence of an HDF5 structure signature (TREE, OHDR, FRHP, …)."""
     offsets = [m.start() for m in re.finditer(re.escape(signature.encode()), bytes(data))]
     if not offsets:
         raise CatalogueError(f"{path.name}: no {signature} signature to damage")
