@@ -440,9 +440,10 @@ def reproduce_line(args, number):
 
 
 def run_trials(args, trials, findings):
-    """Runs trials [(label, function)] (all, or --only N), each printed with its number;
-    a trial that fails prints how to repeat it alone."""
-    for number, (label, trial) in enumerate(trials, 1):
+    """Runs trials [(label, folder, function)] (all, or --only N), each printed with its
+    number. A trial that fails prints how to repeat it alone and keeps its folder; the
+    folder of one that passes is removed."""
+    for number, (label, folder, trial) in enumerate(trials, 1):
         if args.only and number != args.only:
             continue
         print(f"{args.test} {number}: {label}")
@@ -450,6 +451,8 @@ def run_trials(args, trials, findings):
         trial()
         if len(findings.failures) > failures:
             print(reproduce_line(args, number))
+        else:
+            shutil.rmtree(folder)
 
 
 def known_failure_moments(program, renamed):
@@ -477,9 +480,9 @@ def kill(args):
     moments = draw_moments(seeded_rng(args), ctx.reference_runs[program], *KILLS[program])
     moments += known_failure_moments(program, ctx.reference_runs[program]["renamed"])
     results = []
-    run_trials(args, [(m.describe(), lambda m=m, n=n: results.append(kill_trial(
-        ctx, program, m, ctx.work / "kill" / program / str(n), findings)))
-        for n, m in enumerate(moments, 1)], findings)
+    folders = [ctx.work / "kill" / program / str(n) for n in range(1, len(moments) + 1)]
+    run_trials(args, [(m.describe(), f, lambda m=m, f=f: results.append(kill_trial(
+        ctx, program, m, f, findings))) for m, f in zip(moments, folders)], findings)
     killed, left = sum(r[0] for r in results), sum(r[1] for r in results)
     print(f"{program}: {killed} of {len(results)} runs killed, {left} temporaries left by them")
     if not args.only and left == 0:
@@ -547,10 +550,11 @@ def kill_restart(args):
     # Each trial its own generator, so that --only N draws what the whole test draws.
     seeds = [rng.randrange(2**31) for _ in range(2)]
     results = []
-    run_trials(args, [("mpm-solve killed, its restart killed, restarted again",
-                       lambda n=n, s=s: results.append(killed_restart(
-                           ctx, random.Random(s), ctx.work / "kill-restart" / str(n), findings)))
-                      for n, s in enumerate(seeds, 1)], findings)
+    folders = [ctx.work / "kill-restart" / str(n) for n in range(1, len(seeds) + 1)]
+    run_trials(args, [("mpm-solve killed, its restart killed, restarted again", f,
+                       lambda s=s, f=f: results.append(killed_restart(
+                           ctx, random.Random(s), f, findings)))
+                      for s, f in zip(seeds, folders)], findings)
     print(f"mpm-solve: {sum(results)} of {2 * len(results)} runs killed (first runs and "
           "restarts)")
     return findings.exit_status(time.monotonic() - started)

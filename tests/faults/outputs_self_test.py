@@ -126,6 +126,8 @@ def main():
         for number, damage in enumerate(damages):
             failures += not damage_found(number, damage, reference,
                                          work / "self-test" / folder, schema)
+    if not failures:
+        shutil.rmtree(work / "self-test")
     print(f"outputs_self_test: {failures} failure(s)")
     return 1 if failures else 0
 
