@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config git clang-format
+  build-essential cmake ninja-build pkg-config git clang-format strace
   libeigen3-dev libhdf5-dev libvtk9-dev libcli11-dev libtomlplusplus-dev
   libnanoflann-dev libfmt-dev libgtest-dev libbenchmark-dev
   python3 python3-h5py python3-matplotlib python3-numpy
