@@ -74,7 +74,8 @@ class FemRun final : public run::Stage {
   void run_geostatic_stage();
   void start_failure_stage(bool switch_models);
   void set_guard_limits(bool fresh_stage);
-  void choose_time_step();
+  void make_failure_solver();
+  void choose_time_step(bool announce);
   // run::Stage: the failure stage's steps and outputs.
   double time() const override { return state_.time; }
   bool advance_to(double stop) override;
@@ -172,6 +173,12 @@ void FemRun::prepare_fresh() {
   model_ = std::make_unique<FemModel>(make_model(
       std::move(mesh), case_.materials, case_.fem.kinematics, case_.fem.hourglass_coefficient));
   state_ = make_rest_state(*model_);
+  if (case_.fem.failure_stage) {
+    // A run too long to finish (a huge stiffness, a tiny fixed step) is refused now, not
+    // after the geostatic checkpoint has been written.
+    make_failure_solver();
+    choose_time_step(false);
+  }
   create_outputs(false);
 }
 
@@ -213,6 +220,8 @@ void FemRun::prepare_restart() {
   model_ = std::make_unique<FemModel>(make_model(
       checkpoint.mesh, case_.materials, case_.fem.kinematics, case_.fem.hourglass_coefficient));
   state_ = state_from_checkpoint(*model_, checkpoint, file);
+  make_failure_solver();
+  choose_time_step(false);  // refuses a run too long to finish before any file is touched
   pe0_ = checkpoint.header.pe0;
   restart_settings_ = checkpoint.solver;
   last_checkpoint_ = file;
@@ -223,7 +232,10 @@ void FemRun::prepare_restart() {
   }
   logger_.info("restart from {} (t = {:.3f} s, step {}, stage {})", file.string(), state_.time,
                state_.step, restart_stage_);
-  create_outputs(true);
+  // From the geostatic state (fem_t0.000.h5, written before the t = 0 outputs) the
+  // failure stage starts afresh: its outputs too, so that t = 0 rows and frames a killed
+  // run left incomplete are written again.
+  create_outputs(restart_stage_ != geostatic_stage);
 }
 
 void FemRun::create_outputs(bool resume) {
@@ -252,7 +264,7 @@ void FemRun::run_geostatic_stage() {
                        options_.output_dir / run::checkpoint_file_name("fem", 0.0));
 }
 
-void FemRun::start_failure_stage(bool switch_models) {
+void FemRun::make_failure_solver() {
   std::vector<ConstitutiveModel> models;
   for (const auto& material : model_->materials)
     models.push_back(ConstitutiveModel::from(material));
@@ -260,13 +272,16 @@ void FemRun::start_failure_stage(bool switch_models) {
       *model_,
       make_constraints(model_->mesh, case_.fem.failure_boundaries, "fem.failure.boundaries"),
       case_.fem.friction_coefficient, damping_of(case_.fem.damping), std::move(models));
+}
+
+void FemRun::start_failure_stage(bool switch_models) {
   if (switch_models) {
     const std::size_t returned = solver_->return_to_yield_surface(state_);
     logger_.info("failure stage: {} of {} Gauss points returned to the yield surface at the switch",
                  returned, model_->gauss_count());
   }
   set_guard_limits(switch_models);
-  choose_time_step();
+  choose_time_step(true);
   failure_started_ = true;
   progress_ =
       std::make_unique<Progress>(logger_, "failure stage", state_.time, schedule_.end_time());
@@ -316,7 +331,8 @@ void FemRun::set_guard_limits(bool fresh_stage) {
 /// The step: fixed, or the Courant step lowered by the stiffness-proportional damping
 /// (METHOD.md §3; the stability limit is the same at C = 1). Refuses a step that would
 /// need more steps than any run could take (it would hang the program), naming the cause.
-void FemRun::choose_time_step() {
+/// `announce`: log the step (and warn of a fixed step above the limit).
+void FemRun::choose_time_step(bool announce) {
   const DampingSpec& damping = case_.fem.damping;
   const double critical_step = solver_->critical_time_step(state_);
   const double courant_step =
@@ -334,6 +350,7 @@ void FemRun::choose_time_step() {
           : fmt::format("the Courant step is that small because a material's p-wave speed "
                         "sqrt(M/ρ) is {:.3g} m/s",
                         fastest));
+  if (!announce) return;
   if (case_.fem.time_step > 0.0 && case_.fem.time_step > courant_step / case_.fem.courant) {
     logger_.warning("fem.time_step = {:.4g} s exceeds the stability limit {:.4g} s (C = 1{})",
                     case_.fem.time_step, courant_step / case_.fem.courant,

@@ -17,17 +17,23 @@ GridGeometry GridGeometry::covering(const Vec2& domain_min, const Vec2& domain_m
     throw Error("mpm.domain [[{}, {}], [{}, {}]] is empty (expected max > min in x and y)",
                 domain_min.x(), domain_min.y(), domain_max.x(), domain_max.y());
   }
+  // A whole number of cells; a relative slack of 1e-9 keeps 200/1 from becoming 201.
+  // Counted in floating point first: the int conversion of 1e300 cells is undefined.
+  const double columns = std::ceil(extent.x() / cell_size - 1e-9);
+  const double rows = std::ceil(extent.y() / cell_size - 1e-9);
+  constexpr double max_nodes = 2.0e8;
+  if (!((columns + 3.0) * (rows + 3.0) <= max_nodes)) {
+    throw Error(
+        "mpm.domain [[{}, {}], [{}, {}]] with mpm.cell_size = {} m makes {:.3g} × {:.3g} cells, "
+        "more than the {:g} grid nodes mpm-solve holds",
+        domain_min.x(), domain_min.y(), domain_max.x(), domain_max.y(), cell_size, columns, rows,
+        max_nodes);
+  }
   GridGeometry g;
   g.origin = domain_min;
   g.cell_size = cell_size;
-  // A whole number of cells; a relative slack of 1e-9 keeps 200/1 from becoming 201.
-  g.cells_x = static_cast<int>(std::ceil(extent.x() / cell_size - 1e-9));
-  g.cells_y = static_cast<int>(std::ceil(extent.y() / cell_size - 1e-9));
-  constexpr double max_nodes = 2.0e8;
-  if (static_cast<double>(g.cells_x + 3) * static_cast<double>(g.cells_y + 3) > max_nodes) {
-    throw Error("mpm grid of {} × {} cells is too large (h = {} m)", g.cells_x, g.cells_y,
-                cell_size);
-  }
+  g.cells_x = static_cast<int>(columns);
+  g.cells_y = static_cast<int>(rows);
   return g;
 }
 

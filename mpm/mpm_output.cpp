@@ -78,6 +78,9 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   const SolverClock& clock = solver.clock();
   c.solver["previous_time_step"] = clock.previous_dt;
   c.solver["steps_since_sort"] = clock.steps_since_sort;
+  // 0 in the checkpoint a run writes at its start, before its first step sorts: a
+  // restart from it then sorts too, and continues bit for bit.
+  c.solver["sorted_once"] = std::int64_t{clock.sorted_once ? 1 : 0};
   c.solver["frozen_particles"] = static_cast<std::int64_t>(clock.frozen);
   c.solver["reference_height"] = references.reference_height;
   c.solver["initial_energy"] = references.energy.initial_energy;
@@ -120,7 +123,16 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
     throw Error("{}: /solver attribute steps_since_sort = {} is out of range (expected ≥ 0)",
                 source, clock.steps_since_sort);
   }
+  // Checkpoints written before the key existed: sorted (a run checkpointed after steps).
   clock.sorted_once = true;
+  if (s.contains("sorted_once")) {
+    const auto sorted = setting<std::int64_t>(s, "sorted_once", source);
+    if (sorted != 0 && sorted != 1) {
+      throw Error("{}: /solver attribute sorted_once = {} is out of range (expected 0 or 1)",
+                  source, sorted);
+    }
+    clock.sorted_once = sorted == 1;
+  }
   const auto frozen = setting<std::int64_t>(s, "frozen_particles", source);
   if (frozen < 0 || static_cast<std::size_t>(frozen) > checkpoint.particles.count()) {
     throw Error("{}: /solver attribute frozen_particles = {} is out of range", source, frozen);

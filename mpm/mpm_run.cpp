@@ -456,6 +456,15 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
     throw Error("{}: the run would end at t = {} s, before its start at t = {} s{}", source,
                 end_time, solver.clock().time, options.until ? " (--until)" : " (mpm.end_time)");
   }
+  // A restart at its end has nothing to continue (fem-solve refuses the same); a fresh
+  // run may end where it starts (--until 0: the start checkpoint only).
+  if (!start.fresh &&
+      !(end_time > solver.clock().time + run::OutputSchedule::tolerance(end_time))) {
+    throw Error(
+        "{}: the checkpoint time {:.3f} s is at or after the end time {:.3f} s{}: nothing "
+        "to continue",
+        source, solver.clock().time, end_time, options.until ? " (--until)" : "");
+  }
   const run::OutputSchedule schedule(end_time, c.mpm.output_every, {c.mpm.checkpoint_every},
                                      c.mpm.checkpoint_times);
   fs::create_directories(options.output_dir);

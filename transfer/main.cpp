@@ -78,13 +78,19 @@ void run(const CommandLine& line, const CLI::App& app) {
   result.report.input = line.input;
   result.report.output = line.output;
   for (const auto& text : transfer::report_warnings(result.report)) logger.warning("{}", text);
-  // The report goes with its particle file: it is written first, under a temporary name,
-  // and renamed only once the particle file is in place, so a failure leaves neither.
+  // The report goes with its particle file: a particle file never stands beside the
+  // report of another run (write_pair_atomically; a kill between the two renames leaves
+  // the report alone, and the missing particle file makes a pipeline rerun fem2mpm).
   const auto json = transfer::report_path(line.output);
-  write_atomically(json, [&](const std::filesystem::path& temporary_json) {
-    write_text_atomically(temporary_json, transfer::report_json(result.report));
-    write_checkpoint(line.output, result.particles);
-  });
+  write_pair_atomically(
+      json,
+      [&](const std::filesystem::path& temporary) {
+        write_text_atomically(temporary, transfer::report_json(result.report));
+      },
+      line.output,
+      [&](const std::filesystem::path& temporary) {
+        write_checkpoint(temporary, result.particles);
+      });
   for (const auto& text : transfer::format_report_lines(result.report)) logger.info("{}", text);
   logger.info("wrote {} and {}", line.output, json.string());
 }

@@ -10,6 +10,7 @@
 
 #include "common/base/error.hpp"
 #include "common/base/program.hpp"
+#include "common/input/mesh_generation.hpp"
 #include "transfer/rbf_interpolation.hpp"
 
 namespace slide::transfer {
@@ -179,6 +180,11 @@ void validate(const FemCheckpoint& fem) {
           e, volume);
     }
   }
+  // The reference mesh is the one fem-solve meshed: counter-clockwise elements, every node
+  // used, node sets in range. An element inverted there is a damaged file, which
+  // --allow-inverted (for elements the run inverted) does not cover; fem-solve --restart
+  // refuses the same file.
+  validate_mesh(mesh, "FE checkpoint (reference mesh)", fem.materials.size());
 }
 
 /// Gauss points of each element as offsets into a list sorted by element (stable, so

@@ -2,10 +2,11 @@
 
 #include <cerrno>
 #include <csignal>
-#include <fstream>
+#include <cstring>
 #include <string>
 #include <system_error>
 
+#include <fcntl.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -39,12 +40,41 @@ void write_atomically(const std::filesystem::path& target,
   }
 }
 
+void write_pair_atomically(const std::filesystem::path& companion,
+                           const std::function<void(const std::filesystem::path&)>& write_companion,
+                           const std::filesystem::path& main,
+                           const std::function<void(const std::filesystem::path&)>& write_main) {
+  write_atomically(main, [&](const std::filesystem::path& temporary_main) {
+    write_main(temporary_main);
+    write_atomically(companion, [&](const std::filesystem::path& temporary_companion) {
+      write_companion(temporary_companion);
+      std::error_code ec;
+      std::filesystem::remove(main, ec);
+      if (ec) throw Error("{}: cannot replace: {}", main.string(), ec.message());
+    });
+  });
+}
+
 void write_text_atomically(const std::filesystem::path& target, std::string_view text) {
+  // POSIX calls rather than a stream: a failed write or close then says why (errno: "No
+  // space left on device"), where std::ofstream only says that it failed.
   write_atomically(target, [&](const std::filesystem::path& temporary) {
-    std::ofstream out(temporary, std::ios::binary);
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) throw Error("{}: write failed", target.string());
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) throw Error("{}: cannot create: {}", target.string(), std::strerror(errno));
+    std::string_view rest = text;
+    while (!rest.empty()) {
+      const ssize_t written = ::write(fd, rest.data(), rest.size());
+      if (written < 0 && errno == EINTR) continue;
+      if (written <= 0) {
+        const int error = written < 0 ? errno : ENOSPC;
+        ::close(fd);
+        throw Error("{}: cannot write: {}", target.string(), std::strerror(error));
+      }
+      rest.remove_prefix(static_cast<std::size_t>(written));
+    }
+    if (::close(fd) != 0) {
+      throw Error("{}: cannot write: {}", target.string(), std::strerror(errno));
+    }
   });
 }
 

@@ -16,6 +16,16 @@ namespace slide {
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write);
 
+/// Writes two files that belong together (a particle file and its report) so that
+/// `main` never stands beside a `companion` of another run: both are written under
+/// temporary names; then the former `main` is removed, `companion` renamed into place,
+/// and `main` last. A failure while writing leaves both former files; a kill between the
+/// renames leaves no `main`, which a pipeline (Make) then builds again.
+void write_pair_atomically(const std::filesystem::path& companion,
+                           const std::function<void(const std::filesystem::path&)>& write_companion,
+                           const std::filesystem::path& main,
+                           const std::function<void(const std::filesystem::path&)>& write_main);
+
 /// Writes `text` to `target` atomically.
 void write_text_atomically(const std::filesystem::path& target, std::string_view text);
 

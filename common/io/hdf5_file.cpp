@@ -35,16 +35,33 @@ void silence_hdf5_errors() {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
 }
 
-// The innermost description on HDF5's error stack (the most specific one, e.g. "file
-// signature not found"), on one line; the stack is cleared afterwards.
+// What went wrong, from HDF5's error stack, on one line; the stack is cleared afterwards.
+// A failed system call is reported with its errno text (HDF5's file driver puts it in
+// its description as "error message = '…'"): on a full disk that is "No space left on
+// device", where the innermost description can be an unrelated consequence ("slist
+// already enabled?"). Otherwise the innermost description, the most specific one (e.g.
+// "file signature not found").
 std::string hdf5_detail() {
-  std::string detail;
-  auto take_innermost = [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
-    if (n == 0 && error->desc != nullptr) *static_cast<std::string*>(data) = error->desc;
+  struct Found {
+    std::string innermost;
+    std::string system;
+  } found;
+  auto take = [](unsigned n, const H5E_error2_t* error, void* data) -> herr_t {
+    auto& f = *static_cast<Found*>(data);
+    if (error->desc == nullptr) return 0;
+    const std::string_view desc(error->desc);
+    if (n == 0) f.innermost = desc;
+    const std::string_view marker = "error message = '";
+    const std::size_t start = desc.find(marker);
+    if (f.system.empty() && start != std::string_view::npos) {
+      const std::string_view rest = desc.substr(start + marker.size());
+      f.system = rest.substr(0, rest.find('\''));
+    }
     return 0;
   };
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, take_innermost, &detail);
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, take, &found);
   H5Eclear2(H5E_DEFAULT);
+  std::string detail = found.system.empty() ? found.innermost : found.system;
   std::replace(detail.begin(), detail.end(), '\n', ' ');
   return detail.empty() ? std::string("HDF5 error") : detail;
 }

@@ -1,7 +1,9 @@
 #include "common/io/vtk_output.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -12,6 +14,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
 #include <vtkNew.h>
+#include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
@@ -83,7 +86,24 @@ bool ends_with_closing_tag(const std::filesystem::path& file) {
          std::string_view(end).substr(last + 1 - tag.size(), tag.size()) == tag;
 }
 
+/// Why a frame could not be written, in the words the other writers use: VTK's
+/// OutOfDiskSpaceError and a frame cut short on a (nearly) full file system are "No
+/// space left on device", as the HDF5 and text writers say it.
+std::string write_failure(const std::filesystem::path& temporary, unsigned long error_code) {
+  std::error_code ec;
+  const auto space = std::filesystem::space(temporary.parent_path(), ec);
+  constexpr std::uintmax_t nearly_full = 1 << 16;
+  if (error_code == vtkErrorCode::OutOfDiskSpaceError || (!ec && space.available < nearly_full)) {
+    return "No space left on device";
+  }
+  if (error_code != vtkErrorCode::NoError) return vtkErrorCode::GetStringFromErrorCode(error_code);
+  return "the frame was cut short";
+}
+
 void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
+  // VTK reports errors itself on stderr (a coloured report of many lines); ours is the
+  // one line of the exception below.
+  vtkObject::GlobalWarningDisplayOff();
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     vtkNew<vtkXMLUnstructuredGridWriter> writer;
     writer->SetFileName(temporary.c_str());
@@ -92,15 +112,12 @@ void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
     writer->EncodeAppendedDataOff();
     writer->SetCompressorTypeToZLib();
     const int written = writer->Write();
-    if (written != 1 || writer->GetErrorCode() != vtkErrorCode::NoError) {
-      throw Error("{}: VTK writer failed ({})", path.string(),
-                  vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
-    }
     // On a full disk the XML writer can report success with the file cut short: the
     // frame is only renamed into place when it is complete.
-    if (!ends_with_closing_tag(temporary)) {
-      throw Error("{}: the frame was cut short (disk full?); the former file is kept",
-                  path.string());
+    if (written != 1 || writer->GetErrorCode() != vtkErrorCode::NoError ||
+        !ends_with_closing_tag(temporary)) {
+      throw Error("{}: cannot write the VTK frame ({}); the former file is kept", path.string(),
+                  write_failure(temporary, writer->GetErrorCode()));
     }
   });
 }

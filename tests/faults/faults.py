@@ -35,32 +35,10 @@ ENOSPC = "No space left on device"
 # recognisable, the test fails when it does not happen any more, so that the entry is
 # removed with the fix.
 KNOWN_FAILURES = {
-    "vtk-stderr":
-        "a full disk inside a VTK frame: VTK's own error report (11 lines with colour codes) "
-        "comes on stderr before the program's error line (common/io/vtk_output.cpp)",
-    "hdf5-flush":
-        "a full disk when HDF5 flushes a checkpoint at its close: the error line says 'cannot "
-        "write the file (slist already enabled?)', not that the disk is full "
-        "(common/io/hdf5_file.cpp, File::close)",
-    "text-write":
-        "a full disk while a history, .pvd or text file is written: the error line says "
-        "'write failed', not why (common/io/atomic_file.cpp, write_text_atomically)",
-    "report-rename":
-        "fem2mpm killed after renaming the particle file and before renaming its report "
-        "leaves out/particles.h5 without out/particles.transfer.json; transfer/README.md "
-        "says an interrupted transfer leaves neither without the other (transfer/main.cpp)",
-    "mpm-start-restart":
-        "mpm-solve restarted from the checkpoint a run from a particle file writes at its "
-        "start (mpm_t1.000.h5 here) is not bit-exact: the fresh run sorts the particles before "
-        "its first step (MpmClock::sorted_once false), the restart does not (the checkpoint "
-        "has no such flag; read_mpm_checkpoint sets it true), so the particle order and the "
-        "round-off differ from then on (mpm/mpm_output.cpp, mpm/mpm_solver.cpp)",
-    "fem-t0-outputs":
-        "fem-solve killed after writing fem_t0.000.h5 (the geostatic state, written before "
-        "the t = 0 output) and before the t = 0 output's VTK frames and .pvd entries are all "
-        "written: the restart from fem_t0.000.h5 finds the t = 0 history row and writes no "
-        "t = 0 output, so those frames stay missing (fem/fem_solver.cpp, "
-        "start_failure_stage)",
+    # Empty since the fixes of 2026-12-02 (tests/faults/README.md, "Known failures"):
+    # vtk-stderr, hdf5-flush, text-write, report-rename, mpm-start-restart, fem-t0-outputs.
+    # The moments that showed them stay among the kills (known_failure_moments) and must
+    # now pass like any other.
 }
 # The checkpoint a run of mpm-solve from a particle file writes at its start.
 START_CHECKPOINT = f"mpm_t{runs.TRANSFER_TIME:.3f}.h5"
@@ -81,7 +59,7 @@ class Findings:
         """`problems` of one check at `where`; with `known`, one occurrence of it."""
         if not problems:
             return
-        if known:
+        if known in KNOWN_FAILURES:
             self.known.append(known)
             more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
             print(f"  KNOWN FAILURE {known}: {where}: {problems[0]}{more}")
@@ -93,7 +71,7 @@ class Findings:
 
     def require_known(self, where, known, occurred):
         """`known` was expected here: not seeing it is a failure (the program was fixed?)."""
-        if not occurred:
+        if known in KNOWN_FAILURES and not occurred:
             self.add(where, [f"known failure {known} did not occur: if the program was fixed, "
                              "remove it from KNOWN_FAILURES in tests/faults/faults.py"])
 
@@ -383,13 +361,13 @@ def known_continuation_failure(program, checkpoint, out):
 
 
 def unpaired_report_findings(out, findings, where):
-    """transfer/README.md: a particle file is never left without its report, nor a report
-    without its particle file. Returns whether one was left without the other."""
+    """transfer/README.md: a particle file is never left without the report of its run.
+    Returns whether one was left without the other."""
     particles, report = (out / "particles.h5").exists(), (out / "particles.transfer.json").exists()
     findings.add(where, ["out/particles.h5 without out/particles.transfer.json"]
                  if particles and not report else [], "report-rename")
-    findings.add(where, ["out/particles.transfer.json without out/particles.h5"]
-                 if report and not particles else [])
+    # The report without its particle file is what a kill between the two renames leaves
+    # (write_pair_atomically): the missing particle file makes a pipeline run fem2mpm again.
     return particles != report
 
 
@@ -414,7 +392,7 @@ def kill_trial(ctx, program, moment, folder, findings):
     findings.add(where_again, rerun_problems(program, rerun, left, out))
     differences = outputs.difference_problems(out, ctx.reference_out(program))
     findings.add(where_again, differences, known)
-    if moment.known in ("mpm-start-restart", "fem-t0-outputs"):
+    if moment.known in ("mpm-start-restart", "fem-t0-outputs") and moment.known in KNOWN_FAILURES:
         findings.add(where, [] if known == moment.known else
                      [f"the kill did not leave what {moment.known} needs: it came elsewhere"])
         findings.require_known(where_again, moment.known, bool(differences))

@@ -71,6 +71,7 @@ def checkpoint_problems(path, schema):
             if problems:
                 return problems
             kind = f.attrs["kind"]
+            kind = kind.decode("utf-8") if isinstance(kind, bytes) else kind  # fixed-length
             if kind not in schema.datasets:
                 return [f"unknown kind {kind!r}"]
             problems += dataset_problems(f, schema.datasets[kind])
