@@ -23,6 +23,10 @@ run() {
   shift 2
   "$@" >"$work/out" 2>"$work/err"
   status=$?
+  # (the sanitize build: a report fails the check even where a non-zero exit is expected)
+  if grep -qE 'ERROR: (Address|Leak)Sanitizer|: runtime error: ' "$work/err"; then
+    fail "$name: sanitizer report: $(cat "$work/err")"
+  fi
   if [[ $expected == nonzero ]]; then
     ((status != 0)) || fail "$name: exit status 0, expected non-zero"
   else

@@ -108,9 +108,11 @@ fs::path write_case(const fs::path& folder, const std::string& text) {
   return folder / "case.toml";
 }
 
+/// (An empty vector's data() may be null, which memcmp must not be given even for 0 bytes.)
 template <class T>
 bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 /// The run of case `c` in two parts, to 0.25 s and then on from its checkpoint, into `split`.

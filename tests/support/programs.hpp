@@ -1,5 +1,7 @@
 // The command-line tests run the programs as a user's shell would: a fresh folder per
 // test, the program's stdout and stderr captured to files in it, files read back whole.
+// A sanitizer report on the program's stderr (the sanitize build, tools/sanitize.sh)
+// fails the test even where a non-zero exit is what the test expects.
 #pragma once
 
 #include <cstdlib>
@@ -8,6 +10,7 @@
 #include <sstream>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 namespace slide::testing {
@@ -32,6 +35,15 @@ inline void write_file(const std::filesystem::path& path, const std::string& tex
   std::ofstream(path) << text;
 }
 
+/// True when `err` holds a report of AddressSanitizer, LeakSanitizer or UBSan.
+inline bool has_sanitizer_report(const std::string& err) {
+  for (const char* mark :
+       {"ERROR: AddressSanitizer", "ERROR: LeakSanitizer", ": runtime error: "}) {
+    if (err.find(mark) != std::string::npos) return true;
+  }
+  return false;
+}
+
 struct ProgramRun {
   int status = -1;  ///< the exit code; -1 when the program did not exit normally
   std::string out;
@@ -44,7 +56,10 @@ inline ProgramRun run_program(const std::string& command, const std::filesystem:
   const std::filesystem::path out = folder / "stdout.txt", err = folder / "stderr.txt";
   const std::string line = command + " > " + out.string() + " 2> " + err.string();
   const int status = std::system(line.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+  ProgramRun run{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+  if (has_sanitizer_report(run.err))
+    ADD_FAILURE() << "sanitizer report from " << command << "\n" << run.err;
+  return run;
 }
 
 }  // namespace slide::testing
