@@ -150,6 +150,10 @@ FemRunSummary FemRun::execute() {
     prepare_restart();
   } else {
     prepare_fresh();
+  }
+  if (options_.inputs_only) return {};
+  create_outputs(options_.restart.has_value());
+  if (!options_.restart) {
     run_geostatic_stage();
     if (!case_.fem.failure_stage) {
       output(false);
@@ -172,7 +176,6 @@ void FemRun::prepare_fresh() {
   model_ = std::make_unique<FemModel>(make_model(
       std::move(mesh), case_.materials, case_.fem.kinematics, case_.fem.hourglass_coefficient));
   state_ = make_rest_state(*model_);
-  create_outputs(false);
 }
 
 void FemRun::prepare_restart() {
@@ -223,7 +226,6 @@ void FemRun::prepare_restart() {
   }
   logger_.info("restart from {} (t = {:.3f} s, step {}, stage {})", file.string(), state_.time,
                state_.step, restart_stage_);
-  create_outputs(true);
 }
 
 void FemRun::create_outputs(bool resume) {
