@@ -151,6 +151,13 @@ FemRunSummary FemRun::execute() {
     prepare_restart();
   } else {
     prepare_fresh();
+  }
+  if (options_.inputs_only) return {};
+  // From the geostatic state (fem_t0.000.h5, written before the t = 0 outputs) the
+  // failure stage starts afresh: its outputs too, so that t = 0 rows and frames a killed
+  // run left incomplete are written again.
+  create_outputs(options_.restart.has_value() && restart_stage_ != geostatic_stage);
+  if (!options_.restart) {
     run_geostatic_stage();
     if (!case_.fem.failure_stage) {
       output(false);
@@ -179,7 +186,6 @@ void FemRun::prepare_fresh() {
     make_failure_solver();
     choose_time_step(false);
   }
-  create_outputs(false);
 }
 
 void FemRun::prepare_restart() {
@@ -232,10 +238,6 @@ void FemRun::prepare_restart() {
   }
   logger_.info("restart from {} (t = {:.3f} s, step {}, stage {})", file.string(), state_.time,
                state_.step, restart_stage_);
-  // From the geostatic state (fem_t0.000.h5, written before the t = 0 outputs) the
-  // failure stage starts afresh: its outputs too, so that t = 0 rows and frames a killed
-  // run left incomplete are written again.
-  create_outputs(restart_stage_ != geostatic_stage);
 }
 
 void FemRun::create_outputs(bool resume) {

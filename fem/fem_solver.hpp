@@ -29,6 +29,9 @@ struct FemOptions {
   bool write_vtk = true;
   std::optional<ElementType> element;    ///< overrides mesh.element
   std::optional<Kinematics> kinematics;  ///< overrides fem.kinematics
+  /// Read and check the case and the mesh, or the restart checkpoint, then return before
+  /// the first file is written (the fuzz drivers, tests/fuzz/).
+  bool inputs_only = false;
 };
 
 struct FemRunSummary {

@@ -449,9 +449,6 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   log_settings(log, settings, c.mpm, dt);
   const double end_time = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
   check_run_length(c, start, end_time - solver.clock().time, dt, settings.grid.cell_size);
-  prepare_start(c, start, solver, dt, log);
-
-  // ---- outputs
   if (end_time < solver.clock().time) {
     throw Error("{}: the run would end at t = {} s, before its start at t = {} s{}", source,
                 end_time, solver.clock().time, options.until ? " (--until)" : " (mpm.end_time)");
@@ -465,6 +462,10 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
         "to continue",
         source, solver.clock().time, end_time, options.until ? " (--until)" : "");
   }
+  if (options.inputs_only) return {};
+  prepare_start(c, start, solver, dt, log);
+
+  // ---- outputs
   const run::OutputSchedule schedule(end_time, c.mpm.output_every, {c.mpm.checkpoint_every},
                                      c.mpm.checkpoint_times);
   fs::create_directories(options.output_dir);

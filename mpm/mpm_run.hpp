@@ -26,6 +26,9 @@ struct RunOptions {
   std::optional<ShapeFunction> shape_function;  ///< overrides the case
   std::optional<UpdateScheme> update_scheme;    ///< overrides the case
   std::optional<int> sort_interval;             ///< overrides the default (benchmarks)
+  /// Read and check the case and the particles (file, restart or case geometry), then
+  /// return before the initial stresses and the first file (the fuzz drivers, tests/fuzz/).
+  bool inputs_only = false;
 };
 
 struct RunSummary {

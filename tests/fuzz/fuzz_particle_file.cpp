@@ -1,0 +1,26 @@
+// Fuzz driver of the particle-file reader: the input is a kind "particles" HDF5 file
+// (fem2mpm's output), written to the scratch folder and read by path as
+// `mpm-solve CASE --particles FILE` reads it: read_particle_checkpoint, the checks
+// against the fixture case (name, materials), the particles' validation on the case's
+// grid, the solver's construction and the first time step (run_mpm with inputs_only).
+// The fixture is tests/fuzz/cases/fuzz-checkpoints/case.toml, the case the seeds come from.
+#include <cstddef>
+#include <cstdint>
+
+#include "mpm/mpm_run.hpp"
+#include "tests/fuzz/fuzz_support.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace slide;
+  const Case& c = fuzz::fixture_case("fuzz-checkpoints");
+  mpm::RunOptions options;
+  options.particles_file = fuzz::write_input({data, size}, "particles.h5");
+  options.output_dir = fuzz::output_folder();
+  options.write_vtk = false;
+  options.inputs_only = true;
+  const bool accepted = fuzz::accepts([&] { mpm::run_mpm(c, options, fuzz::quiet_logger()); });
+  fuzz::finish_hdf5_input("mpm-solve --particles");
+  fuzz::ensure_no_outputs("mpm-solve --particles");
+  if (accepted) fuzz::note_accepted();
+  return 0;
+}
