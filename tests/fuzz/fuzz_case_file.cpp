@@ -11,6 +11,7 @@
 #include "fem/fem_solver.hpp"
 #include "mpm/mpm_run.hpp"
 #include "tests/fuzz/fuzz_support.hpp"
+#include "tests/fuzz/inputs_only.hpp"
 #include "transfer/transfer.hpp"
 
 namespace {
@@ -18,19 +19,11 @@ namespace {
 using namespace slide;
 
 void check_like_fem_solve(const Case& c) {
-  fem::FemOptions options;
-  options.output_dir = fuzz::output_folder();
-  options.write_vtk = false;
-  options.inputs_only = true;
-  fem::run_fem(c, options, fuzz::quiet_logger());
+  fem::run_fem(c, fuzz::fem_solve_inputs_only(), fuzz::quiet_logger());
 }
 
 void check_like_mpm_solve(const Case& c) {
-  mpm::RunOptions options;
-  options.output_dir = fuzz::output_folder();
-  options.write_vtk = false;
-  options.inputs_only = true;
-  mpm::run_mpm(c, options, fuzz::quiet_logger());
+  mpm::run_mpm(c, fuzz::mpm_solve_inputs_only(), fuzz::quiet_logger());
 }
 
 }  // namespace

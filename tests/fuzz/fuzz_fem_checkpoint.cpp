@@ -14,6 +14,7 @@
 #include "common/io/checkpoint.hpp"
 #include "fem/fem_solver.hpp"
 #include "tests/fuzz/fuzz_support.hpp"
+#include "tests/fuzz/inputs_only.hpp"
 #include "transfer/transfer.hpp"
 
 namespace {
@@ -26,12 +27,9 @@ void check_like_fem2mpm(const FemCheckpoint& checkpoint, const Case& c) {
 
 void check_like_fem_solve_restart(const std::filesystem::path& file, const Case& c,
                                   ElementType element) {
-  fem::FemOptions options;
-  options.output_dir = fuzz::output_folder();
-  options.write_vtk = false;
+  fem::FemOptions options = fuzz::fem_solve_inputs_only();
   options.restart = file;
   options.element = element;
-  options.inputs_only = true;
   fem::run_fem(c, options, fuzz::quiet_logger());
 }
 

@@ -13,26 +13,20 @@
 #include "fem/fem_solver.hpp"
 #include "mpm/mpm_run.hpp"
 #include "tests/fuzz/fuzz_support.hpp"
+#include "tests/fuzz/inputs_only.hpp"
 
 namespace {
 
 using namespace slide;
 
 void check_like_fem_solve(const Case& c, ElementType type) {
-  fem::FemOptions options;
-  options.output_dir = fuzz::output_folder();
-  options.write_vtk = false;
+  fem::FemOptions options = fuzz::fem_solve_inputs_only();
   options.element = type;
-  options.inputs_only = true;
   fem::run_fem(c, options, fuzz::quiet_logger());
 }
 
 void check_like_mpm_solve(const Case& c) {
-  mpm::RunOptions options;
-  options.output_dir = fuzz::output_folder();
-  options.write_vtk = false;
-  options.inputs_only = true;
-  mpm::run_mpm(c, options, fuzz::quiet_logger());
+  mpm::run_mpm(c, fuzz::mpm_solve_inputs_only(), fuzz::quiet_logger());
 }
 
 }  // namespace

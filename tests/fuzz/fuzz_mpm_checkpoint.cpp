@@ -11,15 +11,13 @@
 
 #include "mpm/mpm_run.hpp"
 #include "tests/fuzz/fuzz_support.hpp"
+#include "tests/fuzz/inputs_only.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace slide;
   const Case& c = fuzz::fixture_case("fuzz-checkpoints");
-  mpm::RunOptions options;
+  mpm::RunOptions options = fuzz::mpm_solve_inputs_only();
   options.restart_file = fuzz::write_input({data, size}, "mpm.h5");
-  options.output_dir = fuzz::output_folder();
-  options.write_vtk = false;
-  options.inputs_only = true;
   const bool accepted = fuzz::accepts([&] { mpm::run_mpm(c, options, fuzz::quiet_logger()); });
   fuzz::finish_hdf5_input("mpm-solve --restart");
   fuzz::ensure_no_outputs("mpm-solve --restart");
