@@ -352,10 +352,11 @@ class Run {
     report(fmt::format("{}:   rebuild it: {} --seed {} --only {} --write-input FILE <same corpus>",
                        program, program, o_.seed, iteration));
     if (iteration > batch_begin) {
-      report(fmt::format(
-          "{}:   if it passes alone, rerun its batch (HDF5 keeps state between inputs): {} --seed "
-          "{} --first {} --runs {} <same corpus>",
-          program, program, o_.seed, batch_begin, iteration - batch_begin + 1));
+      report(
+          fmt::format("{}:   if it passes alone, rerun its batch (state carried from input to "
+                      "input): {} --seed "
+                      "{} --first {} --runs {} <same corpus>",
+                      program, program, o_.seed, batch_begin, iteration - batch_begin + 1));
     }
     if (o_.crash_dir) {
       const fs::path file = *o_.crash_dir / fmt::format("seed{}-input{}", o_.seed, iteration);
