@@ -3,11 +3,12 @@
 # before, so `make` reruns only what is stale (a second `make main` runs nothing), and
 # independent runs go in parallel under `make -j2`.
 #
+#   make                  the same as make main
+#   make main             the README's main job: tt0, tt<main>, pure runs, report
 #   make fem              FE phase:           out/fem/fem_t*.h5, fem_history.csv
 #                         (also fem_t<T>.h5 at T, the last output inside the
 #                         recommended transfer zone, e.g. fem_t1.300.h5)
-#   make transfer TT=2    FE -> particles:    out/tt2/particles.h5 (TT: any FE
-#                         checkpoint time, e.g. TT=1.3 for fem_t1.300.h5)
+#   make transfer TT=2    FE -> particles:    out/tt2/particles.h5
 #   make mpm TT=2         MPM from them:      out/tt2/mpm_final.h5, mpm_history.csv
 #   make pure-mpm         MPM from geometry:  out/pure-mpm/
 #   make pure-fem         FE to the MPM end:  out/pure-fem/ (+ particles for metrics)
@@ -17,22 +18,42 @@
 #                         run in out/ (re-measured when a run is newer than sweep.csv;
 #                         with the main transfer's run, also out/tt<main>/after-0.5s/,
 #                         its state 0.5 s after t_T, for the σyy figure)
-#   make main             the README's main job: tt0, tt<main>, pure runs, report
 #   make sweep-plan       the runs `make sweep` makes (after the FE phase)
+#   make clean            removes OUT
+#   make help             this list
 #
-# Variables: OUT=dir (default out/ next to case.toml), BUILD=dir (default build/ at
-# the top of the repository) or BIN=dir (the programs, default BUILD/bin), PYTHON
-# (default /usr/bin/python3, Debian's, with h5py and matplotlib), THREADS (OpenMP
-# threads per MPM run; unset: all cores for a run made alone, 1 per run under make -j,
-# so that two runs do not oversubscribe two cores), VTK_EVERY (s between MPM VTK
-# frames, default 1; 0 for every output step), MPM_FLAGS, FEM_FLAGS, TRANSFER_FLAGS.
+# Variables (make VAR=value ...):
+#   TT=t        transfer time in s for transfer and mpm (default: the case's main
+#               one): an FE checkpoint time, rounded to the checkpoint names' three
+#               decimals; TT=1.3, 1.30 and 1.3004 all mean fem_t1.300.h5 and run tt1.3
+#   OUT=dir     where the runs go (default out/ next to case.toml); a relative dir is
+#               taken from the directory make was called from (`make -C`, too)
+#   BUILD=dir   the build (default build/ at the top of the repository)
+#   BIN=dir     the programs (default BUILD/bin)
+#   PYTHON=py   for the plots and the report (default /usr/bin/python3, Debian's,
+#               with h5py and matplotlib)
+#   THREADS=n   OpenMP threads per MPM run (unset: all cores for a run made alone,
+#               1 per run under make -j, so that two runs do not oversubscribe)
+#   VTK_EVERY=s seconds between MPM VTK frames (default 1; 0: every output step)
+#   FEM_FLAGS, TRANSFER_FLAGS, MPM_FLAGS   more options for fem-solve, fem2mpm and
+#               mpm-solve (their --help lists them)
+#
+# Every run is remade when it is missing or older than what it is made from, whatever
+# else exists: a later `make main` makes the pure runs a `make mpm TT=0 report` skipped.
 
+.DEFAULT_GOAL := main
 PIPELINE_MK := $(lastword $(MAKEFILE_LIST))
 ROOT    := $(abspath $(CASE_DIR)/../..)
 BUILD   ?= $(ROOT)/build
 BIN     ?= $(BUILD)/bin
 PYTHON  ?= /usr/bin/python3
 OUT     ?= $(CASE_DIR)/out
+# A relative OUT from the command line or the environment is taken from the caller's
+# directory: the shell's PWD, which `make -C` leaves as it was (CURDIR is the case's).
+# Sub-makes are given the absolute OUT, since their shells' PWD is the case folder.
+ifneq ($(filter command line environment,$(origin OUT)),)
+  override OUT := $(abspath $(if $(filter /%,$(OUT)),$(OUT),$(or $(PWD),$(CURDIR))/$(OUT)))
+endif
 CASE    := $(CASE_DIR)/case.toml
 TOOLS   := $(ROOT)/tools
 
@@ -61,8 +82,21 @@ $(PROGRAMS):
 	@echo "missing $@: build the project first (cmake -S $(ROOT) -B $(BUILD) && cmake --build $(BUILD))" >&2
 	@false
 
-TT ?= $(MAIN_TT)
+# A transfer time in its one spelling: rounded to the three decimals of the checkpoint
+# names, trailing zeros dropped (1.30 -> 1.3, 0.0 -> 0); "invalid" if not a time.
+canonical_time = $(shell awk -v t='$(1)' 'BEGIN { \
+  if (t !~ /^([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$$/) { print "invalid"; exit } \
+  x = sprintf("%.3f", t + 0); sub(/0+$$/, "", x); sub(/\.$$/, "", x); print x }')
 three_decimals = $(shell printf '%.3f' $(1))
+
+ifdef TT
+  RUN_TT := $(call canonical_time,$(TT))
+  ifeq ($(RUN_TT),invalid)
+    $(error TT=$(TT) is not a transfer time: give an FE checkpoint time in s, e.g. TT=1.3)
+  endif
+else
+  RUN_TT = $(MAIN_TT)
+endif
 
 FEM_DONE := $(OUT)/fem/fem_t$(call three_decimals,$(FEM_END)).h5
 PURE_FEM := $(OUT)/pure-fem/particles_final.h5
@@ -79,12 +113,15 @@ MAIN_RUNS := $(call run_file,0) $(call run_file,$(MAIN_TT)) $(PURE_RUNS)
 
 .PHONY: all main fem transfer mpm pure-mpm pure-fem sweep sweep-plan report clean help
 .DELETE_ON_ERROR:
-.SECONDARY:
+# The particles of a run are made by the pattern rule below on the way to its MPM run;
+# they stay when that run is done. (Not .SECONDARY: with no names: that makes every file
+# intermediate, so that a missing run was not remade once the report was newer.)
+.PRECIOUS: $(OUT)/tt%/particles.h5
 
 all: main
 
 help:
-	@sed -n '/^#   make/,/^#$$/{/^#$$/d;s/^# //;p;}' $(PIPELINE_MK)
+	@sed -n '/^#   make  /,/^# Every run/{/^# Every run/d;s/^# \{0,1\}//;p;}' $(PIPELINE_MK)
 
 # --------------------------------------------------------------------------- stages
 # --checkpoint-at-zone-exit: the state at the last output inside the recommended
@@ -95,7 +132,7 @@ $(FEM_DONE): $(CASE) $(FEM_SOLVE)
 	$(FEM_SOLVE) $(CASE) -o $(OUT)/fem --checkpoint-at-zone-exit $(FEM_FLAGS)
 
 # TT names the folder (tt1.3) and, with three decimals, the FE checkpoint (fem_t1.300.h5).
-transfer: $(OUT)/tt$(TT)/particles.h5
+transfer: $(OUT)/tt$(RUN_TT)/particles.h5
 $(OUT)/tt%/particles.h5: $(FEM_DONE) $(FEM2MPM)
 	@test -f $(OUT)/fem/fem_t$(call three_decimals,$*).h5 || { \
 	  echo "no FE checkpoint at t_T = $* s ($(OUT)/fem/fem_t$(call three_decimals,$*).h5); the FE phase wrote t_T =" \
@@ -110,7 +147,7 @@ $(OUT)/tt%/particles.h5: $(FEM_DONE) $(FEM2MPM)
 # use checkpoints with (|J_t|/|J_0|)_min > 0 (METHOD.md §7).
 $(OUT)/tt$(MAIN_TT)/particles.h5: ALLOW_INVERTED := --allow-inverted
 
-mpm: $(call run_file,$(TT))
+mpm: $(call run_file,$(RUN_TT))
 $(OUT)/tt%/mpm_final.h5: $(OUT)/tt%/particles.h5 $(MPM_SOLVE)
 	$(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< $(MPM_OPTIONS) $(MPM_FLAGS)
 
@@ -134,7 +171,8 @@ $(PURE_FEM): $(CASE) $(FEM_SOLVE) $(FEM2MPM)
 # TTS, whose sweep.csv depends on those runs and the pure runs.
 sweep_times = $$($(METRICS) transfer-times $(CASE) $(OUT)/fem/fem_history.csv)
 sweep: fem
-	+$(MAKE) -f $(firstword $(MAKEFILE_LIST)) $(OUT)/sweep.csv SWEEPING=yes TTS="$(sweep_times)"
+	+$(MAKE) -f $(firstword $(MAKEFILE_LIST)) $(OUT)/sweep.csv OUT=$(OUT) SWEEPING=yes \
+	  TTS="$(sweep_times)"
 
 sweep-plan: fem
 	@for t in $(sweep_times); do printf 'tt%s ' $$t; done; \
@@ -145,7 +183,7 @@ sweep-plan: fem
 # on all of them, on their histories (KE/PE0 peaks) and on the runs the goals ask for:
 # the main job's with `make main`, the sweep's with the TTS of `make sweep`, tt$(TT)
 # with `make mpm`, the pure runs with `make pure-mpm` or `make pure-fem`.
-goals := $(or $(MAKECMDGOALS),all)
+goals := $(or $(MAKECMDGOALS),main)
 WANTED_RUNS :=
 ifneq ($(filter main all,$(goals)),)
   WANTED_RUNS += $(MAIN_RUNS)
@@ -154,7 +192,7 @@ ifeq ($(SWEEPING),yes)
   WANTED_RUNS += $(foreach t,$(TTS),$(call run_file,$(t))) $(PURE_RUNS)
 endif
 # `make mpm TT=1.3 report` and the like: the run asked for is measured too.
-WANTED_RUNS += $(if $(filter mpm,$(goals)),$(call run_file,$(TT))) \
+WANTED_RUNS += $(if $(filter mpm,$(goals)),$(call run_file,$(RUN_TT))) \
                $(if $(filter pure-mpm,$(goals)),$(PURE_MPM)) \
                $(if $(filter pure-fem,$(goals)),$(filter $(PURE_FEM),$(PURE_RUNS)))
 MEASURED  := $(sort $(WANTED_RUNS) $(wildcard $(OUT)/tt*/mpm_final.h5 $(PURE_RUNS)))
