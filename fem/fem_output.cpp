@@ -172,9 +172,9 @@ void VtkSeries::write(const FemModel& model, const FemState& state,
   const auto n_elements = static_cast<std::size_t>(model.element_count());
   const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
   std::vector<Vec4> stress(n_elements, Vec4::Zero()), strain(n_elements, Vec4::Zero());
-  std::vector<double> material(n_elements), yielded(n_elements), plastic(n_elements, 0.0);
-  std::vector<double> gauss_plastic(state.stress.size()), gauss_yielded(state.stress.size());
-  std::vector<double> gauss_element(state.stress.size());
+  std::vector<std::int32_t> material(n_elements);
+  std::vector<double> plastic(n_elements, 0.0), gauss_plastic(state.stress.size());
+  std::vector<std::int64_t> gauss_element(state.stress.size());
   std::vector<Vec2> gauss_x(state.stress.size());
   for (std::size_t e = 0; e < n_elements; ++e) {
     const ElementNodes x = model.mesh.element_nodes(static_cast<Index>(e), coordinates);
@@ -184,16 +184,14 @@ void VtkSeries::write(const FemModel& model, const FemState& state,
       strain[e] += state.strain[gp] / static_cast<double>(n_gauss);
       plastic[e] += state.material_state[gp].plastic_shear_strain / static_cast<double>(n_gauss);
       gauss_plastic[gp] = state.material_state[gp].plastic_shear_strain;
-      gauss_yielded[gp] = state.yielded[gp];
-      gauss_element[gp] = static_cast<double>(e);
+      gauss_element[gp] = static_cast<std::int64_t>(e);
       gauss_x[gp] = map_to_physical(model.mesh.shape(), x, model.gauss_local[p]);
     }
-    material[e] = model.mesh.material_id[e];
-    yielded[e] = quality.yielded[e];
+    material[e] = static_cast<std::int32_t>(model.mesh.material_id[e]);
   }
   const std::string stem = fmt::format("{:06d}", state.step);
   const auto mesh_file = folder_ / ("fem_" + stem + ".vtu");
-  write_vtk_mesh(mesh_file, coordinates, model.mesh.shape(), model.mesh.connectivity,
+  write_vtk_mesh(mesh_file, state.time, coordinates, model.mesh.shape(), model.mesh.connectivity,
                  {vtk_field("displacement", std::span<const Vec2>(state.displacement)),
                   vtk_field("velocity", std::span<const Vec2>(state.velocity))},
                  {vtk_field("stress", std::span<const Vec4>(stress)),
@@ -202,17 +200,17 @@ void VtkSeries::write(const FemModel& model, const FemState& state,
                   vtk_field("jacobian_ratio", std::span<const double>(quality.jacobian_ratio)),
                   vtk_field("scaled_jacobian", std::span<const double>(quality.scaled_jacobian)),
                   vtk_field("plastic_shear_strain", std::span<const double>(plastic)),
-                  vtk_field("material_id", std::span<const double>(material)),
-                  vtk_field("yielded", std::span<const double>(yielded))});
+                  vtk_field("material_id", std::span<const std::int32_t>(material)),
+                  vtk_field("yielded", std::span<const std::uint8_t>(quality.yielded))});
   mesh_series_.add(state.time, std::filesystem::path("vtk") / mesh_file.filename());
   const auto gauss_file = folder_ / ("fem_gauss_points_" + stem + ".vtu");
-  write_vtk_points(gauss_file, gauss_x,
+  write_vtk_points(gauss_file, state.time, gauss_x,
                    {vtk_field("stress", std::span<const Vec4>(state.stress)),
                     vtk_field("strain", std::span<const Vec4>(state.strain)),
                     vtk_field("eps_q", std::span<const double>(quality.gauss_eps_q)),
                     vtk_field("plastic_shear_strain", std::span<const double>(gauss_plastic)),
-                    vtk_field("yielded", std::span<const double>(gauss_yielded)),
-                    vtk_field("element", std::span<const double>(gauss_element))});
+                    vtk_field("yielded", std::span<const std::uint8_t>(state.yielded)),
+                    vtk_field("element", std::span<const std::int64_t>(gauss_element))});
   gauss_series_.add(state.time, std::filesystem::path("vtk") / gauss_file.filename());
 }
 

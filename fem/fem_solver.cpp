@@ -102,6 +102,7 @@ class FemRun final : public run::Stage {
   run::OutputSchedule schedule_;
   std::unique_ptr<FemHistory> history_;
   std::unique_ptr<VtkSeries> vtk_;
+  double vtk_every_ = 0.0;  ///< s between frames (0: every output step)
   std::unique_ptr<Progress> progress_;
 
   std::string restart_stage_;
@@ -144,6 +145,11 @@ FemRun::FemRun(const Case& c, const FemOptions& options, const Logger& logger)
   run::check_checkpoint_cadence(options_.checkpoint_every, "--checkpoint-every");
   run::check_checkpoint_cadence(case_.fem.checkpoint_every, "fem.checkpoint_every");
   run::check_checkpoint_times(case_.fem.checkpoint_times, "fem", "fem.checkpoint_times", {0.0});
+  if (options_.vtk_every) {
+    run::check_vtk_every(*options_.vtk_every, case_.fem.output_every, "--vtk-every");
+  }
+  vtk_every_ = options_.vtk_every.value_or(case_.fem.vtk_every.value_or(
+      run::automatic_vtk_every(0.0, schedule_.end_time(), case_.fem.output_every)));
 }
 
 FemRunSummary FemRun::execute() {
@@ -244,7 +250,11 @@ void FemRun::create_outputs(bool resume) {
   std::filesystem::create_directories(options_.output_dir);
   run::remove_temporaries_of_killed_runs(options_.output_dir, logger_);
   history_ = std::make_unique<FemHistory>(options_.output_dir / "fem_history.csv");
-  if (options_.write_vtk) vtk_ = std::make_unique<VtkSeries>(options_.output_dir);
+  if (options_.write_vtk) {
+    vtk_ = std::make_unique<VtkSeries>(options_.output_dir);
+    logger_.info("VTK frames: {}", vtk_every_ > 0.0 ? fmt::format("every {:g} s", vtk_every_)
+                                                    : std::string("at every output step"));
+  }
   if (!resume) return;
   history_->resume(state_.time, logger_);
   if (vtk_) vtk_->resume(state_.time);
@@ -447,7 +457,11 @@ void FemRun::output(bool checkpoint) {
   const auto& rows = history_->rows();
   const bool newly_inverted = row.inverted() && (rows.empty() || !rows.back().inverted());
   history_->add(row);
-  if (vtk_) vtk_->write(*model_, state_, coordinates_, quality);
+  const bool start_checkpoint_or_end =
+      checkpoint || state_.time == 0.0 || schedule_.is_end(state_.time);
+  if (vtk_ && run::is_vtk_frame(state_.time, vtk_every_, start_checkpoint_or_end)) {
+    vtk_->write(*model_, state_, coordinates_, quality);
+  }
   if (checkpoint) {
     write_fem_checkpoint(state_, failure_stage,
                          options_.output_dir / run::checkpoint_file_name("fem", state_.time));

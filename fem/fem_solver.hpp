@@ -5,8 +5,9 @@
 // Output cadence: the run stops exactly (the last step before a stop is shortened) at
 // every output time k·fem.output_every, every checkpoint time (k·fem.checkpoint_every,
 // k·--checkpoint-every, the listed fem.checkpoint_times) and the end time; times within
-// 1 ns count as one. At every stop: instability guard, one fem_history.csv row, one VTK
-// frame, and the checkpoint when the stop is a checkpoint time. Because steps land on
+// 1 ns count as one. At every stop: instability guard, one fem_history.csv row, the VTK
+// frame when the stop is on the VTK cadence (the start, the checkpoints and the end
+// always are), and the checkpoint when the stop is a checkpoint time. Because steps land on
 // the stops and a step depends only on the stored state, a run restarted from any
 // checkpoint reproduces the continuous run bit for bit.
 #pragma once
@@ -27,6 +28,9 @@ struct FemOptions {
   double checkpoint_every = 0.0;                 ///< extra checkpoint cadence, s (0: none)
   bool checkpoint_at_zone_exit = false;
   bool write_vtk = true;
+  /// --vtk-every: VTK frames every this many seconds (0: at every output step); none:
+  /// the case's fem.vtk_every, else run::automatic_vtk_every.
+  std::optional<double> vtk_every;
   std::optional<ElementType> element;    ///< overrides mesh.element
   std::optional<Kinematics> kinematics;  ///< overrides fem.kinematics
   /// Read and check the case and the mesh, or the restart checkpoint, then return before

@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
       "fem-solve"};
   std::string case_file, element, kinematics;
   fem::FemOptions options;
-  double until = 0.0;
+  double until = 0.0, vtk_every = 0.0;
   std::string restart;
   bool quiet = false;
   bool no_vtk = false;
@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
   app.add_option("--kinematics", kinematics, "kinematics instead of fem.kinematics")
       ->check(CLI::IsMember({"small-strain", "updated-lagrangian"}));
   app.add_flag("--no-vtk", no_vtk, "write no VTK files");
+  app.add_option("--vtk-every", vtk_every,
+                 "VTK frames every this many seconds, a multiple of fem.output_every (0: every "
+                 "output step; default: fem.vtk_every, else about 100 frames a run)")
+      ->check(non_negative_number());
   app.add_flag("-q,--quiet", quiet, "print only warnings, errors and the summary line");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 
@@ -57,6 +61,7 @@ int main(int argc, char** argv) {
                                                               : Kinematics::small_strain;
     }
     options.write_vtk = !no_vtk;
+    if (app.count("--vtk-every") > 0) options.vtk_every = vtk_every;
     const fem::FemRunSummary summary = fem::run_fem(c, options, logger);
     const double rate =
         summary.wall_seconds > 0.0

@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"musl", "usl"}));
   app.add_flag("--no-vtk", no_vtk, "write no VTK files");
   app.add_option("--vtk-every", vtk_every,
-                 "VTK frames every this many seconds (default: every output step)")
+                 "VTK frames every this many seconds, a multiple of mpm.output_every (0: every "
+                 "output step; default: mpm.vtk_every, else about 100 frames a run)")
       ->check(non_negative_number());
   bool other_case = false;
   app.add_flag("--other-case", other_case,
@@ -57,7 +58,7 @@ int main(int argc, char** argv) {
     if (app.count("--until") > 0) options.until = until;
     options.write_vtk = !no_vtk;
     options.other_case = other_case;
-    options.vtk_every = vtk_every;
+    if (app.count("--vtk-every") > 0) options.vtk_every = vtk_every;
     if (!shape.empty())
       options.shape_function = shape == "gimp" ? ShapeFunction::gimp : ShapeFunction::linear;
     if (!scheme.empty())

@@ -191,33 +191,38 @@ VtkWriter::VtkWriter(const fs::path& output_dir, std::optional<double> resume_ti
 void VtkWriter::write(const MpmSolver& solver) {
   const Particles& p = solver.particles();
   const std::size_t n = p.count();
-  std::vector<double> material(n), id(n), element(n), active(n), mean(n), deviatoric(n),
-      plastic_shear(n), plastic_volumetric(n);
+  std::vector<std::uint8_t> active(n);
+  std::vector<double> pressure(n), von_mises(n), plastic_shear(n), plastic_volumetric(n);
   for (std::size_t k = 0; k < n; ++k) {
-    material[k] = p.material_id[k];
-    id[k] = static_cast<double>(p.id[k]);
-    element[k] = static_cast<double>(p.element[k]);
-    active[k] = k < solver.active_count() ? 1.0 : 0.0;
-    mean[k] = mean_stress(p.stress[k]);
-    deviatoric[k] = von_mises_stress(p.stress[k]);
+    active[k] = k < solver.active_count() ? 1 : 0;
+    pressure[k] = mean_stress(p.stress[k]);  // compression positive
+    von_mises[k] = von_mises_stress(p.stress[k]);
     plastic_shear[k] = p.state[k].plastic_shear_strain;
     plastic_volumetric[k] = p.state[k].plastic_volumetric_strain;
   }
   const fs::path file = folder_ / fmt::format("mpm_{:06d}.vtu", solver.clock().step);
-  std::vector<VtkField> fields{
-      vtk_field("displacement", p.displacement), vtk_field("velocity", p.velocity),
-      vtk_field("stress", p.stress), vtk_field("strain", p.strain), vtk_field("eps_q", p.eps_q),
-      vtk_field("mean_stress", mean),
-      // a file-format name users read; the values are q
-      vtk_field("deviatoric_stress", deviatoric), vtk_field("pore_pressure", p.pore_pressure),
-      vtk_field("volume", p.volume), vtk_field("mass", p.mass), vtk_field("size", p.size),
-      vtk_field("material_id", material), vtk_field("id", id), vtk_field("element", element),
-      vtk_field("active", active), vtk_field("plastic_shear_strain", plastic_shear),
-      vtk_field("plastic_volumetric_strain", plastic_volumetric)};
+  std::vector<VtkField> fields{vtk_field("displacement", p.displacement),
+                               vtk_field("velocity", p.velocity),
+                               vtk_field("stress", p.stress),
+                               vtk_field("strain", p.strain),
+                               vtk_field("eps_q", p.eps_q),
+                               vtk_field("pressure", pressure),
+                               vtk_field("von_mises_stress", von_mises),
+                               vtk_field("pore_pressure", p.pore_pressure),
+                               vtk_field("volume", p.volume),
+                               vtk_field("mass", p.mass),
+                               vtk_field("size", p.size),
+                               vtk_field("material_id", p.material_id),
+                               vtk_field("id", p.id),
+                               vtk_field("element", p.element),
+                               vtk_field("active", std::span<const std::uint8_t>(active)),
+                               vtk_field("plastic_shear_strain", plastic_shear),
+                               vtk_field("plastic_volumetric_strain", plastic_volumetric)};
   if (!p.affine_velocity.empty()) {
-    fields.push_back(vtk_field("affine_velocity_gradient", p.affine_velocity));  // APIC's C_p
+    fields.push_back(vtk_field("affine_velocity_gradient", p.affine_velocity,  // APIC's C_p
+                               VtkLayout::matrix));
   }
-  write_vtk_points(file, p.coordinates, fields);
+  write_vtk_points(file, solver.clock().time, p.coordinates, fields);
   collection_.add(solver.clock().time, fs::path("vtk") / file.filename());
 }
 

@@ -253,8 +253,8 @@ class MpmStage final : public run::Stage {
  public:
   MpmStage(const Case& c, const RunOptions& options, const run::OutputSchedule& schedule,
            MpmSolver& solver, RunReferences& references, const TransferSettings& transfer,
-           MpmHistory& history, std::optional<VtkWriter>& vtk, Progress& progress, ExitLog& exits,
-           fs::path last_checkpoint, const Logger& log)
+           MpmHistory& history, std::optional<VtkWriter>& vtk, double vtk_every, Progress& progress,
+           ExitLog& exits, fs::path last_checkpoint, const Logger& log)
       : case_(c),
         options_(options),
         schedule_(schedule),
@@ -263,6 +263,7 @@ class MpmStage final : public run::Stage {
         transfer_(transfer),
         history_(history),
         vtk_(vtk),
+        vtk_every_(vtk_every),
         progress_(progress),
         exits_(exits),
         last_checkpoint_(std::move(last_checkpoint)),
@@ -270,6 +271,16 @@ class MpmStage final : public run::Stage {
 
   double time() const override { return solver_.clock().time; }
   std::int64_t steps() const { return steps_; }
+  /// The output of a fresh run's start (a VTK frame whatever the cadence).
+  void write_start_output(bool checkpoint) {
+    start_frame_ = true;
+    write_output(checkpoint);
+  }
+  /// The last output of the run (a VTK frame whatever the cadence).
+  void write_last_output() {
+    last_frame_ = true;
+    write_output(false);
+  }
   double particle_steps() const { return particle_steps_; }
 
   bool advance_to(double stop) override {
@@ -313,10 +324,10 @@ class MpmStage final : public run::Stage {
           last_checkpoint_.empty() ? "none" : last_checkpoint_.string());
     }
     history_.write(solver_, refs_.pe0);
-    if (vtk_ && (options_.vtk_every <= 0.0 ||
-                 run::OutputSchedule::on_grid(now, options_.vtk_every) || checkpoint)) {
+    if (vtk_ && run::is_vtk_frame(now, vtk_every_, start_frame_ || last_frame_ || checkpoint)) {
       vtk_->write(solver_);
     }
+    start_frame_ = false;
     if (checkpoint) {
       last_checkpoint_ = options_.output_dir / run::checkpoint_file_name("mpm", now);
       write_mpm_checkpoint(last_checkpoint_, solver_, refs_, case_.name, transfer_);
@@ -333,6 +344,9 @@ class MpmStage final : public run::Stage {
   const TransferSettings& transfer_;
   MpmHistory& history_;
   std::optional<VtkWriter>& vtk_;
+  double vtk_every_;
+  bool start_frame_ = false;
+  bool last_frame_ = false;
   Progress& progress_;
   ExitLog& exits_;
   fs::path last_checkpoint_;
@@ -473,15 +487,24 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   MpmHistory history(options.output_dir / "mpm_history.csv", c.metrics);
   if (!start.fresh) history.resume(solver.clock().time, log);
   std::optional<VtkWriter> vtk;
+  // The automatic cadence is that of the whole stage, from its start (t_T, or 0 for pure
+  // MPM), so that a restart writes the frames the uninterrupted run writes.
+  const double stage_start = start.fresh ? solver.clock().time : start.transfer.transfer_time;
+  const double vtk_every = options.vtk_every.value_or(c.mpm.vtk_every.value_or(
+      run::automatic_vtk_every(stage_start, end_time, c.mpm.output_every)));
+  if (options.vtk_every)
+    run::check_vtk_every(*options.vtk_every, c.mpm.output_every, "--vtk-every");
   if (options.write_vtk) {
     vtk.emplace(options.output_dir,
                 start.fresh ? std::nullopt : std::optional(solver.clock().time));
+    log.info("VTK frames: {}", vtk_every > 0.0 ? fmt::format("every {:g} s", vtk_every)
+                                               : std::string("at every output step"));
   }
   Progress progress(log, "mpm", solver.clock().time, end_time);
   ExitLog exits(log, settings.particle_exit);
-  MpmStage stage(c, options, schedule, solver, refs, start.transfer, history, vtk, progress, exits,
-                 options.restart_file.value_or(fs::path()), log);
-  if (start.fresh) stage.write_output(schedule.is_checkpoint(solver.clock().time));
+  MpmStage stage(c, options, schedule, solver, refs, start.transfer, history, vtk, vtk_every,
+                 progress, exits, options.restart_file.value_or(fs::path()), log);
+  if (start.fresh) stage.write_start_output(schedule.is_checkpoint(solver.clock().time));
 
   // ---- the time loop, then the final row and mpm_final.h5
   const auto wall_start = std::chrono::steady_clock::now();
@@ -490,7 +513,7 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   exits.finish(solver.clock().time);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  stage.write_output(false);
+  stage.write_last_output();
   write_mpm_checkpoint(options.output_dir / "mpm_final.h5", solver, refs, c.name, start.transfer);
 
   RunSummary summary;

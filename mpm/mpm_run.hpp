@@ -21,8 +21,9 @@ struct RunOptions {
   /// --other-case: a particle file or checkpoint of another case is used (with a
   /// warning) instead of refused.
   bool other_case = false;
-  /// VTK frames every this many seconds (0: at every output step, as the history).
-  double vtk_every = 0.0;
+  /// --vtk-every: VTK frames every this many seconds (0: at every output step, as the
+  /// history); none: the case's mpm.vtk_every, else run::automatic_vtk_every.
+  std::optional<double> vtk_every;
   std::optional<ShapeFunction> shape_function;  ///< overrides the case
   std::optional<UpdateScheme> update_scheme;    ///< overrides the case
   std::optional<int> sort_interval;             ///< overrides the default (benchmarks)

@@ -85,13 +85,16 @@ struct FemSpec {
   double end_time = 0.0;                 ///< s
   std::vector<double> checkpoint_times;  ///< s, besides t = 0 and the end time
   double checkpoint_every = 0.0;         ///< s, 0: only the listed times
-  double output_every = 0.0;             ///< history/VTK cadence, s (0: every checkpoint)
-  double courant = 0.5;                  ///< C in dt = C·min(l_e/c_p)
-  double time_step = 0.0;                ///< fixed dt, s (0: Courant)
-  double hourglass_coefficient = 1.0;    ///< scale of the physical hourglass stiffness
-  BoundaryTable geostatic_boundaries;    ///< stage 1
-  BoundaryTable failure_boundaries;      ///< stage 2
-  double friction_coefficient = 0.0;     ///< μ of "friction" boundaries
+  double output_every = 0.0;             ///< history cadence, s (0: every checkpoint)
+  /// VTK frame cadence, s (0: every output step); none given: about 100 frames a run
+  /// (run::automatic_vtk_every)
+  std::optional<double> vtk_every;
+  double courant = 0.5;                ///< C in dt = C·min(l_e/c_p)
+  double time_step = 0.0;              ///< fixed dt, s (0: Courant)
+  double hourglass_coefficient = 1.0;  ///< scale of the physical hourglass stiffness
+  BoundaryTable geostatic_boundaries;  ///< stage 1
+  BoundaryTable failure_boundaries;    ///< stage 2
+  double friction_coefficient = 0.0;   ///< μ of "friction" boundaries
   DampingSpec damping;
   /// Instability guard: speeds above this factor × sqrt(2 g H) stop the run.
   double speed_limit_factor = 5.0;
@@ -129,7 +132,10 @@ struct MpmSpec {
   double end_time = 0.0;  ///< s
   std::vector<double> checkpoint_times;
   double checkpoint_every = 0.0;  ///< s
-  double output_every = 0.0;      ///< history/VTK cadence, s
+  double output_every = 0.0;      ///< history cadence, s
+  /// VTK frame cadence, s (0: every output step); none given: about 100 frames a run
+  /// (run::automatic_vtk_every)
+  std::optional<double> vtk_every;
   double courant = 0.5;
   double time_step = 0.0;    ///< fixed dt, s (0: Courant on the cell size)
   BoundaryTable boundaries;  ///< "left", "right", "base", "top" of the grid

@@ -47,8 +47,8 @@ DampingSpec read_damping(const Section& s) {
 FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
   const Section s =
       root.table("fem", Section::Keys{"failure_stage", "kinematics", "end_time", "checkpoint_times",
-                                      "checkpoint_every", "output_every", "courant", "time_step",
-                                      "hourglass_coefficient", "friction_coefficient",
+                                      "checkpoint_every", "output_every", "vtk_every", "courant",
+                                      "time_step", "hourglass_coefficient", "friction_coefficient",
                                       "speed_limit_factor", "damping", "geostatic", "failure"});
   FemSpec fem;
   fem.failure_stage = s.boolean("failure_stage", true);

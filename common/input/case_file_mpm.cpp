@@ -126,6 +126,7 @@ MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const Mesh
                                                     "checkpoint_times",
                                                     "checkpoint_every",
                                                     "output_every",
+                                                    "vtk_every",
                                                     "courant",
                                                     "time_step",
                                                     "boundaries",

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <optional>
@@ -346,8 +347,10 @@ std::string read_material_name(const Section& s, std::string_view key,
                                const MaterialTable& materials);
 
 /// The output schedule and time step of a stage section ([fem] or [mpm]), after its
-/// end_time: checkpoint_times (within the run), checkpoint_every, output_every, courant
-/// and time_step. One reading for both stages, as they share the run loop (common/run).
+/// end_time: checkpoint_times (within the run), checkpoint_every, output_every,
+/// vtk_every (a whole multiple of output_every, when that is not 0, since frames are
+/// written at output steps), courant and time_step. One reading for both stages, as
+/// they share the run loop (common/run).
 template <class StageSpec>
 void read_schedule_and_step(const Section& s, StageSpec& spec) {
   const Range within_run{.min = 0.0,
@@ -358,6 +361,18 @@ void read_schedule_and_step(const Section& s, StageSpec& spec) {
   spec.checkpoint_times = s.numbers("checkpoint_times", within_run, true);
   spec.checkpoint_every = s.number("checkpoint_every", non_negative("s"), 0.0);
   spec.output_every = s.number("output_every", non_negative("s"), 0.0);
+  if (s.has("vtk_every")) {
+    const double every = s.number("vtk_every", non_negative("s"));
+    const double multiple = spec.output_every > 0.0 ? every / spec.output_every : 0.0;
+    if (every > 0.0 && spec.output_every > 0.0 &&
+        std::abs(multiple - std::round(multiple)) > 1e-9 * std::max(1.0, multiple)) {
+      s.fail("vtk_every",
+             fmt::format("{} s is not a whole multiple of {}.output_every = {} s (frames are "
+                         "written at output steps)",
+                         every, s.path(), spec.output_every));
+    }
+    spec.vtk_every = every;
+  }
   spec.courant = s.number("courant", courant_range(), spec.courant);
   spec.time_step = s.number("time_step", non_negative("s"), 0.0);
 }

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <optional>
 #include <sstream>
 #include <string_view>
@@ -13,10 +14,17 @@
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 #include <vtkObject.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkTypeUInt8Array.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
@@ -25,48 +33,180 @@
 
 namespace slide {
 
+const char* const vtk_conventions =
+    "SI units (m, s, kg, Pa). Plane strain in the x-y plane, y up, z out of the plane. "
+    "stress, strain: tension positive, components [xx, yy, zz, xy] as in the checkpoints; "
+    "stress_tensor, strain_tensor: the same tensors as [XX, YY, ZZ, XY, YZ, XZ] "
+    "(YZ = XZ = 0). pressure = -(xx + yy + zz)/3 of stress, compression positive. "
+    "von_mises_stress = q = sqrt(3 J2). strain, eps_q, plastic strains: dimensionless. "
+    "affine_velocity_gradient: C = dv/dx as [xx, xy, yx, yy], 1/s.";
+
 VtkField vtk_field(std::string name, std::span<const double> values) {
-  return {std::move(name), 1, values};
+  return {std::move(name), VtkLayout::scalar, values};
 }
 
 VtkField vtk_field(std::string name, std::span<const Vec2> values) {
   return {
-      std::move(name), 2, {values.empty() ? nullptr : values.front().data(), 2 * values.size()}};
+      std::move(name), VtkLayout::vector,
+      std::span<const double>(values.empty() ? nullptr : values.front().data(), 2 * values.size())};
 }
 
-VtkField vtk_field(std::string name, std::span<const Vec4> values) {
+VtkField vtk_field(std::string name, std::span<const Vec4> values, VtkLayout layout) {
   return {
-      std::move(name), 4, {values.empty() ? nullptr : values.front().data(), 4 * values.size()}};
+      std::move(name), layout,
+      std::span<const double>(values.empty() ? nullptr : values.front().data(), 4 * values.size())};
+}
+
+VtkField vtk_field(std::string name, std::span<const std::int32_t> values) {
+  return {std::move(name), VtkLayout::scalar, values};
+}
+
+VtkField vtk_field(std::string name, std::span<const std::int64_t> values) {
+  return {std::move(name), VtkLayout::scalar, values};
+}
+
+VtkField vtk_field(std::string name, std::span<const std::uint8_t> values) {
+  return {std::move(name), VtkLayout::scalar, values};
 }
 
 namespace {
 
-vtkNew<vtkDoubleArray> make_array(const VtkField& field, std::size_t expected_tuples,
-                                  const std::filesystem::path& path) {
-  const auto components = static_cast<std::size_t>(field.components);
-  if (field.values.size() != expected_tuples * components) {
-    throw Error("{}: VTK field {} has {} values, expected {} × {}", path.string(), field.name,
-                field.values.size(), expected_tuples, components);
+/// Values per tuple as our arrays hold them.
+int source_components(VtkLayout layout) {
+  switch (layout) {
+    case VtkLayout::scalar:
+      return 1;
+    case VtkLayout::vector:
+      return 2;
+    case VtkLayout::stress_like:
+    case VtkLayout::matrix:
+      return 4;
   }
-  const int stored = field.components == 2 ? 3 : field.components;
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(field.name.c_str());
+  return 1;
+}
+
+void name_components(vtkAbstractArray& array, std::initializer_list<const char*> names) {
+  int c = 0;
+  for (const char* name : names) array.SetComponentName(c++, name);
+}
+
+/// A Float64 array of `stored` components per tuple, each tuple made by `fill` from the
+/// field's values of that tuple.
+template <typename Fill>
+vtkSmartPointer<vtkDoubleArray> double_array(const std::string& name, std::span<const double> in,
+                                             std::size_t tuples, int per_tuple, int stored,
+                                             Fill fill) {
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(name.c_str());
   array->SetNumberOfComponents(stored);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(expected_tuples));
-  double tuple[4] = {0.0, 0.0, 0.0, 0.0};
-  for (std::size_t i = 0; i < expected_tuples; ++i) {
-    for (std::size_t c = 0; c < components; ++c) tuple[c] = field.values[i * components + c];
-    array->SetTypedTuple(static_cast<vtkIdType>(i), tuple);
-  }
+  array->SetNumberOfTuples(static_cast<vtkIdType>(tuples));
+  double* out = array->GetPointer(0);
+  const auto from = static_cast<std::size_t>(per_tuple), to = static_cast<std::size_t>(stored);
+  for (std::size_t i = 0; i < tuples; ++i) fill(in.data() + i * from, out + i * to);
   return array;
+}
+
+template <typename VtkArray, typename T>
+vtkSmartPointer<VtkArray> integer_array(const std::string& name, std::span<const T> in) {
+  auto array = vtkSmartPointer<VtkArray>::New();
+  array->SetName(name.c_str());
+  array->SetNumberOfTuples(static_cast<vtkIdType>(in.size()));
+  std::copy(in.begin(), in.end(), array->GetPointer(0));
+  return array;
+}
+
+/// The VTK arrays of one field: one, or two for a stress-like field.
+std::vector<vtkSmartPointer<vtkAbstractArray>> make_arrays(const VtkField& field,
+                                                           std::size_t expected_tuples,
+                                                           const std::filesystem::path& path) {
+  const std::size_t size = std::visit([](auto span) { return span.size(); }, field.values);
+  const auto per_tuple = source_components(field.layout);
+  if (size != expected_tuples * static_cast<std::size_t>(per_tuple)) {
+    throw Error("{}: VTK field {} has {} values, expected {} × {}", path.string(), field.name, size,
+                expected_tuples, per_tuple);
+  }
+  std::vector<vtkSmartPointer<vtkAbstractArray>> arrays;
+  if (const auto* ints = std::get_if<std::span<const std::int32_t>>(&field.values)) {
+    arrays.push_back(integer_array<vtkTypeInt32Array>(field.name, *ints));
+  } else if (const auto* longs = std::get_if<std::span<const std::int64_t>>(&field.values)) {
+    arrays.push_back(integer_array<vtkTypeInt64Array>(field.name, *longs));
+  } else if (const auto* flags = std::get_if<std::span<const std::uint8_t>>(&field.values)) {
+    arrays.push_back(integer_array<vtkTypeUInt8Array>(field.name, *flags));
+  } else {
+    const auto values = std::get<std::span<const double>>(field.values);
+    switch (field.layout) {
+      case VtkLayout::scalar:
+        arrays.push_back(double_array(field.name, values, expected_tuples, 1, 1,
+                                      [](const double* a, double* b) { b[0] = a[0]; }));
+        break;
+      case VtkLayout::vector: {
+        auto array =
+            double_array(field.name, values, expected_tuples, 2, 3, [](const double* a, double* b) {
+              b[0] = a[0];
+              b[1] = a[1];
+              b[2] = 0.0;
+            });
+        name_components(*array, {"x", "y", "z"});
+        arrays.push_back(array);
+        break;
+      }
+      case VtkLayout::stress_like: {
+        auto array = double_array(field.name, values, expected_tuples, 4, 4,
+                                  [](const double* a, double* b) { std::copy(a, a + 4, b); });
+        name_components(*array, {"xx", "yy", "zz", "xy"});
+        arrays.push_back(array);
+        auto tensor = double_array(field.name + "_tensor", values, expected_tuples, 4, 6,
+                                   [](const double* a, double* b) {
+                                     std::copy(a, a + 4, b);
+                                     b[4] = 0.0;
+                                     b[5] = 0.0;
+                                   });
+        name_components(*tensor, {"XX", "YY", "ZZ", "XY", "YZ", "XZ"});
+        arrays.push_back(tensor);
+        break;
+      }
+      case VtkLayout::matrix: {
+        auto array = double_array(field.name, values, expected_tuples, 4, 4,
+                                  [](const double* a, double* b) { std::copy(a, a + 4, b); });
+        name_components(*array, {"xx", "xy", "yx", "yy"});
+        arrays.push_back(array);
+        break;
+      }
+    }
+  }
+  return arrays;
+}
+
+template <typename Data>
+void add_fields(Data* data, const std::vector<VtkField>& fields, std::size_t tuples,
+                const std::filesystem::path& path) {
+  for (const auto& field : fields) {
+    for (const auto& array : make_arrays(field, tuples, path)) data->AddArray(array);
+  }
+}
+
+/// The field data every file carries: its time and the conventions.
+void add_time_and_conventions(vtkUnstructuredGrid* grid, double time) {
+  vtkNew<vtkDoubleArray> time_value;
+  time_value->SetName("TimeValue");
+  time_value->SetNumberOfTuples(1);
+  time_value->SetValue(0, time);
+  grid->GetFieldData()->AddArray(time_value);
+  vtkNew<vtkStringArray> conventions;
+  conventions->SetName("conventions");
+  conventions->InsertNextValue(vtk_conventions);
+  grid->GetFieldData()->AddArray(conventions);
 }
 
 vtkNew<vtkPoints> make_points(std::span<const Vec2> points) {
   vtkNew<vtkPoints> vtk_points;
   vtk_points->SetDataTypeToDouble();
   vtk_points->SetNumberOfPoints(static_cast<vtkIdType>(points.size()));
+  double* out = static_cast<vtkDoubleArray*>(vtk_points->GetData())->GetPointer(0);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    vtk_points->SetPoint(static_cast<vtkIdType>(i), points[i].x(), points[i].y(), 0.0);
+    out[3 * i] = points[i].x();
+    out[3 * i + 1] = points[i].y();
+    out[3 * i + 2] = 0.0;
   }
   return vtk_points;
 }
@@ -110,7 +250,8 @@ void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
     writer->SetInputData(grid);
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();
-    writer->SetCompressorTypeToZLib();
+    writer->SetCompressorTypeToNone();
+    writer->SetHeaderTypeToUInt64();
     const int written = writer->Write();
     // On a full disk the XML writer can report success with the file cut short: the
     // frame is only renamed into place when it is complete.
@@ -124,7 +265,7 @@ void write_grid(const std::filesystem::path& path, vtkUnstructuredGrid* grid) {
 
 }  // namespace
 
-void write_vtk_mesh(const std::filesystem::path& path, std::span<const Vec2> points,
+void write_vtk_mesh(const std::filesystem::path& path, double time, std::span<const Vec2> points,
                     ElementShape shape, std::span<const Index> connectivity,
                     const std::vector<VtkField>& point_fields,
                     const std::vector<VtkField>& cell_fields) {
@@ -139,27 +280,31 @@ void write_vtk_mesh(const std::filesystem::path& path, std::span<const Vec2> poi
     for (std::size_t k = 0; k < per_cell; ++k) ids[k] = connectivity[e * per_cell + k];
     grid->InsertNextCell(cell_type, static_cast<vtkIdType>(per_cell), ids);
   }
-  for (const auto& field : point_fields) {
-    grid->GetPointData()->AddArray(make_array(field, points.size(), path));
-  }
-  for (const auto& field : cell_fields) {
-    grid->GetCellData()->AddArray(make_array(field, cells, path));
-  }
+  add_fields(grid->GetPointData(), point_fields, points.size(), path);
+  add_fields(grid->GetCellData(), cell_fields, cells, path);
+  add_time_and_conventions(grid, time);
   write_grid(path, grid);
 }
 
-void write_vtk_points(const std::filesystem::path& path, std::span<const Vec2> points,
+void write_vtk_points(const std::filesystem::path& path, double time, std::span<const Vec2> points,
                       const std::vector<VtkField>& point_fields) {
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(make_points(points));
-  grid->Allocate(static_cast<vtkIdType>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    vtkIdType id = static_cast<vtkIdType>(i);
-    grid->InsertNextCell(VTK_VERTEX, 1, &id);
+  // One vertex per point: cell i is point i.
+  const auto n = static_cast<vtkIdType>(points.size());
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(n + 1);
+  connectivity->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    offsets->SetValue(i, i);
+    connectivity->SetValue(i, i);
   }
-  for (const auto& field : point_fields) {
-    grid->GetPointData()->AddArray(make_array(field, points.size(), path));
-  }
+  offsets->SetValue(n, n);
+  vtkNew<vtkCellArray> vertices;
+  vertices->SetData(offsets, connectivity);
+  grid->SetCells(VTK_VERTEX, vertices);
+  add_fields(grid->GetPointData(), point_fields, points.size(), path);
+  add_time_and_conventions(grid, time);
   write_grid(path, grid);
 }
 

@@ -1,5 +1,7 @@
 #include "common/run/output_schedule.hpp"
 
+#include "common/base/error.hpp"
+
 namespace slide::run {
 
 namespace {
@@ -56,6 +58,24 @@ bool OutputSchedule::is_checkpoint(double time) const {
 
 bool OutputSchedule::is_output(double time) const {
   return on_grid(time, output_every_) || is_checkpoint(time) || is_end(time);
+}
+
+void check_vtk_every(double every, double output_every, std::string_view what) {
+  if (!(every > 0.0) || !(output_every > 0.0)) return;
+  const double multiple = every / output_every;
+  if (std::abs(multiple - std::round(multiple)) > 1e-9 * std::max(1.0, multiple)) {
+    throw Error(
+        "{} = {} s is not a whole multiple of the output step {} s (frames are written "
+        "at output steps)",
+        what, every, output_every);
+  }
+}
+
+double automatic_vtk_every(double start, double end, double output_every) {
+  if (!(output_every > 0.0)) return 0.0;
+  const double outputs = std::max(0.0, end - start) / output_every;
+  const double stride = std::max(1.0, std::ceil(outputs / automatic_vtk_frames - 1e-9));
+  return stride * output_every;
 }
 
 }  // namespace slide::run

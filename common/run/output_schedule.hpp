@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <vector>
 
 namespace slide::run {
@@ -40,5 +41,26 @@ class OutputSchedule {
   std::vector<double> checkpoint_every_;
   std::vector<double> checkpoint_times_;
 };
+
+/// The VTK frames a stage makes when neither the case file (vtk_every) nor the command
+/// line (--vtk-every) sets a cadence: about this many per stage.
+inline constexpr int automatic_vtk_frames = 100;
+
+/// That cadence, s: the smallest whole multiple of `output_every` that makes at most
+/// automatic_vtk_frames frames between `start` and `end` (frames are written at output
+/// steps), or 0, a frame at every output step, when output_every is 0 (the outputs are
+/// then the checkpoints, few already).
+double automatic_vtk_every(double start, double end, double output_every);
+
+/// Refuses a VTK cadence `every` (named `what`, e.g. "--vtk-every") that is not a whole
+/// multiple of `output_every` when both are > 0: frames are written at output steps, and
+/// would then land on few of them.
+void check_vtk_every(double every, double output_every, std::string_view what);
+
+/// Whether the output step at `time` writes a VTK frame: always at the stage's start, its
+/// checkpoints and its end, else on the grid k·`vtk_every` (every step for 0).
+inline bool is_vtk_frame(double time, double vtk_every, bool start_checkpoint_or_end) {
+  return start_checkpoint_or_end || vtk_every <= 0.0 || OutputSchedule::on_grid(time, vtk_every);
+}
 
 }  // namespace slide::run

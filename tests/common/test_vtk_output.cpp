@@ -2,6 +2,7 @@
 // points and fields, a point cloud's fields, and the .pvd collection a run appends to and
 // a restart resumes.
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,8 +13,13 @@
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkInformation.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStringArray.h>
+#include <vtkType.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -72,7 +78,7 @@ TEST(VtkOutput, MeshReadsBackWithItsCellsAndFields) {
   const std::vector<Vec4> stress = {{-1, -2, -3, 0.5}, {-4, -5, -6, 0.25}};
   const std::vector<double> eps_q = {0.01, 0.25};
   const fs::path file = folder / "mesh.vtu";
-  write_vtk_mesh(file, points, ElementShape::quad4, connectivity,
+  write_vtk_mesh(file, 0.0, points, ElementShape::quad4, connectivity,
                  {vtk_field("displacement", std::span<const Vec2>(displacement))},
                  {vtk_field("stress", std::span<const Vec4>(stress)),
                   vtk_field("eps_q", std::span<const double>(eps_q))});
@@ -108,7 +114,7 @@ TEST(VtkOutput, MeshReadsBackWithItsCellsAndFields) {
 TEST(VtkOutput, TrianglesAndPointCloudsReadBack) {
   const fs::path folder = scratch("points");
   const std::vector<Vec2> points = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-  write_vtk_mesh(folder / "tri.vtu", points, ElementShape::tri3,
+  write_vtk_mesh(folder / "tri.vtu", 0.0, points, ElementShape::tri3,
                  std::vector<Index>{0, 1, 2, 1, 3, 2}, {}, {});
   Grid tri;
   read(folder / "tri.vtu", tri);
@@ -117,7 +123,7 @@ TEST(VtkOutput, TrianglesAndPointCloudsReadBack) {
 
   const std::vector<double> mass = {1.5, 2.5, 3.5, 4.5};
   const std::vector<Vec2> velocity = {{1, 2}, {3, 4}, {5, 6}, {7, 8}};
-  write_vtk_points(folder / "particles.vtu", points,
+  write_vtk_points(folder / "particles.vtu", 0.0, points,
                    {vtk_field("mass", std::span<const double>(mass)),
                     vtk_field("velocity", std::span<const Vec2>(velocity))});
   Grid cloud;
@@ -134,7 +140,7 @@ TEST(VtkOutput, FieldOfTheWrongSizeIsAnErrorNamingIt) {
   const std::vector<Vec2> points = {{0, 0}, {1, 0}};
   const std::vector<double> short_field = {1.0};
   try {
-    write_vtk_points(folder / "p.vtu", points,
+    write_vtk_points(folder / "p.vtu", 0.0, points,
                      {vtk_field("mass", std::span<const double>(short_field))});
     FAIL() << "no error";
   } catch (const std::exception& e) {
@@ -179,7 +185,7 @@ TEST(VtkOutput, AFullDiskIsAnErrorAndKeepsTheFormerFrame) {
   if (!disk.mounted()) GTEST_SKIP() << "needs root to mount a 64 KiB tmpfs";
   const fs::path frame = dir / "disk" / "frame.vtu";
   const std::vector<Vec2> few{{0.0, 0.0}, {1.0, 0.0}};
-  write_vtk_points(frame, few, {});
+  write_vtk_points(frame, 0.0, few, {});
   const std::string former = read_text(frame);
   std::vector<Vec2> many(20000);
   std::vector<double> values(many.size());
@@ -188,7 +194,7 @@ TEST(VtkOutput, AFullDiskIsAnErrorAndKeepsTheFormerFrame) {
     values[i] = std::exp(std::sin(static_cast<double>(i)));  // incompressible enough
   }
   try {
-    write_vtk_points(frame, many, {vtk_field("value", values)});
+    write_vtk_points(frame, 0.0, many, {vtk_field("value", values)});
     FAIL() << "a frame larger than the disk was written without an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(frame.string()), std::string::npos) << e.what();
@@ -201,6 +207,97 @@ TEST(VtkOutput, AFullDiskIsAnErrorAndKeepsTheFormerFrame) {
     EXPECT_EQ(entry.path().filename(), "frame.vtu") << "left behind: " << entry.path();
   }
   EXPECT_EQ(files, 1U);
+}
+
+/// The names of the array's components, in order.
+std::vector<std::string> component_names(vtkAbstractArray* array) {
+  std::vector<std::string> names;
+  for (int c = 0; c < array->GetNumberOfComponents(); ++c) {
+    const char* name = array->GetComponentName(c);
+    names.emplace_back(name != nullptr ? name : "");
+  }
+  return names;
+}
+
+// What ParaView is given, read back with VTK's own reader: component names on every
+// multi-component array, stress-like fields also as 6-component symmetric tensors in
+// ParaView's order (XX YY ZZ XY YZ XZ), integer fields as integer arrays, and the time
+// and conventions as field data (the reader reports the time as the file's time step).
+TEST(VtkOutput, ParaViewGetsNamedComponentsTensorsIntegerTypesAndTheTime) {
+  const fs::path folder = scratch("paraview");
+  const std::vector<Vec2> points = {{0, 0}, {1, 0}, {0, 1}};
+  const std::vector<Vec2> velocity = {{1, 2}, {3, 4}, {5, 6}};
+  const std::vector<Vec4> stress = {{-1, -2, -3, 0.5}, {-4, -5, -6, 0.25}, {7, 8, 9, -1}};
+  const std::vector<Vec4> affine = {{1, 2, 3, 4}, {5, 6, 7, 8}, {9, 10, 11, 12}};
+  const std::vector<std::int32_t> material = {0, 1, 2};
+  const std::vector<std::int64_t> id = {7, 8'000'000'000, -1};
+  const std::vector<std::uint8_t> active = {1, 0, 1};
+  const fs::path file = folder / "cloud.vtu";
+  write_vtk_points(file, 2.25, points,
+                   {vtk_field("velocity", std::span<const Vec2>(velocity)),
+                    vtk_field("stress", std::span<const Vec4>(stress)),
+                    vtk_field("affine", std::span<const Vec4>(affine), VtkLayout::matrix),
+                    vtk_field("material_id", std::span<const std::int32_t>(material)),
+                    vtk_field("id", std::span<const std::int64_t>(id)),
+                    vtk_field("active", std::span<const std::uint8_t>(active))});
+  Grid g;
+  read(file, g);
+  vtkPointData* data = g.grid->GetPointData();
+  using Names = std::vector<std::string>;
+  EXPECT_EQ(component_names(data->GetArray("velocity")), (Names{"x", "y", "z"}));
+  EXPECT_EQ(component_names(data->GetArray("stress")), (Names{"xx", "yy", "zz", "xy"}));
+  EXPECT_EQ(component_names(data->GetArray("affine")), (Names{"xx", "xy", "yx", "yy"}));
+  vtkDataArray* tensor = data->GetArray("stress_tensor");
+  ASSERT_NE(tensor, nullptr);
+  EXPECT_EQ(component_names(tensor), (Names{"XX", "YY", "ZZ", "XY", "YZ", "XZ"}));
+  std::vector<double> six;
+  for (const Vec4& s : stress) six.insert(six.end(), {s[0], s[1], s[2], s[3], 0.0, 0.0});
+  expect_array(tensor, six, 6);
+
+  ASSERT_NE(data->GetArray("material_id"), nullptr);
+  EXPECT_EQ(data->GetArray("material_id")->GetDataType(), VTK_TYPE_INT32);
+  EXPECT_EQ(data->GetArray("id")->GetDataType(), VTK_TYPE_INT64);
+  EXPECT_EQ(data->GetArray("active")->GetDataType(), VTK_TYPE_UINT8);
+  EXPECT_EQ(data->GetArray("stress")->GetDataType(), VTK_DOUBLE);
+  expect_array(data->GetArray("id"), {7, 8e9, -1}, 1);
+  expect_array(data->GetArray("active"), {1, 0, 1}, 1);
+
+  vtkFieldData* field = g.grid->GetFieldData();
+  ASSERT_NE(field->GetArray("TimeValue"), nullptr);
+  EXPECT_EQ(field->GetArray("TimeValue")->GetTuple1(0), 2.25);
+  auto* conventions = vtkStringArray::SafeDownCast(field->GetAbstractArray("conventions"));
+  ASSERT_NE(conventions, nullptr);
+  EXPECT_NE(conventions->GetValue(0).find("tension positive"), std::string::npos);
+  EXPECT_EQ(conventions->GetValue(0), vtk_conventions);
+  // The time as ParaView sees a lone .vtu: the reader's time step.
+  vtkInformation* info = g.reader->GetOutputInformation(0);
+  ASSERT_TRUE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
+  ASSERT_EQ(info->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 1);
+  EXPECT_EQ(info->Get(vtkStreamingDemandDrivenPipeline::TIME_STEPS())[0], 2.25);
+}
+
+// Mesh cells get the same treatment as points: an integer material id per cell, the
+// element stress as a tensor.
+TEST(VtkOutput, MeshCellFieldsAreTypedAndNamedToo) {
+  const fs::path folder = scratch("mesh-types");
+  const std::vector<Vec2> points = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  const std::vector<Vec4> stress = {{-1, -2, -3, 0.5}, {-4, -5, -6, 0.25}};
+  const std::vector<std::int32_t> material = {3, 4};
+  const std::vector<std::uint8_t> yielded = {0, 1};
+  write_vtk_mesh(folder / "tri.vtu", 0.5, points, ElementShape::tri3,
+                 std::vector<Index>{0, 1, 2, 1, 3, 2}, {},
+                 {vtk_field("stress", std::span<const Vec4>(stress)),
+                  vtk_field("material_id", std::span<const std::int32_t>(material)),
+                  vtk_field("yielded", std::span<const std::uint8_t>(yielded))});
+  Grid g;
+  read(folder / "tri.vtu", g);
+  vtkCellData* cells = g.grid->GetCellData();
+  EXPECT_EQ(cells->GetArray("material_id")->GetDataType(), VTK_TYPE_INT32);
+  EXPECT_EQ(cells->GetArray("yielded")->GetDataType(), VTK_TYPE_UINT8);
+  expect_array(cells->GetArray("material_id"), {3, 4}, 1);
+  ASSERT_NE(cells->GetArray("stress_tensor"), nullptr);
+  EXPECT_EQ(cells->GetArray("stress_tensor")->GetNumberOfComponents(), 6);
+  EXPECT_EQ(g.grid->GetFieldData()->GetArray("TimeValue")->GetTuple1(0), 0.5);
 }
 
 }  // namespace

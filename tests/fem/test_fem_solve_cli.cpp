@@ -17,9 +17,11 @@
 #include <hdf5.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
+#include <vtkType.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -299,6 +301,14 @@ TEST(FemSolveCli, VtkFramesHoldTheFieldsOfTheCheckpoints) {
       EXPECT_EQ(array->GetNumberOfTuples(), e.point ? nodes : elements) << e.name;
       EXPECT_EQ(array->GetNumberOfComponents(), e.components) << e.name;
     }
+    // ParaView's view of the frame: its time, typed integers, the stress as a tensor.
+    ASSERT_NE(grid->GetFieldData()->GetArray("TimeValue"), nullptr);
+    EXPECT_EQ(grid->GetFieldData()->GetArray("TimeValue")->GetTuple1(0), c.header.time);
+    ASSERT_NE(grid->GetCellData()->GetArray("material_id"), nullptr);
+    EXPECT_EQ(grid->GetCellData()->GetArray("material_id")->GetDataType(), VTK_TYPE_INT32);
+    EXPECT_EQ(grid->GetCellData()->GetArray("yielded")->GetDataType(), VTK_TYPE_UINT8);
+    ASSERT_NE(grid->GetCellData()->GetArray("stress_tensor"), nullptr);
+    EXPECT_EQ(grid->GetCellData()->GetArray("stress_tensor")->GetNumberOfComponents(), 6);
     vtkDataArray* ratio = grid->GetCellData()->GetArray("jacobian_ratio");
     vtkDataArray* displacement = grid->GetPointData()->GetArray("displacement");
     for (vtkIdType e = 0; e < elements; ++e) {

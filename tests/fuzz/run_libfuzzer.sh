@@ -103,7 +103,11 @@ echo
 echo "findings by class (count, kind | innermost HDF5 frame | innermost frame of ours):"
 for reader in "${readers[@]}"; do
   for report in "$fuzz_dir/crashes-$reader"/*.txt; do
-    [[ -f $report ]] && echo "$reader: $(classify "$report")"
+    if [[ -f $report ]]; then echo "$reader: $(classify "$report")"; fi
   done
 done | sort | uniq -c | sort -rn
 echo "findings and their reports: $fuzz_dir/crashes-<reader>/ (an input and its .txt)"
+# The status says whether anything was found: 0 only for a run without findings.
+total=$(find "$fuzz_dir"/crashes-* -maxdepth 1 -type f ! -name '*.txt' 2> /dev/null | wc -l)
+echo "fuzz: $total finding(s) in all"
+((total == 0))

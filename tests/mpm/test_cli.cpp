@@ -16,6 +16,14 @@
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkType.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include "common/io/checkpoint.hpp"
 #include "tests/support/mpm_builders.hpp"
@@ -154,6 +162,87 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
   const std::string history = read_text(split / "mpm_history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
             "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");
+}
+
+/// The (time, file) entries of a .pvd collection.
+std::vector<std::pair<double, std::string>> pvd_entries(const fs::path& path) {
+  std::vector<std::pair<double, std::string>> entries;
+  std::istringstream in(read_text(path));
+  for (std::string line; std::getline(in, line);) {
+    const auto t = line.find("timestep=\""), f = line.find("file=\"");
+    if (t == std::string::npos || f == std::string::npos) continue;
+    entries.emplace_back(std::stod(line.substr(t + 10)),
+                         line.substr(f + 6, line.find('"', f + 6) - f - 6));
+  }
+  return entries;
+}
+
+std::vector<double> times_of(const std::vector<std::pair<double, std::string>>& entries) {
+  std::vector<double> times;
+  for (const auto& entry : entries) times.push_back(std::round(entry.first * 1e6) / 1e6);
+  return times;
+}
+
+// The VTK cadence: mpm.vtk_every = 0.15 s on outputs every 0.05 s gives frames at 0.15 and
+// 0.3 and 0.45, plus the start, the checkpoint at 0.25 and the end at 0.5; --vtk-every
+// overrides it; a cadence off the output steps is refused, from the case file or the
+// command line; a restart writes the frames of the uninterrupted run. Each frame, read
+// back with VTK, carries its time, the pressure of its stress and typed integer arrays.
+TEST(MpmSolveCli, VtkFramesFollowTheCadenceAndCarryTheirTime) {
+  const fs::path folder = fresh_folder("vtk-cadence");
+  const fs::path c = write_case(folder, small_case("vtk_every = 0.15"));
+  const ProgramRun run =
+      run_solver(folder, fmt::format("{} -o {} --quiet", c.string(), (folder / "case").string()));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto frames = pvd_entries(folder / "case" / "mpm.pvd");
+  EXPECT_EQ(times_of(frames), (std::vector<double>{0.0, 0.15, 0.25, 0.3, 0.45, 0.5}));
+
+  const ProgramRun option = run_solver(folder, fmt::format("{} -o {} --quiet --vtk-every 0.1",
+                                                           c.string(), (folder / "cli").string()));
+  ASSERT_EQ(option.status, 0) << option.err;
+  EXPECT_EQ(times_of(pvd_entries(folder / "cli" / "mpm.pvd")),
+            (std::vector<double>{0.0, 0.1, 0.2, 0.25, 0.3, 0.4, 0.5}));
+
+  const ProgramRun off_grid = run_solver(
+      folder, fmt::format("{} -o {} --vtk-every 0.07", c.string(), (folder / "off").string()));
+  EXPECT_EQ(off_grid.status, 1);
+  EXPECT_NE(off_grid.err.find("--vtk-every = 0.07 s is not a whole multiple"), std::string::npos)
+      << off_grid.err;
+  const fs::path bad = write_case(folder / "bad", small_case("vtk_every = 0.07"));
+  const ProgramRun bad_case =
+      run_solver(folder, fmt::format("{} -o {}", bad.string(), (folder / "bad-out").string()));
+  EXPECT_EQ(bad_case.status, 1);
+  EXPECT_NE(bad_case.err.find("mpm.vtk_every"), std::string::npos) << bad_case.err;
+
+  const fs::path split = folder / "split";
+  run_split(folder, c, split);
+  EXPECT_EQ(read_text(split / "mpm.pvd"), read_text(folder / "case" / "mpm.pvd"));
+
+  for (const auto& [time, file] : frames) {
+    SCOPED_TRACE(file);
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName((folder / "case" / file).c_str());
+    reader->Update();
+    vtkUnstructuredGrid* grid = reader->GetOutput();
+    ASSERT_NE(grid, nullptr);
+    ASSERT_NE(grid->GetFieldData()->GetArray("TimeValue"), nullptr);
+    EXPECT_EQ(grid->GetFieldData()->GetArray("TimeValue")->GetTuple1(0), time);
+    vtkPointData* data = grid->GetPointData();
+    for (const char* name : {"material_id", "id", "element", "active", "stress", "stress_tensor",
+                             "strain_tensor", "pressure", "von_mises_stress"}) {
+      ASSERT_NE(data->GetArray(name), nullptr) << name;
+    }
+    EXPECT_EQ(data->GetArray("material_id")->GetDataType(), VTK_TYPE_INT32);
+    EXPECT_EQ(data->GetArray("id")->GetDataType(), VTK_TYPE_INT64);
+    EXPECT_EQ(data->GetArray("active")->GetDataType(), VTK_TYPE_UINT8);
+    vtkDataArray* stress = data->GetArray("stress");
+    vtkDataArray* pressure = data->GetArray("pressure");
+    for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); p += 37) {
+      const double trace =
+          stress->GetComponent(p, 0) + stress->GetComponent(p, 1) + stress->GetComponent(p, 2);
+      EXPECT_NEAR(pressure->GetTuple1(p), -trace / 3.0, 1e-9 * std::abs(trace) + 1e-9) << p;
+    }
+  }
 }
 
 // Issue 13: mpm.time_step = 1e-300 and E = 1e300 (a Courant step of 1e-149 s) hung

@@ -1,6 +1,10 @@
-// Where fem-solve stops: output grid, checkpoint cadences and lists, the end time.
+// Where fem-solve and mpm-solve stop: output grid, checkpoint cadences and lists, the
+// end time; and which of those stops write a VTK frame.
+#include <string>
+
 #include <gtest/gtest.h>
 
+#include "common/base/error.hpp"
 #include "common/run/output_schedule.hpp"
 
 namespace slide::run {
@@ -45,6 +49,46 @@ TEST(OutputSchedule, WithoutOutputCadenceStopsAtCheckpointsOnly) {
   EXPECT_EQ(schedule.next_stop(0.0), 1.0);
   EXPECT_EQ(schedule.next_stop(1.0), 2.0);
   EXPECT_EQ(schedule.next_stop(1.9999999999), 2.0);
+}
+
+}  // namespace
+}  // namespace slide::run
+
+namespace slide::run {
+namespace {
+
+// About automatic_vtk_frames frames a stage, on output steps: the smallest whole multiple
+// of the output step that keeps the count at or below 100.
+TEST(VtkCadence, AutomaticIsTheSmallestMultipleOfTheOutputStepForAHundredFrames) {
+  EXPECT_DOUBLE_EQ(automatic_vtk_every(0.0, 1.0, 0.01), 0.01);   // 100 outputs: every one
+  EXPECT_DOUBLE_EQ(automatic_vtk_every(0.0, 1.01, 0.01), 0.02);  // 101: every second one
+  EXPECT_DOUBLE_EQ(automatic_vtk_every(2.0, 20.0, 0.1), 0.2);    // column-short's MPM: 90
+  EXPECT_DOUBLE_EQ(automatic_vtk_every(0.0, 8.0, 0.1), 0.1);     // its FE phase: 80
+  EXPECT_DOUBLE_EQ(automatic_vtk_every(0.0, 1000.0, 0.5), 10.0);
+  EXPECT_EQ(automatic_vtk_every(0.0, 10.0, 0.0), 0.0) << "outputs only at checkpoints: each";
+  EXPECT_EQ(automatic_vtk_every(5.0, 5.0, 0.1), 0.1) << "a stage of no length";
+}
+
+TEST(VtkCadence, FramesAtTheCadenceAndAlwaysAtStartCheckpointsAndEnd) {
+  EXPECT_TRUE(is_vtk_frame(0.4, 0.2, false));
+  EXPECT_FALSE(is_vtk_frame(0.5, 0.2, false));
+  EXPECT_TRUE(is_vtk_frame(0.5, 0.2, true));
+  EXPECT_TRUE(is_vtk_frame(0.5, 0.0, false)) << "0: every output step";
+  EXPECT_TRUE(is_vtk_frame(0.6000000000000001, 0.2, false)) << "within the grid's tolerance";
+}
+
+TEST(VtkCadence, ACadenceOffTheOutputStepsIsRefusedNamingIt) {
+  EXPECT_NO_THROW(check_vtk_every(0.3, 0.1, "--vtk-every"));
+  EXPECT_NO_THROW(check_vtk_every(0.0, 0.1, "--vtk-every"));
+  EXPECT_NO_THROW(check_vtk_every(0.07, 0.0, "--vtk-every")) << "no output grid to land on";
+  try {
+    check_vtk_every(0.07, 0.05, "--vtk-every");
+    FAIL() << "0.07 s accepted on an output step of 0.05 s";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--vtk-every = 0.07 s is not a whole multiple"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
