@@ -293,7 +293,7 @@ link text](docs/guide.md#performance-toolsbenchmarkstransfer) [web](https://exam
 
 [missing file](docs/nothing.md)
 [missing anchor](docs/guide.md#performance-benchmarkstransfer)
-[outside](../shared/METHOD.md)
+[outside](../outside/notes.md)
 [absolute](/docs/guide.md)
 [untracked](docs/untracked.md)
 [no third duplicate](docs/guide.md#notes-2)
@@ -329,7 +329,7 @@ link text](docs/guide.md#performance-toolsbenchmarkstransfer) [web](https://exam
 SELF_TEST_BROKEN = {
     ("README.md", "docs/nothing.md"),
     ("README.md", "docs/guide.md#performance-benchmarkstransfer"),
-    ("README.md", "../shared/METHOD.md"),
+    ("README.md", "../outside/notes.md"),
     ("README.md", "/docs/guide.md"),
     ("README.md", "docs/untracked.md"),
     ("README.md", "docs/guide.md#notes-2"),
@@ -377,8 +377,8 @@ def self_test():
             (root / name).parent.mkdir(parents=True, exist_ok=True)
             (root / name).write_text(content, encoding="utf-8")
         (root / "docs" / "untracked.md").write_text("# Untracked\n", encoding="utf-8")
-        (Path(tmp) / "shared").mkdir()
-        (Path(tmp) / "shared" / "METHOD.md").write_text("# Outside\n", encoding="utf-8")
+        (Path(tmp) / "outside").mkdir()
+        (Path(tmp) / "outside" / "notes.md").write_text("# Outside\n", encoding="utf-8")
         git = ["git", "-C", str(root)]
         subprocess.run(git + ["init", "-q"], check=True)
         subprocess.run(git + ["add"] + list(SELF_TEST_FILES), check=True)

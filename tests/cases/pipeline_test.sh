@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Make pipeline on the geostatic-4x4 case (seconds): `make main` produces the
-# CONTRACT files and the report, a second `make` reruns nothing (`make -q` agrees), a
+# files of docs/contract.md and the report, a second `make` reruns nothing (`make -q` agrees), a
 # newer MPM output re-measures and rewrites the report, a transfer time without an FE
 # checkpoint is a clear error, a newer MPM program reruns the MPM stages but not the
 # FE phase or the transfer, and `make -j2 sweep report` works from an empty folder.
@@ -20,9 +20,9 @@ for f in fem/fem_t0.000.h5 fem/fem_history.csv tt0/particles.h5 tt0/mpm_final.h5
          report/geostatic_transfer_error.png; do
   [[ -s $work/out/$f ]] || fail "make main did not write $f"
 done
-# The CONTRACT columns first and in order; slide-metrics may add columns after them.
+# The columns of docs/contract.md first and in order; slide-metrics may add columns after them.
 head -1 "$work/out/sweep.csv" | grep -q '^run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\(,\|$\)' \
-  || fail "sweep.csv header differs from CONTRACT.md"
+  || fail "sweep.csv header differs from docs/contract.md"
 
 # Up to date: `make -q` finds nothing to do and a second `make main` runs nothing at all
 # (no program, no re-measuring, no plots, no report).
