@@ -1,4 +1,4 @@
-# The stages of a case as Make rules (CONTRACT.md "Cases"). Each case's Makefile sets
+# The stages of a case as Make rules (docs/contract.md, "Cases and the Make pipeline"). Each case's Makefile sets
 # CASE_DIR and includes this file. Every target depends on the files of the stage
 # before, so `make` reruns only what is stale (a second `make main` runs nothing), and
 # independent runs go in parallel under `make -j2`.
@@ -144,7 +144,7 @@ $(OUT)/tt%/particles.h5: $(FEM_DONE) $(FEM2MPM)
 # The main job transfers at t_T ≈ τc as the study prescribes, even where the toe
 # elements have begun to fold (column-short: J_min = -0.004 at 2 s); their particles
 # get the elements' reference volumes and the transfer report lists them. Sweeps only
-# use checkpoints with (|J_t|/|J_0|)_min > 0 (METHOD.md §7).
+# use checkpoints with (|J_t|/|J_0|)_min > 0 (docs/method.md §7).
 $(OUT)/tt$(MAIN_TT)/particles.h5: ALLOW_INVERTED := --allow-inverted
 
 mpm: $(call run_file,$(RUN_TT))

@@ -24,7 +24,7 @@
 //    Q is accumulated incrementally, Q ← Q + K_q Δq with Δq = Σ_k γ_k Δu_k, which for
 //    small strain (constant γ, K_q) is the total K_q q plus the geostatic Q, and for
 //    updated Lagrangian uses the current γ and K_q.
-//  - Stiffness-proportional Rayleigh damping β_K (METHOD.md §3), the force −β_K K₀ v
+//  - Stiffness-proportional Rayleigh damping β_K (docs/method.md §3), the force −β_K K₀ v
 //    without assembling K₀: a viscous stress β_K D ε̇, ε̇ = B v, added to σ in the
 //    internal force only (never stored, never seen by the constitutive model), with D the
 //    initial elastic plane-strain matrix of the element's material, and for one-point

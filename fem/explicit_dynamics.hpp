@@ -1,4 +1,4 @@
-// Stage 2 of the FE phase: explicit dynamics (METHOD.md §3).
+// Stage 2 of the FE phase: explicit dynamics (docs/method.md §3).
 //
 // M a = f_ext − f_int with the lumped mass M, gravity f_ext = m_I g and the internal
 // (plus hourglass) forces of the elements, integrated by the leapfrog scheme, written
@@ -33,7 +33,7 @@
 
 namespace slide::fem {
 
-/// The damping of the failure stage (METHOD.md §3): the nodal terms of the shared update
+/// The damping of the failure stage (docs/method.md §3): the nodal terms of the shared update
 /// (mass-proportional Rayleigh α_M, Cundall local α), applied to the nodal force with
 /// v_{n−1/2}, and the stiffness-proportional Rayleigh term β_K, a viscous stress in the
 /// element forces with the same v_{n−1/2}. Together C = α_M M + β_K K₀.

@@ -1,4 +1,4 @@
-// The finite element model of the FE phase (METHOD.md §3): the mesh with everything the
+// The finite element model of the FE phase (docs/method.md §3): the mesh with everything the
 // kernels precompute from it, and the state that the stages advance.
 //
 //  - FemModel: constant during a run. Reference geometry per Gauss point (shape-function

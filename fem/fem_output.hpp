@@ -1,4 +1,4 @@
-// What fem-solve writes (CONTRACT.md): kind "fem" checkpoints, fem_history.csv and the
+// What fem-solve writes (docs/contract.md): kind "fem" checkpoints, fem_history.csv and the
 // VTK series for ParaView. Every file is written atomically (temporary name, rename).
 #pragma once
 
@@ -33,7 +33,7 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
 FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& checkpoint,
                                const std::filesystem::path& file);
 
-/// One row of fem_history.csv (CONTRACT.md): one per output step.
+/// One row of fem_history.csv (docs/contract.md): one per output step.
 struct HistoryRow {
   double time = 0.0;
   double kinetic_energy = 0.0;
@@ -73,7 +73,7 @@ class FemHistory {
   std::vector<HistoryRow> rows_;
 };
 
-/// The columns of fem_history.csv (CONTRACT.md), in the order of HistoryRow.
+/// The columns of fem_history.csv (docs/contract.md), in the order of HistoryRow.
 inline const std::vector<std::string> history_columns{
     "time",        "kinetic_energy",      "pe0",
     "ke_over_pe0", "jacobian_ratio_min",  "jacobian_ratio_avg",

@@ -341,7 +341,7 @@ void FemRun::set_guard_limits(bool fresh_stage) {
 }
 
 /// The step: fixed, or the Courant step lowered by the stiffness-proportional damping
-/// (METHOD.md §3; the stability limit is the same at C = 1). Refuses a step that would
+/// (docs/method.md §3; the stability limit is the same at C = 1). Refuses a step that would
 /// need more steps than any run could take (it would hang the program), naming the cause.
 /// `announce`: log the step (and warn of a fixed step above the limit).
 void FemRun::choose_time_step(bool announce) {
@@ -625,7 +625,7 @@ FemRunSummary FemRun::finish() {
                  at(summary.ke_over_pe0_max_time));
   }
   const std::string text = fmt::format(
-      "# fem-solve summary of case {} (times in s; METHOD.md §3)\n"
+      "# fem-solve summary of case {} (times in s; docs/method.md §3)\n"
       "element = {}\n"
       "kinematics = {}\n"
       "end_time = {:.6g}\n"

@@ -1,4 +1,4 @@
-// The FE phase driver (METHOD.md §3): geostatic stage, switch to the failure models,
+// The FE phase driver (docs/method.md §3): geostatic stage, switch to the failure models,
 // explicit failure stage with outputs, checkpoints, mesh quality and the instability
 // guard; or the continuation of a run from one of its checkpoints.
 //

@@ -1,4 +1,4 @@
-// Stage 1 of the FE phase: geostatic equilibrium (METHOD.md §3).
+// Stage 1 of the FE phase: geostatic equilibrium (docs/method.md §3).
 //
 // Linear elastic materials (each material's E and ν), gravity, and the geostatic
 // boundary conditions: one sparse linear solve K u = f, with K the elastic stiffness

@@ -1,4 +1,4 @@
-// fem-solve: the finite element phase of a landslide (METHOD.md §3).
+// fem-solve: the finite element phase of a landslide (docs/method.md §3).
 //
 // Stage 1 solves the elastic geostatic equilibrium of the case's mesh under gravity
 // (one sparse linear solve) and writes it as the t = 0 checkpoint; stage 2 switches to

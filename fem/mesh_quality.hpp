@@ -1,4 +1,4 @@
-// Mesh quality, energies and the recommended transfer zone (METHOD.md §3).
+// Mesh quality, energies and the recommended transfer zone (docs/method.md §3).
 //
 //  - |J_t|/|J_0| of an element: det J of the isoparametric map at the element centre on
 //    the current coordinates over the same on the reference coordinates (< 0: inverted).
@@ -37,7 +37,7 @@ namespace slide::fem {
 
 /// Elements count as deformed, and enter the averages, above this εq.
 inline constexpr double deformed_eps_q = 0.03;
-/// The recommended transfer zone of METHOD.md §3.
+/// The recommended transfer zone of docs/method.md §3.
 inline constexpr double zone_jacobian_ratio_avg_min = 0.97;
 inline constexpr double zone_eps_q_avg_max = 0.20;
 

@@ -1,5 +1,5 @@
 // The background grid: square cells of size h covering the domain box, and the nodal
-// arrays one step needs. The grid carries nothing between steps (METHOD.md §5).
+// arrays one step needs. The grid carries nothing between steps (docs/method.md §5).
 //
 // Layout. Cells (cx, cy), 0 ≤ cx < cells_x, 0 ≤ cy < cells_y; nodes (i, j) at
 // x0 + (i h, j h). One ring of ghost nodes, i = −1 and i = cells_x + 1 (likewise j),
@@ -99,7 +99,7 @@ struct GridGeometry {
   std::size_t cell_of(const Vec2& x) const;
 };
 
-/// Velocity constraints of the four grid edges (METHOD.md §5): left/right walls, base,
+/// Velocity constraints of the four grid edges (docs/method.md §5): left/right walls, base,
 /// top, each free, roller, fixed or friction, with the body's outward normal there.
 struct GridBoundaries {
   std::array<NodalConstraint, 4> edge;  ///< indexed by GridEdge

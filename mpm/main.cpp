@@ -1,4 +1,4 @@
-// mpm-solve: the material point runout phase (METHOD.md §5).
+// mpm-solve: the material point runout phase (docs/method.md §5).
 //
 // Continues a body of material points under gravity on a background grid of square
 // cells until the end time (or rest): explicit MPM, uGIMP or linear shape functions,

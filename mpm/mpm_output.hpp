@@ -1,4 +1,4 @@
-// What mpm-solve writes (CONTRACT.md): checkpoints OUT/mpm_t<T>.h5 and OUT/mpm_final.h5
+// What mpm-solve writes (docs/contract.md): checkpoints OUT/mpm_t<T>.h5 and OUT/mpm_final.h5
 // (kind "mpm", with the grid/solver settings and counters a restart needs), the history
 // OUT/mpm_history.csv, and ParaView files OUT/vtk/mpm_<step>.vtu + OUT/mpm.pvd.
 #pragma once
@@ -19,7 +19,7 @@ namespace slide::mpm {
 /// References of the instability guard and the rest detection, fixed at the start of the
 /// run (t = 0 for pure MPM, the particle file's time otherwise) and carried by restarts.
 struct RunReferences {
-  double pe0 = 0.0;               ///< PE_0, J/m (CONTRACT)
+  double pe0 = 0.0;               ///< PE_0, J/m (docs/contract.md)
   double reference_height = 0.0;  ///< H of the speed bound sqrt(2 g H), m
   run::EnergyReference energy;    ///< KE + PE + elastic at the start, the releasable energy
   double rest_timer = 0.0;        ///< s spent with KE/PE0 below the rest threshold
@@ -44,8 +44,8 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
 std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
                                           double time_step, double courant);
 
-/// mpm_history.csv: one row per output step with the CONTRACT columns, through
-/// common/run/history_csv.hpp. The runout is measured as sweep.csv measures it (METHOD.md
+/// mpm_history.csv: one row per output step with the docs/contract.md columns, through
+/// common/run/history_csv.hpp. The runout is measured as sweep.csv measures it (docs/method.md
 /// §6, over the case's foundation level). On restart the rows after the restart time
 /// are dropped.
 class MpmHistory {

@@ -109,7 +109,7 @@ Start start_pure_mpm(const Case& c, const MpmSettings& settings, const Logger& l
   return start;
 }
 
-/// The initial stresses of pure MPM (METHOD.md §5): K0 of level ground (set on the
+/// The initial stresses of pure MPM (docs/method.md §5): K0 of level ground (set on the
 /// particles already), or an elastic gravity stage with damping to equilibrium; then the
 /// switch to the plastic model.
 void initialise_pure_mpm(const Case& c, MpmSolver& solver, double dt, const Logger& log) {
@@ -155,7 +155,7 @@ void set_references(const Case& c, const MpmSolver& solver, RunReferences& r, bo
   r.rest_timer = 0.0;
 }
 
-/// The instability guard (METHOD.md §5; the checks and the tolerance are shared,
+/// The instability guard (docs/method.md §5; the checks and the tolerance are shared,
 /// common/run/stability_guard.hpp): finite particle fields, particle and node speeds
 /// below the bound, the total energy within the shared tolerance.
 std::optional<std::string> check_stability(const MpmSolver& solver, const RunReferences& r,
@@ -389,7 +389,7 @@ void log_settings(const Logger& log, const MpmSettings& settings, const MpmSpec&
 }
 
 /// The state the time loop starts from: pure MPM's initial stresses, or the switch from
-/// the FE models to the MPM ones (METHOD.md §3: Mohr–Coulomb takes the transferred
+/// the FE models to the MPM ones (docs/method.md §3: Mohr–Coulomb takes the transferred
 /// stresses and returns those outside its surface once; multi-yield continues the FE
 /// surfaces or freezes its strength from the transferred stress); the guard's references
 /// of a fresh run. A restart continues as it stopped.

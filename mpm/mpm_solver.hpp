@@ -1,4 +1,4 @@
-// The explicit material point method (METHOD.md §5): one body of material points on a
+// The explicit material point method (docs/method.md §5): one body of material points on a
 // background grid, stepped in time. The solver owns the particles and the per-step
 // scratch; it knows nothing about files (mpm_run.hpp drives it and writes the output).
 //
@@ -98,7 +98,7 @@ class MpmSolver {
   /// Returns how many particles were outside the yield surface.
   std::size_t return_to_yield_surface();
 
-  /// Pure MPM's elastic gravity stage (METHOD.md §5): `duration` s of steps of at most
+  /// Pure MPM's elastic gravity stage (docs/method.md §5): `duration` s of steps of at most
   /// `dt` with linear-elastic models and local damping α = `local_damping`; then the
   /// velocities, affine velocities, displacements, strains and states are reset and the
   /// clock starts at t = 0: the equilibrium the plastic run starts from. The settings

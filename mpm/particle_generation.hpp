@@ -1,4 +1,4 @@
-// Material points for pure MPM (no FE phase, METHOD.md §5): the body's geometry filled
+// Material points for pure MPM (no FE phase, docs/method.md §5): the body's geometry filled
 // with the same per-cell layout the transfer uses, and the initial stresses.
 //
 // Layout: in every grid cell, the N_px × N_py Gauss–Legendre points of the cell

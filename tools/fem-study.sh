@@ -4,7 +4,7 @@
 # under small-strain and updated-Lagrangian kinematics, each to fem.end_time (8 s for the
 # columns). Prints one Markdown table row per run: first inversion (det J ≤ 0 at a
 # corner, and (|J_t|/|J_0|)_min < 0), zone exit, and at the end the runout, the crest
-# settlement H0 − H_c (METHOD.md §6, measured on an element-wise transfer of the final
+# settlement H0 − H_c (docs/method.md §6, measured on an element-wise transfer of the final
 # state) and the area ratio.
 #
 #   tools/fem-study.sh BUILD_DIR CASE_NAME [OUT_DIR]      e.g. tools/fem-study.sh build column-short

@@ -28,7 +28,7 @@ import matplotlib.tri  # noqa: E402
 import numpy as np  # noqa: E402
 
 G = 9.81
-ZONE_JACOBIAN_AVG = 0.97  # METHOD.md §3: recommended transfer zone
+ZONE_JACOBIAN_AVG = 0.97  # docs/method.md §3: recommended transfer zone
 ZONE_EPS_Q_AVG = 0.20
 
 
@@ -435,7 +435,7 @@ def main_transfer_states(case, out):
 
 def plot_stress_at_transfer(case, out, figures):
     """σyy of the main transfer: the FE state at t_T beside the particles made from it,
-    0.5 s later and at the end, on one colour scale (METHOD.md §6, stress quality at
+    0.5 s later and at the end, on one colour scale (docs/method.md §6, stress quality at
     rest)."""
     states = main_transfer_states(case, out)
     if len(states) < 2:

@@ -194,7 +194,7 @@ def reading(case, sweep, last_inside, tau_c):
 
 def stress_quality_lines(case, sweep, report_dir):
     """The stress quality at rest of every run (sweep.csv) and the σyy figure of the main
-    transfer (plots.py), METHOD.md §6."""
+    transfer (plots.py), docs/method.md §6."""
     columns = ("stress_quality_p50", "stress_quality_p90", "stress_quality_p99",
                "stress_quality_max")
     rows = [r for r in sweep if all(c in r for c in columns)]
@@ -204,7 +204,7 @@ def stress_quality_lines(case, sweep, report_dir):
     lines = ["## Stress at the transfer and at rest", ""]
     if rows:
         lines += [
-            "Stress quality at rest (METHOD.md §6): over the particles of a run's final state "
+            "Stress quality at rest (docs/method.md §6): over the particles of a run's final state "
             "that are at rest (speed < 1 cm/s) and that the surface profile measures, "
             "e = |σyy − σyy,lith| / (ρ g H0), σyy,lith = −ρ g (h_b − y) under the profile "
             "height h_b of the particle's bin; 0 for a deposit that carries just its own "
@@ -242,7 +242,7 @@ def main():
 
     md = [f"# {case['case']['name']}: {case['case'].get('description', '')}", "",
           f"Generated {datetime.datetime.now():%Y-%m-%d %H:%M} by `make report` from "
-          f"`{out}`. Definitions: METHOD.md §6 (profile, toe, R_N, H_c, RMSE against the "
+          f"`{out}`. Definitions: docs/method.md §6 (profile, toe, R_N, H_c, RMSE against the "
           "t_T = 0 run) and §3 (mesh quality).", "",
           "## Case", "",
           f"- L0 = {metrics['initial_length']:g} m, H0 = {metrics['initial_height']:g} m, "

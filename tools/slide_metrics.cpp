@@ -1,4 +1,4 @@
-// slide-metrics: measurements for the case pipelines (METHOD.md §6, CONTRACT.md).
+// slide-metrics: measurements for the case pipelines (docs/method.md §6, docs/contract.md).
 //
 //   slide-metrics case-info CASE.toml             make variables of a case
 //   slide-metrics transfer-times CASE.toml FEM_HISTORY.csv
@@ -13,7 +13,7 @@
 // peak of a run comes from its histories: for tt<T> the FE phase up to T
 // (fem/fem_history.csv) and tt<T>/mpm_history.csv, for pure-mpm its mpm_history.csv,
 // for pure-fem its fem_history.csv (a missing history leaves the cells empty). The
-// stress quality at rest (METHOD.md §6) is that of the same final particle file; for
+// stress quality at rest (docs/method.md §6) is that of the same final particle file; for
 // pure-fem it is the FE end state carried onto particles element by element (its
 // velocities are the FE ones), measured like the MPM deposits. It also
 // writes OUT/sweep.md (the table for the report) and OUT/profiles.csv (every run's
@@ -129,7 +129,7 @@ void sweep(const fs::path& case_file, const fs::path& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"slide-metrics: surface profiles, runout and sweep tables (METHOD.md §6)",
+  CLI::App app{"slide-metrics: surface profiles, runout and sweep tables (docs/method.md §6)",
                "slide-metrics"};
   app.require_subcommand(1);
   std::string case_file, second;

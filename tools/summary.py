@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The cross-case summary of the transfer-time sweeps (METHOD.md §3, §6).
+"""The cross-case summary of the transfer-time sweeps (docs/method.md §3, §6).
 
     /usr/bin/python3 tools/summary.py OUT_DIR CASE_DIR[:CASE_OUT] ...
 
@@ -22,7 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ZONE_JACOBIAN_AVG = 0.97  # METHOD.md §3: recommended transfer zone
+ZONE_JACOBIAN_AVG = 0.97  # docs/method.md §3: recommended transfer zone
 ZONE_EPS_Q_AVG = 0.20
 MARKERS = "osD^vP*X"
 
@@ -91,7 +91,7 @@ def main():
     tmp.replace(figure)
 
     md = ["# Transfer-time sweeps of every case", "",
-          "Profile RMSE (METHOD.md §6, against each case's t_T = 0 transfer) against the FE",
+          "Profile RMSE (docs/method.md §6, against each case's t_T = 0 transfer) against the FE",
           "mesh quality at the transfer time; the shaded bands are the recommended zone",
           "((|J_t|/|J_0|)_avg ≥ 0.97, εq,avg ≤ 20 %, both over the elements with εq > 3 %).",
           "", "![RMSE against mesh quality](rmse_vs_mesh_quality.png)", ""]

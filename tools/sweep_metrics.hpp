@@ -1,7 +1,7 @@
-// The measurements of a transfer-time sweep (METHOD.md §6, CONTRACT.md sweep.csv):
+// The measurements of a transfer-time sweep (docs/method.md §6, docs/contract.md sweep.csv):
 // one row per run (tt0, tt1, ..., pure-mpm, pure-fem) with runout, crest height and
 // profile RMSE against the tt0 run, the FE mesh quality at the transfer time and,
-// after the CONTRACT columns, the run's KE/PE0 peak, its time and that time over τc,
+// after the docs/contract.md columns, the run's KE/PE0 peak, its time and that time over τc,
 // then the stress quality at rest of its final state (50th, 90th, 99th percentiles and
 // maximum of e_p, common/physics/runout_metrics.hpp).
 #pragma once
@@ -30,7 +30,7 @@ struct FemHistoryRow {
   double scaled_jacobian_avg = std::nan("");
 };
 
-/// Reads fem_history.csv (CONTRACT.md columns, by name; area_ratio, scaled_jacobian_min
+/// Reads fem_history.csv (docs/contract.md columns, by name; area_ratio, scaled_jacobian_min
 /// and scaled_jacobian_avg may be missing, as in histories written before them, and are
 /// then NaN); throws Error naming the file.
 std::vector<FemHistoryRow> read_fem_history(const std::filesystem::path& path);
@@ -85,7 +85,7 @@ struct RunMetrics {
 RunMetrics measure_run(const Case& c, const std::string& run, std::optional<double> tt,
                        const std::filesystem::path& particle_file);
 
-/// Writes sweep.csv (CONTRACT.md columns, then ke_over_pe0_peak, ke_over_pe0_peak_time,
+/// Writes sweep.csv (docs/contract.md columns, then ke_over_pe0_peak, ke_over_pe0_peak_time,
 /// ke_over_pe0_peak_time_over_tauc, stress_quality_p50, stress_quality_p90,
 /// stress_quality_p99, stress_quality_max) with errors and RMSE against the run called
 /// `reference` (normally "tt0"); empty cells where a value is not defined (the stress

@@ -1,5 +1,5 @@
 // fem2mpm: turns the FE model at the transfer time t_T into material points
-// (METHOD.md §4). Reads one FE checkpoint, writes the particle file mpm-solve starts
+// (docs/method.md §4). Reads one FE checkpoint, writes the particle file mpm-solve starts
 // from, and prints and writes the transfer report (PARTICLES.transfer.json).
 //
 //   fem2mpm out/fem/fem_t2.000.h5 -o out/tt2/particles.h5 --particles-per-element 4

@@ -1,5 +1,5 @@
 // Where the material points of one element sit, and what share of the element each one
-// carries (METHOD.md §4).
+// carries (docs/method.md §4).
 //
 // Quads: N_px × N_py points at the tensor-product Gauss–Legendre points of orders N_px
 // and N_py of [−1, 1]²; the share of point (i, j) is w_i w_j / 4.

@@ -1,4 +1,4 @@
-// Radial basis function interpolation of scattered Gauss-point values (METHOD.md §4).
+// Radial basis function interpolation of scattered Gauss-point values (docs/method.md §4).
 //
 // Multiquadric φ(r) = sqrt((r/c)² + 1) with shape parameter c (a length, m). The
 // interpolant through the values y_i at the centres x_i is

@@ -358,7 +358,7 @@ void fe_momentum_and_energy(const FemCheckpoint& fem, TransferReport& report) {
     report.momentum_fe_nodal += nodal_mass[k] * fem.velocity[k];
     report.kinetic_energy_fe_nodal += 0.5 * nodal_mass[k] * fem.velocity[k].squaredNorm();
   }
-  // METHOD.md §3: KE_FEM = Σ_e ½ m_e |v̄_e|², v̄_e the mean velocity of the element's nodes.
+  // docs/method.md §3: KE_FEM = Σ_e ½ m_e |v̄_e|², v̄_e the mean velocity of the element's nodes.
   const Mesh& mesh = fem.mesh;
   CompensatedSum mass, volume;
   for (Index e = 0; e < mesh.element_count(); ++e) {
@@ -568,7 +568,7 @@ void place_particles(const FemCheckpoint& fem, const ParticleLayout& layout,
     const auto ee = static_cast<std::size_t>(e);
     const auto nodes = mesh.element(e);
     const double density = fem.materials[static_cast<std::size_t>(mesh.material_id[ee])].density;
-    // V_p from the deformed element, M_p from the undeformed one (METHOD.md §4).
+    // V_p from the deformed element, M_p from the undeformed one (docs/method.md §4).
     const double element_volume = is_inverted[ee] ? fem.volume_reference[ee] : fem.volume[ee];
     const double element_mass = density * fem.volume_reference[ee];
     for (std::size_t i = 0; i < per_element; ++i) {
@@ -591,7 +591,7 @@ void place_particles(const FemCheckpoint& fem, const ParticleLayout& layout,
       particles.pore_pressure[p] = pore;
       particles.volume[p] = element_volume * point.weight;
       particles.mass[p] = element_mass * point.weight;
-      // GIMP domain: a square of the particle's volume (METHOD.md §4).
+      // GIMP domain: a square of the particle's volume (docs/method.md §4).
       const double side = std::sqrt(particles.volume[p]);
       particles.size[p] = Vec2(side, side);
       particles.material_id[p] = mesh.material_id[ee];

@@ -1,4 +1,4 @@
-// The transfer: the FE model at t_T becomes material points (METHOD.md §4).
+// The transfer: the FE model at t_T becomes material points (docs/method.md §4).
 //
 // For every element, the particles of its layout (particle_layout.hpp) at reference
 // points ξ_p with shares w_p (Σ w_p = 1 per element) receive

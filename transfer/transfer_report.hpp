@@ -47,7 +47,7 @@ struct TransferReport {
   double volume_fe = 0.0;         ///< Σ_e V_t^e, m³/m (deformed)
   double volume_particles = 0.0;  ///< Σ_p V_p
   /// Linear momentum (kg·m/s per m) and kinetic energy (J/m): FE with the lumped nodal
-  /// masses, FE with element masses and mean nodal velocities (METHOD.md §3), particles.
+  /// masses, FE with element masses and mean nodal velocities (docs/method.md §3), particles.
   Vec2 momentum_fe_nodal = Vec2::Zero();
   Vec2 momentum_fe_element = Vec2::Zero();
   Vec2 momentum_particles = Vec2::Zero();

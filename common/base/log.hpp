@@ -35,7 +35,7 @@ class Logger {
                fmt::format(format, std::forward<Args>(args)...));
   }
 
-  /// Always printed (the CONTRACT's summary line must reach scripts even with --quiet).
+  /// Always printed (docs/contract.md: the summary line must reach scripts even with --quiet).
   template <typename... Args>
   void result(fmt::format_string<Args...> format, Args&&... args) const {
     close_progress_line();

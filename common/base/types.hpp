@@ -1,4 +1,4 @@
-// Vocabulary types shared by every stage. 2D plane strain throughout (METHOD.md §2):
+// Vocabulary types shared by every stage. 2D plane strain throughout (docs/method.md §2):
 // x horizontal (runout towards +x), y up, SI units.
 #pragma once
 
@@ -19,7 +19,7 @@ using Vec4 = Eigen::Vector4d;
 
 using Index = std::int64_t;
 
-/// Standard gravity used by every case (METHOD.md §2).
+/// Standard gravity used by every case (docs/method.md §2).
 inline constexpr double gravity_acceleration = 9.81;
 inline Vec2 gravity_vector() {
   return {0.0, -gravity_acceleration};

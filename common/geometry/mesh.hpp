@@ -13,7 +13,7 @@
 
 namespace slide {
 
-/// What a boundary does to the velocity of its nodes (METHOD.md §3, §5).
+/// What a boundary does to the velocity of its nodes (docs/method.md §3, §5).
 enum class BoundaryCondition {
   free,      ///< nothing
   roller,    ///< zero normal velocity, free tangential sliding

@@ -110,7 +110,7 @@ struct TransferSpec {
   std::optional<RbfPolynomial> rbf_polynomial;  ///< unset: none for rbf, linear for rbf-local
   double rbf_shape = 0.0;                       ///< c, m (0: the default sqrt(A_box/N_g))
   int rbf_neighbours = 0;                       ///< k of rbf-local (0: the default)
-  /// Transfer times the case's sweep uses, s (METHOD.md §7), and the one the main
+  /// Transfer times the case's sweep uses, s (docs/method.md §7), and the one the main
   /// pipeline uses.
   std::vector<double> sweep_times;
   double main_time = 0.0;

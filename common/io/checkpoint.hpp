@@ -24,7 +24,7 @@
 namespace slide {
 
 inline constexpr const char* checkpoint_schema_name = "fem-mpm-checkpoint";
-/// Bumped whenever a name or meaning of the schema changes (CONTRACT.md).
+/// Bumped whenever a name or meaning of the schema changes (docs/contract.md).
 inline constexpr std::int64_t checkpoint_schema_version = 1;
 
 enum class CheckpointKind { fem, particles, mpm };
@@ -34,9 +34,9 @@ std::string_view to_string(CheckpointKind kind);
 struct CheckpointHeader {
   CheckpointKind kind = CheckpointKind::fem;
   std::int64_t schema_version = checkpoint_schema_version;
-  std::string producer;   ///< program and version, e.g. "fem-solve 0.1.0"
-  double time = 0.0;      ///< s, on the clock of METHOD.md §2
-  std::int64_t step = 0;  ///< time steps taken so far
+  std::string producer;   ///< program and version, e.g. "fem-solve (slide 0.1.0)"
+  double time = 0.0;      ///< s, on the clock of docs/method.md §2
+  std::int64_t step = 0;  ///< time steps behind the state (checkpoint-schema.md)
   std::string case_name;
   double pe0 = 0.0;  ///< PE_0, J/m: potential energy of the model at t = 0
 };

@@ -22,11 +22,11 @@ enum class RbfPolynomial { none, linear };
 
 enum class ShapeFunction { gimp, linear };
 enum class UpdateScheme { usl, musl };
-/// Grid → particle velocity transfer (METHOD.md §5, mpm/README.md "Velocity transfer"):
+/// Grid → particle velocity transfer (docs/method.md §5, mpm/README.md "Velocity transfer"):
 /// FLIP with an optional PIC share (`pic_fraction`), or APIC (affine particle-in-cell:
 /// each particle carries an affine velocity matrix; no PIC share needed).
 enum class VelocityTransfer { flip_pic, apic };
-/// Volumetric anti-locking (METHOD.md §5, mpm/README.md "Volumetric smoothing"): none, or
+/// Volumetric anti-locking (docs/method.md §5, mpm/README.md "Volumetric smoothing"): none, or
 /// the particles of a cell share its averaged mean stress and volumetric strain rate.
 enum class VolumetricSmoothing { none, cell };
 enum class ParticleExit { freeze, remove };

@@ -1,5 +1,5 @@
 // Linear elasticity and Mohr–Coulomb plasticity with a tension cut-off, plane strain,
-// tension positive (METHOD.md §2, §3; the equations and the return regions are written
+// tension positive (docs/method.md §2, §3; the equations and the return regions are written
 // out in common/physics/constitutive.md).
 //
 // The Mohr–Coulomb return works in principal stresses, after Clausen, Damkilde &

@@ -90,7 +90,7 @@ class ConstitutiveModel {
               std::span<Vec4> surfaces = {}) const;
 
   /// The switch to this model from the elastic geostatic state, from the initial K0
-  /// stresses of pure MPM or from the other phase's model (METHOD.md §3). Mohr–Coulomb
+  /// stresses of pure MPM or from the other phase's model (docs/method.md §3). Mohr–Coulomb
   /// returns an inadmissible stress to its surface (an update with a zero increment);
   /// multi-yield freezes the peak strength from the point's confinement (unless the
   /// state already holds one) and sets its surfaces as after a monotonic loading to the

@@ -21,7 +21,7 @@ MaterialModel parse_material_model(std::string_view text, std::string_view where
 /// True for the models that read φ and c (every model but linear elasticity).
 bool has_strength(MaterialModel model);
 
-/// The two phases that may run different models of one material (METHOD.md §3).
+/// The two phases that may run different models of one material (docs/method.md §3).
 enum class Phase { fem, mpm };
 
 /// Largest number of yield surfaces of the multi-yield model (OpenSees allows 40 too).
@@ -31,7 +31,7 @@ struct Material {
   std::string name;
   /// Model of the FE failure stage, and of the MPM phase unless `mpm_model` names
   /// another. The FE geostatic stage always uses the linear elastic model with the same
-  /// elastic constants (METHOD.md §3).
+  /// elastic constants (docs/method.md §3).
   MaterialModel model = MaterialModel::mohr_coulomb;
   /// Model of the MPM phase when it differs from the FE one (the reference workflow:
   /// pressure-independent multi-yield in FE, Mohr–Coulomb in MPM).

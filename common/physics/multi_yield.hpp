@@ -1,4 +1,4 @@
-// Pressure-independent multi-yield plasticity (METHOD.md §3): the FE material of the
+// Pressure-independent multi-yield plasticity (docs/method.md §3): the FE material of the
 // reference workflow (OpenSees's PressureIndependMultiYield, calibrated to Mohr–Coulomb),
 // written out with its sources in common/physics/constitutive.md.
 //

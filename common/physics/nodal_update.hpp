@@ -1,6 +1,6 @@
 // The explicit velocity update of one node, shared by the FE nodes and the MPM grid
 // nodes so that both phases apply boundary conditions, Coulomb base friction and
-// damping with exactly the same algorithm (METHOD.md §3 and §5).
+// damping with exactly the same algorithm (docs/method.md §3 and §5).
 //
 // Given the node's lumped mass m, its velocity v at the start of the step and the
 // unbalanced force F (external + internal, without reactions), one step of length dt:

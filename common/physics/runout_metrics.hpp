@@ -1,4 +1,4 @@
-// Measuring a run (METHOD.md §6): surface profile, toe, runout, crest height and the
+// Measuring a run (docs/method.md §6): surface profile, toe, runout, crest height and the
 // profile RMSE against a reference run. Shared by mpm-solve (history columns) and the
 // metrics tool, so both report the same numbers.
 //
@@ -51,7 +51,7 @@ struct SurfaceProfile {
   std::size_t first_above_level = 0;
 };
 
-/// Profile of the particles above `foundation_level` (METHOD.md §6 uses all of them:
+/// Profile of the particles above `foundation_level` (docs/method.md §6 uses all of them:
 /// level 0; a foundation layer that fills every bin to the grid's end would otherwise
 /// put the toe there). Over a foundation (level > 0) the contiguous run of bins starts
 /// at the first bin with material above the level, and the bins between the wall and it
@@ -69,7 +69,7 @@ struct RunoutMeasures {
 
 RunoutMeasures runout_measures(const SurfaceProfile& profile, double initial_length);
 
-/// Profile RMSE of `run` against `reference` (METHOD.md §6).
+/// Profile RMSE of `run` against `reference` (docs/method.md §6).
 double profile_rmse(const SurfaceProfile& run, const SurfaceProfile& reference,
                     double particle_size);
 
@@ -79,7 +79,7 @@ double profile_rmse(const SurfaceProfile& run, const SurfaceProfile& reference,
 /// `profile.first_above_level` (where all particles count).
 bool measured_by_profile(const Vec2& x, const SurfaceProfile& profile, double foundation_level);
 
-/// Speed below which a particle counts as at rest, part of the deposit (METHOD.md §6).
+/// Speed below which a particle counts as at rest, part of the deposit (docs/method.md §6).
 inline constexpr double rest_speed = 0.01;  // m/s
 
 struct StressQuality {
@@ -104,7 +104,7 @@ std::vector<double> stress_errors_at_rest(std::span<const Vec2> coordinates,
                                           const SurfaceProfile& profile, double initial_height,
                                           double foundation_level = 0.0);
 
-/// The percentiles and maximum of stress_errors_at_rest (METHOD.md §6).
+/// The percentiles and maximum of stress_errors_at_rest (docs/method.md §6).
 StressQuality stress_quality_at_rest(std::span<const Vec2> coordinates,
                                      std::span<const Vec2> velocities,
                                      std::span<const double> sigma_yy,

@@ -1,4 +1,4 @@
-// History CSVs (CONTRACT.md: fem_history.csv, mpm_history.csv): a header of column
+// History CSVs (docs/contract.md: fem_history.csv, mpm_history.csv): a header of column
 // names, then one row of numbers per output step. Both stages write them through
 // HistoryCsv and every reader (restarts, tools/) reads them through read_history, so the
 // format has one definition: numbers in the shortest form that reads back to the same

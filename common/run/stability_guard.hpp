@@ -1,4 +1,4 @@
-// The instability guard of both stages (METHOD.md §5). At every output step, before
+// The instability guard of both stages (docs/method.md §5). At every output step, before
 // anything is written, the state must pass three checks:
 //  1. finite: every field of the state is finite;
 //  2. speed: nothing moves faster than speed_limit_factor · sqrt(2 g H), H the height of

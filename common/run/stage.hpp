@@ -36,7 +36,7 @@ class Stage {
 bool drive(Stage& stage, const OutputSchedule& schedule, bool checkpoint_at_end);
 
 /// "fem_t2.000.h5": the checkpoint file name of a stage (`prefix` "fem" or "mpm") at
-/// time t, three decimals (CONTRACT.md).
+/// time t, three decimals (docs/contract.md).
 std::string checkpoint_file_name(std::string_view prefix, double time);
 
 /// More steps than a stage may take: 10⁹ steps of a 2000-element mesh are two days on

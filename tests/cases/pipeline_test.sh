@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Make pipeline on the geostatic-4x4 case (seconds): `make` with no target is `make
-# main`, which produces the contract's files and the report; a second `make` reruns
+# main`, which produces the files of docs/contract.md and the report; a second `make` reruns
 # nothing (`make -q` agrees); a newer MPM output re-measures and rewrites the report; a
 # missing run is remade although the report is newer; a transfer time that is not a
 # number, or has no FE checkpoint, is a one-line error; TT=0 and TT=0.0 are one run; a
@@ -23,9 +23,9 @@ for f in fem/fem_t0.000.h5 fem/fem_history.csv tt0/particles.h5 tt0/mpm_final.h5
          report/geostatic_transfer_error.png; do
   [[ -s $work/out/$f ]] || fail "make (no target) did not write $f"
 done
-# The CONTRACT columns first and in order; slide-metrics may add columns after them.
+# The columns of docs/contract.md first and in order; slide-metrics may add columns after them.
 head -1 "$work/out/sweep.csv" | grep -q '^run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg\(,\|$\)' \
-  || fail "sweep.csv header differs from CONTRACT.md"
+  || fail "sweep.csv header differs from docs/contract.md"
 
 # Up to date: `make -q` finds nothing to do and a second `make main` runs nothing at all
 # (no program, no re-measuring, no plots, no report).

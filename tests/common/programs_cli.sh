@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The command-line contract every program shares (CONTRACT.md, common/base/program.hpp):
+# The command-line contract every program shares (docs/contract.md, common/base/program.hpp):
 # --help prints usage on stdout and exits 0; a missing input, a broken case file and an
 # unknown option each exit non-zero with exactly one line on stderr that names the
 # culprit, and leave no output behind.

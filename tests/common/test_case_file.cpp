@@ -1,4 +1,4 @@
-// The case-file reader: the five cases of METHOD.md §7 load with the values METHOD.md
+// The case-file reader: the five cases of docs/method.md §7 load with the values docs/method.md
 // gives, and broken case files are refused with a one-line message naming the file, the
 // line and the dotted key at fault.
 #include <algorithm>

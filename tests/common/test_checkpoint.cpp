@@ -639,7 +639,7 @@ TEST_F(Checkpoint, RewritingReplacesTheFile) {
   expect_identical(c, read_fem_checkpoint(file("fem.h5")));
 }
 
-// The names every reader relies on (CONTRACT.md), read with the plain C API; every dataset
+// The names every reader relies on (docs/contract.md), read with the plain C API; every dataset
 // carries a `units` string.
 TEST_F(Checkpoint, FileCarriesTheContractAttributesAndUnitsOnEveryDataset) {
   write_checkpoint(file("fem.h5"), sample_fem(ElementType::quad4_2x2));

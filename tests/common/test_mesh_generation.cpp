@@ -1,5 +1,5 @@
 // The structured mesh generators (profile, blocks), their tri3 variants, the boundary
-// node sets, mesh validation and build_mesh's checks, on the geometries of METHOD.md §7.
+// node sets, mesh validation and build_mesh's checks, on the geometries of docs/method.md §7.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -34,7 +34,7 @@ MeshBlock block(Vec2 p0, Vec2 p1, Vec2 p2, Vec2 p3, int nu, int nv) {
   return MeshBlock{{p0, p1, p2, p3}, nu, nv, "soil"};
 }
 
-// slope-frictional (METHOD.md §7) as blocks: the rectangle under the crest, and the
+// slope-frictional (docs/method.md §7) as blocks: the rectangle under the crest, and the
 // triangle under the 1H:1V face split into three quads through its centroid.
 MeshSpec slope_frictional_blocks(ElementType type) {
   const Vec2 c(80.0 / 3.0, 20.0 / 3.0);

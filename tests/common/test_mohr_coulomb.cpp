@@ -582,7 +582,7 @@ TEST(MohrCoulomb, TensionCutoffIsRespected) {
 }
 
 // ---------------------------------------------------------------------------------------
-// The switch from the elastic geostatic state (METHOD.md §3): K0 = ν/(1−ν) is below the
+// The switch from the elastic geostatic state (docs/method.md §3): K0 = ν/(1−ν) is below the
 // active limit, so deep points return, here to the edge σxx = σzz (= σ1 = σ2).
 
 TEST(MohrCoulomb, GeostaticK0StateReturnsToTheCompressionEdge) {

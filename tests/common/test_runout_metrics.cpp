@@ -1,4 +1,4 @@
-// Runout measures and the stress quality at rest of METHOD.md §6 on hand-computed
+// Runout measures and the stress quality at rest of docs/method.md §6 on hand-computed
 // particle sets.
 #include <cmath>
 #include <vector>
@@ -83,7 +83,7 @@ TEST(RunoutMetrics, ACrestSunkBelowTheFoundationLevelKeepsItsHeightAndTheToe) {
   const RunoutMeasures m = runout_measures(p, 5.0);
   EXPECT_DOUBLE_EQ(m.runout, 2.5);
   EXPECT_DOUBLE_EQ(m.crest_height, 0.5);
-  // Without a foundation level (METHOD.md §6) the run starts at the wall: every bin
+  // Without a foundation level (docs/method.md §6) the run starts at the wall: every bin
   // has particles out to bin 5, and the toe is the stray.
   EXPECT_DOUBLE_EQ(surface_profile(points, 2.0).x_toe, 11.5);
 }

@@ -1,4 +1,4 @@
-// fem-solve end to end: restart bit for bit, the files of the CONTRACT (checkpoint
+// fem-solve end to end: restart bit for bit, the files of docs/contract.md (checkpoint
 // times, VTK frames read back with VTK), the zone-exit checkpoint, the instability
 // guard, the updated-Lagrangian stop, bad input, and a cut column-short regression
 // against stored reference numbers.
@@ -458,7 +458,7 @@ TEST(FemSolveCli, ColumnShortRegression) {
   EXPECT_NE(summary.find("first_time_inverted = 1.900\n"), std::string::npos) << summary;
   EXPECT_GT(rows[18][10], 0.0);           // scaled_jacobian_min at 1.8 s
   EXPECT_LT(rows[19][10], 0.0);           // and at 1.9 s
-  EXPECT_NEAR(rows[20][9], 0.919, 0.01);  // area ratio at 2 s (METHOD.md §3: 92 %)
+  EXPECT_NEAR(rows[20][9], 0.919, 0.01);  // area ratio at 2 s (docs/method.md §3: 92 %)
 }
 
 TEST(FemSolveCli, CheckpointAtZoneExitKeepsTheLastStateInsideTheZone) {

@@ -1,4 +1,4 @@
-// Stage 1: the geostatic column, σyy = −ρ g (H − y), σxx = σzz = K0 σyy (METHOD.md §3).
+// Stage 1: the geostatic column, σyy = −ρ g (H − y), σxx = σzz = K0 σyy (docs/method.md §3).
 //
 // The discrete solution of the roller-bounded column is one-dimensional and nodally
 // exact (consistent gravity load), so each element carries the exact strain of its

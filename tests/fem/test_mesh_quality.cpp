@@ -1,4 +1,4 @@
-// Mesh quality, the recommended transfer zone and the energies (METHOD.md §3).
+// Mesh quality, the recommended transfer zone and the energies (docs/method.md §3).
 #include <cmath>
 #include <filesystem>
 #include <fstream>

@@ -158,7 +158,7 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
   EXPECT_TRUE(same_bits(a.particles.id, b.particles.id));
   EXPECT_EQ(read_text(folder / "straight" / "mpm_history.csv"),
             read_text(split / "mpm_history.csv"));
-  // The history has the CONTRACT columns.
+  // The history has the docs/contract.md columns.
   const std::string history = read_text(split / "mpm_history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
             "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");

@@ -1,9 +1,9 @@
-// Regression test of the main case (STYLE.md: every case is also a short regression
-// test): column-short pure MPM (cases/column-short/case.toml: 32,000 particles, uGIMP,
-// MUSL, APIC, cell volumetric smoothing, Mohr–Coulomb on a frictional base) to rest at
-// 20 s on 2 threads. The toe position and KE/PE0 at 1, 2 and 3 s (the first half of the
-// collapse) are compared with stored numbers; the particle set and its masses must come
-// through exactly; and the deposit's stresses must be lithostatic (METHOD.md §6).
+// Regression test of the main case (every case is also a short regression test): column-short pure
+// MPM (cases/column-short/case.toml: 32,000 particles, uGIMP, MUSL, APIC, cell volumetric
+// smoothing, Mohr–Coulomb on a frictional base) to rest at 20 s on 2 threads. The toe position and
+// KE/PE0 at 1, 2 and 3 s (the first half of the collapse) are compared with stored numbers; the
+// particle set and its masses must come through exactly; and the deposit's stresses must be
+// lithostatic (docs/method.md §6).
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>

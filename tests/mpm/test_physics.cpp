@@ -1,4 +1,4 @@
-// Verification of the MPM solver against closed-form solutions (METHOD.md §5):
+// Verification of the MPM solver against closed-form solutions (docs/method.md §5):
 // free fall, the vibrating bar, the sliding block, the geostatic column at rest and
 // compacting across cells, conservation.
 #include <cmath>

@@ -6,7 +6,7 @@
 namespace slide::testing {
 
 /// A column case for fem-solve: `width` × `height` m of the soil on a rough base, the
-/// right face released in the failure stage (METHOD.md §7 column cases, scaled down).
+/// right face released in the failure stage (docs/method.md §7 column cases, scaled down).
 struct ColumnCase {
   std::string name = "test-column";
   double width = 10.0;

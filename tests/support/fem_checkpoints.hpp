@@ -112,7 +112,7 @@ inline std::function<Vec2(const Vec2&)> distortion(double amplitude) {
   };
 }
 
-/// The exact geostatic state of a level column of height H (METHOD.md §3):
+/// The exact geostatic state of a level column of height H (docs/method.md §3):
 /// σyy = −ρ g (H − y), σxx = σzz = K0 σyy, K0 = ν/(1 − ν).
 inline std::function<Vec4(const Vec2&)> geostatic_stress(double density, double poisson_ratio,
                                                          double height) {

@@ -1,4 +1,4 @@
-// The soil of the cases (METHOD.md §7), built by hand for the tests of every stage.
+// The soil of the cases (docs/method.md §7), built by hand for the tests of every stage.
 #pragma once
 
 #include "common/physics/material.hpp"

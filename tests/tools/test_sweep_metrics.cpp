@@ -1,5 +1,5 @@
 // The sweep layer of slide-metrics (tools/sweep_metrics.*): FE histories, the valid
-// transfer times of METHOD.md §7 and the sweep table of CONTRACT.md, on hand-made data.
+// transfer times of docs/method.md §7 and the sweep table of docs/contract.md, on hand-made data.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -119,7 +119,7 @@ TEST(FemHistory, BrokenFilesAreErrorsNamingFileLineAndProblem) {
 }
 
 TEST(FemHistory, WriterOrderCrlfAndBlankLinesAndTheTimeTolerance) {
-  // The CONTRACT header in the writer's order, Windows line ends (the trailing \r of
+  // The docs/contract.md header in the writer's order, Windows line ends (the trailing \r of
   // every cell is trimmed) and a blank line between rows and at the end (skipped).
   const fs::path path = write_file("contract-order.csv", std::string(contract_header) +
                                                              "\r\n"
@@ -156,7 +156,7 @@ TEST(TransferTimes, SweepStopsAtTheFirstEntangledMesh) {
   const Case c = column_short();
   EXPECT_EQ(valid_transfer_times(c, history({1.0, 0.9, 0.4, -0.1, 0.2, 0.3})),
             (std::vector<double>{0.0, 1.0, 2.0}));
-  // (|J_t|/|J_0|)_min = 0 exactly is entangled (METHOD.md §7 asks for > 0).
+  // (|J_t|/|J_0|)_min = 0 exactly is entangled (docs/method.md §7 asks for > 0).
   EXPECT_EQ(valid_transfer_times(c, history({1.0, 0.0})), (std::vector<double>{0.0}));
   // An element inverted at a corner while every centre Jacobian is still positive
   // (scaled_jacobian_min < 0): fem2mpm would refuse it, so the sweep stops there too.
@@ -300,7 +300,7 @@ TEST(SweepTable, NoNegativeZero) {
 }
 
 TEST(EnergyHistory, PeaksOfFemAndMpmHistoriesAndTheirErrors) {
-  // An MPM history in the writer's order and an FE history (CONTRACT columns): the time
+  // An MPM history in the writer's order and an FE history (the docs/contract.md columns): the time
   // and ke_over_pe0 columns are found by name; nan samples do not count.
   const auto mpm = read_energy_history(
       write_file("energy-mpm.csv",
@@ -504,7 +504,7 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
     EXPECT_DOUBLE_EQ(m.measures.runout_normalised, 1.2);
   }
 
-  // sweep.csv: the CONTRACT columns; tt0 has zero errors and RMSE, the NaN averages of
+  // sweep.csv: the docs/contract.md columns; tt0 has zero errors and RMSE, the NaN averages of
   // the t = 0 history row and everything FE- or tt-related of pure-fem are empty.
   // The KE/PE0 peaks, over the FE phase up to t_T and the run's MPM history:
   // tt0: FE 0 at t = 0, MPM 0, 0.02, 0.02 at 0, 0.5, 1 s → 0.02 at 0.5 s (the earliest of
@@ -528,7 +528,7 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
   EXPECT_DOUBLE_EQ(runs[1].ke_peak->ke_over_pe0, 0.012);
   EXPECT_DOUBLE_EQ(runs[1].ke_peak->time, 1.5);
 
-  // sweep.csv: the CONTRACT columns, the three KE/PE0 peak columns, then the four
+  // sweep.csv: the docs/contract.md columns, the three KE/PE0 peak columns, then the four
   // stress-quality columns (empty for pure-fem, nothing at rest); tt0 has zero
   // errors and RMSE, the NaN averages of the t = 0 history row and everything FE- or
   // tt-related of pure-fem are empty. tt_over_tauc of tt1 = 1/2.01928 = 0.495227.

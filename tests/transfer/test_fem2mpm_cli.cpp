@@ -366,7 +366,7 @@ TEST_F(Fem2mpm, RefusesBadOptionsInOneLine) {
 }
 
 // The pipeline check of the issue: rbf and rbf-local on the column-short FE states
-// (METHOD.md §7) at t = 1 s and t = 2 s. Runs fem-solve to 2 s (about a second), so it
+// (docs/method.md §7) at t = 1 s and t = 2 s. Runs fem-solve to 2 s (about a second), so it
 // skips where fem-solve is not built. By t = 2 s the small-strain FE mesh has entangled
 // at the toe (fem-solve reports (|J_t|/|J_0|)_min < 0 from about 1.9 s): that checkpoint
 // needs --allow-inverted, and there the two interpolations differ at the toe (see

@@ -1,4 +1,4 @@
-// The transfer on FE checkpoints built in memory: the geostatic column of METHOD.md §7,
+// The transfer on FE checkpoints built in memory: the geostatic column of docs/method.md §7,
 // exact conservation of mass and volume, exact reproduction of linear stress fields and
 // rigid-body motion, the element baseline, determinism and the refusal of bad input.
 #include <cmath>

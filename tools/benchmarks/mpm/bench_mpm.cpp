@@ -1,4 +1,4 @@
-// Benchmark of the MPM step loop on the column-short case (METHOD.md §7): the 50 m × 40 m
+// Benchmark of the MPM step loop on the column-short case (docs/method.md §7): the 50 m × 40 m
 // column of frictional soil (Mohr–Coulomb, ρ 1700, E 23.8 MPa, ν 0.23, φ 22.2°, c 1 kPa),
 // 4 × 4 particles per 1 m cell (32,000 particles), K0 stresses, on a 200 m × 45 m grid
 // with roller walls and a frictional base (μ = 0.466), released at t = 0. It times N
