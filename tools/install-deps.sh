@@ -22,6 +22,18 @@ if ((${#missing[@]} == 0)); then
   exit 0
 fi
 
+# ParaView's Python (python3-paraview, for pvpython and pvbatch) conflicts with VTK's
+# (python3-vtk9), which libvtk9-dev depends on: with it installed, apt refuses libvtk9-dev
+# with "pkgProblemResolver ... generated breaks". ParaView itself (the paraview package)
+# coexists with the build.
+is_installed() { [[ $(dpkg-query -W -f='${Status}' "$1" 2>/dev/null || true) == "install ok installed" ]]; }
+if is_installed python3-paraview && [[ " ${missing[*]} " == *" libvtk9-dev "* ]]; then
+  echo "install-deps: python3-paraview is installed and conflicts with libvtk9-dev (through" \
+    "python3-vtk9): run 'apt-get remove python3-paraview' (the paraview package may stay)," \
+    "then this again; use pvpython on another machine" >&2
+  exit 1
+fi
+
 echo "install-deps: installing ${missing[*]}"
 sudo_cmd=()
 if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
