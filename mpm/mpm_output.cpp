@@ -67,7 +67,7 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
                           const std::string& case_name, const TransferSettings& transfer) {
   ParticleCheckpoint c;
   c.header.kind = CheckpointKind::mpm;
-  c.header.producer = "mpm-solve " + version_string();
+  c.header.producer = "mpm-solve (" + version_string() + ")";
   c.header.time = solver.clock().time;
   c.header.step = solver.clock().step;
   c.header.case_name = case_name;

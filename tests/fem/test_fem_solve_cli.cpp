@@ -29,6 +29,7 @@
 #include "common/io/checkpoint.hpp"
 #include "tests/support/column_case.hpp"
 #include "tests/support/programs.hpp"
+#include "tests/support/pvd.hpp"
 #include "tests/support/small_disk.hpp"
 #include "tests/support/soil.hpp"
 
@@ -233,18 +234,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& path) {
   return reader->GetOutput();
 }
 
-/// The (time, file) entries of a .pvd collection.
-std::vector<std::pair<double, std::string>> pvd_entries(const fs::path& path) {
-  std::vector<std::pair<double, std::string>> entries;
-  std::istringstream in(read_text(path));
-  for (std::string line; std::getline(in, line);) {
-    const auto t = line.find("timestep=\""), f = line.find("file=\"");
-    if (t == std::string::npos || f == std::string::npos) continue;
-    entries.emplace_back(std::stod(line.substr(t + 10)),
-                         line.substr(f + 6, line.find('"', f + 6) - f - 6));
-  }
-  return entries;
-}
+using slide::testing::pvd_entries;
 
 TEST(FemSolveCli, VtkFramesHoldTheFieldsOfTheCheckpoints) {
   // The column (80 quads, 99 nodes) to 0.4 s with outputs every 0.1 s: fem.pvd lists the

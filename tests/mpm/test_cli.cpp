@@ -28,6 +28,7 @@
 #include "common/io/checkpoint.hpp"
 #include "tests/support/mpm_builders.hpp"
 #include "tests/support/programs.hpp"
+#include "tests/support/pvd.hpp"
 
 namespace slide::mpm {
 namespace {
@@ -164,18 +165,7 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
             "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");
 }
 
-/// The (time, file) entries of a .pvd collection.
-std::vector<std::pair<double, std::string>> pvd_entries(const fs::path& path) {
-  std::vector<std::pair<double, std::string>> entries;
-  std::istringstream in(read_text(path));
-  for (std::string line; std::getline(in, line);) {
-    const auto t = line.find("timestep=\""), f = line.find("file=\"");
-    if (t == std::string::npos || f == std::string::npos) continue;
-    entries.emplace_back(std::stod(line.substr(t + 10)),
-                         line.substr(f + 6, line.find('"', f + 6) - f - 6));
-  }
-  return entries;
-}
+using slide::testing::pvd_entries;
 
 std::vector<double> times_of(const std::vector<std::pair<double, std::string>>& entries) {
   std::vector<double> times;
