@@ -757,21 +757,37 @@ class GmshReader {
     return mesh;
   }
 
+  /// A quadrilateral element type cannot use triangles: the error, at the first, says
+  /// how many of each the mesh has and the two ways on (tri3 splits the quadrangles of
+  /// a mixed mesh; Gmsh can make quadrangles only).
+  void refuse_triangles() const {
+    const RawElement* first = nullptr;
+    std::size_t triangles = 0, quadrangles = 0;
+    for (const RawElement& e : elements_) {
+      if (e.type == gmsh_triangle && first == nullptr) first = &e;
+      triangles += e.type == gmsh_triangle ? 1 : 0;
+      quadrangles += e.type == gmsh_quadrangle ? 1 : 0;
+    }
+    if (first == nullptr) return;
+    in_.fail(first->line,
+             "element {} is a triangle, which element type {} cannot use ({} mesh: {} "
+             "triangles, {} quadrangles): use mesh.element = \"tri3\" (quadrangles are split "
+             "in two), or mesh with quadrangles only (Gmsh: Mesh.RecombineAll = 1; "
+             "Mesh.Algorithm = 8; Mesh.SubdivisionAlgorithm = 1; cases/README.md)",
+             first->tag, to_string(type_), quadrangles > 0 ? "a mixed" : "a triangle", triangles,
+             quadrangles);
+  }
+
   /// The triangles and quadrangles with their raw nodes and material. A triangle in a
   /// quad4 mesh, an element listed twice and a file with none are errors.
   std::vector<Polygon> surface_polygons() const {
     const ElementShape shape = shape_of(type_);
     std::vector<Polygon> polygons;
     std::unordered_set<std::int64_t> surface_tags;
+    if (shape == ElementShape::quad4) refuse_triangles();
     for (std::size_t i = 0; i < elements_.size(); ++i) {
       const RawElement& e = elements_[i];
       if (e.type != gmsh_triangle && e.type != gmsh_quadrangle) continue;
-      if (e.type == gmsh_triangle && shape == ElementShape::quad4) {
-        in_.fail(e.line,
-                 "element {} is a triangle, which element type {} cannot use (a triangle mesh "
-                 "serves tri3 only)",
-                 e.tag, to_string(type_));
-      }
       // Gmsh 2.2 repeats an element once per physical group it belongs to.
       if (!surface_tags.insert(e.tag).second) {
         in_.fail(e.line,

@@ -336,7 +336,16 @@ TEST(GmshReader, RejectsMeshesWithoutMeaning) {
   EXPECT_EQ(read_error("triangles.msh", unit_quad_22(soil, "1\n1 2 2 1 1 1 2 3\n"),
                        ElementType::quad4_2x2),
             "triangles.msh:17: element 1 is a triangle, which element type quad4-2x2 cannot use (a "
-            "triangle mesh serves tri3 only)");
+            "triangle mesh: 1 triangles, 0 quadrangles): use mesh.element = \"tri3\" (quadrangles "
+            "are split in two), or mesh with quadrangles only (Gmsh: Mesh.RecombineAll = 1; "
+            "Mesh.Algorithm = 8; Mesh.SubdivisionAlgorithm = 1; cases/README.md)");
+  // A mixed mesh: the count of each, at the first triangle.
+  EXPECT_EQ(read_error("mixed.msh", unit_quad_22(soil, "2\n1 3 2 1 1 1 2 3 4\n2 2 2 1 1 1 2 3\n"),
+                       ElementType::quad4_1gp),
+            "mixed.msh:18: element 2 is a triangle, which element type quad4-1gp cannot use (a "
+            "mixed mesh: 1 triangles, 1 quadrangles): use mesh.element = \"tri3\" (quadrangles "
+            "are split in two), or mesh with quadrangles only (Gmsh: Mesh.RecombineAll = 1; "
+            "Mesh.Algorithm = 8; Mesh.SubdivisionAlgorithm = 1; cases/README.md)");
   EXPECT_EQ(read_error("twice.msh", unit_quad_22("2\n2 1 \"soil\"\n2 2 \"rock\"\n",
                                                  "2\n1 3 2 1 1 1 2 3 4\n1 3 2 2 1 1 2 3 4\n")),
             "twice.msh:19: surface element 1 appears twice (is it in two physical groups?); every "
