@@ -150,11 +150,18 @@ std::vector<vtkSmartPointer<vtkAbstractArray>> make_arrays(const VtkField& field
         arrays.push_back(array);
         break;
       }
-      case VtkLayout::stress_like: {
+      case VtkLayout::stress_like:
+      case VtkLayout::matrix: {
+        const bool stress_like = field.layout == VtkLayout::stress_like;
         auto array = double_array(field.name, values, expected_tuples, 4, 4,
                                   [](const double* a, double* b) { std::copy(a, a + 4, b); });
-        name_components(*array, {"xx", "yy", "zz", "xy"});
+        if (stress_like) {
+          name_components(*array, {"xx", "yy", "zz", "xy"});
+        } else {
+          name_components(*array, {"xx", "xy", "yx", "yy"});
+        }
         arrays.push_back(array);
+        if (!stress_like) break;
         auto tensor = double_array(field.name + "_tensor", values, expected_tuples, 4, 6,
                                    [](const double* a, double* b) {
                                      std::copy(a, a + 4, b);
@@ -163,13 +170,6 @@ std::vector<vtkSmartPointer<vtkAbstractArray>> make_arrays(const VtkField& field
                                    });
         name_components(*tensor, {"XX", "YY", "ZZ", "XY", "YZ", "XZ"});
         arrays.push_back(tensor);
-        break;
-      }
-      case VtkLayout::matrix: {
-        auto array = double_array(field.name, values, expected_tuples, 4, 4,
-                                  [](const double* a, double* b) { std::copy(a, a + 4, b); });
-        name_components(*array, {"xx", "xy", "yx", "yy"});
-        arrays.push_back(array);
         break;
       }
     }
