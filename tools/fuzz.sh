@@ -5,15 +5,19 @@
 # and the three programs (they write the checkpoint seeds), and runs each reader for
 # SECONDS_PER_READER (default 120) with its seeds:
 #
-#   tools/fuzz.sh          # 2 min per reader
-#   tools/fuzz.sh 600      # 10 min per reader
+#   tools/fuzz.sh                      # 2 min per reader
+#   tools/fuzz.sh 600                  # 10 min per reader
+#   tools/fuzz.sh 600 mpm_checkpoint   # 10 min of one reader (or of several, named)
 #
 # Prints executions, executions/s, findings and corpus size per reader; the inputs of
 # findings and their symbolised reports are in build-fuzz/fuzz/crashes-<reader>/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-120}
-[[ $seconds =~ ^[0-9]+$ ]] || { echo "usage: tools/fuzz.sh [SECONDS_PER_READER]" >&2; exit 2; }
+[[ $seconds =~ ^[0-9]+$ ]] || { echo "usage: tools/fuzz.sh [SECONDS_PER_READER [READER...]]" >&2; exit 2; }
+shift $(($# > 0 ? 1 : 0))
+# The target `fuzz` runs tests/fuzz/run_libfuzzer.sh, which reads the readers from here.
+export SLIDE_FUZZ_READERS="$*"
 
 tools/install-deps.sh
 # Debian 12's clang 16 (clang 14 cannot compile the project: it does not capture structured
