@@ -68,8 +68,9 @@ VTK_EVERY ?= 1
 mpm_threads = $(or $(THREADS),$(if $(filter-out -j1,$(filter -j%,$(MAKEFLAGS))),1))
 MPM_OPTIONS = --vtk-every $(VTK_EVERY) $(if $(mpm_threads),--threads $(mpm_threads))
 
-# The case's own numbers (MAIN_TT, SWEEP_TTS, FEM_END, MPM_END, TAU_C), read once
-# from case.toml by the same reader the programs use.
+# The case's own numbers (MAIN_TT, SWEEP_TTS, FEM_END, MPM_END, TAU_C) and its mesh
+# file (MESH_FILE, a Gmsh case's .msh), read once from case.toml by the same reader the
+# programs use. The runs made from the case's geometry depend on both files.
 CASE_MK := $(OUT)/case.mk
 ifeq ($(filter clean help,$(MAKECMDGOALS)),)
   -include $(CASE_MK)
@@ -77,6 +78,8 @@ endif
 $(CASE_MK): $(CASE) | $(METRICS)
 	@mkdir -p $(OUT)
 	$(METRICS) case-info $(CASE) > $@.tmp && mv $@.tmp $@
+
+CASE_INPUTS = $(CASE) $(MESH_FILE)
 
 $(PROGRAMS):
 	@echo "missing $@: build the project first (cmake -S $(ROOT) -B $(BUILD) && cmake --build $(BUILD))" >&2
@@ -128,7 +131,7 @@ help:
 # transfer zone is written too (fem_t1.300.h5 for column-short), so that the transfer
 # time the report recommends can be run with `make mpm TT=1.3`.
 fem: $(FEM_DONE)
-$(FEM_DONE): $(CASE) $(FEM_SOLVE)
+$(FEM_DONE): $(CASE_INPUTS) $(FEM_SOLVE)
 	$(FEM_SOLVE) $(CASE) -o $(OUT)/fem --checkpoint-at-zone-exit $(FEM_FLAGS)
 
 # TT names the folder (tt1.3) and, with three decimals, the FE checkpoint (fem_t1.300.h5).
@@ -152,7 +155,7 @@ $(OUT)/tt%/mpm_final.h5: $(OUT)/tt%/particles.h5 $(MPM_SOLVE)
 	$(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< $(MPM_OPTIONS) $(MPM_FLAGS)
 
 pure-mpm: $(PURE_MPM)
-$(PURE_MPM): $(CASE) $(MPM_SOLVE)
+$(PURE_MPM): $(CASE_INPUTS) $(MPM_SOLVE)
 	$(MPM_SOLVE) $(CASE) -o $(OUT)/pure-mpm $(MPM_OPTIONS) $(MPM_FLAGS)
 
 # Pure FE: the FE model run on to the MPM end time, measured through the same
@@ -160,7 +163,7 @@ $(PURE_MPM): $(CASE) $(MPM_SOLVE)
 # small strain runs on through inversion) as the MPM runs. Nothing to do for a case
 # without a failure stage.
 pure-fem: $(filter $(PURE_FEM),$(PURE_RUNS))
-$(PURE_FEM): $(CASE) $(FEM_SOLVE) $(FEM2MPM)
+$(PURE_FEM): $(CASE_INPUTS) $(FEM_SOLVE) $(FEM2MPM)
 	$(FEM_SOLVE) $(CASE) -o $(OUT)/pure-fem --until $(MPM_END) --no-vtk $(FEM_FLAGS)
 	$(FEM2MPM) $(OUT)/pure-fem/fem_t$(call three_decimals,$(MPM_END)).h5 -o $@ \
 	  --case $(CASE) --stress-interpolation element --allow-inverted --quiet

@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libhdf5-dev libvtk9-dev libcli11-dev libtomlplusplus-dev
   libnanoflann-dev libfmt-dev libgtest-dev libbenchmark-dev
   python3 python3-h5py python3-matplotlib python3-numpy
+  gmsh  # cases/slope-gmsh's mesh: the test gmsh.slope-gmsh remakes it from its .geo
 )
 
 missing=()

@@ -195,6 +195,30 @@ void check_boundary_names(const Mesh& mesh, const BoundaryTable& table, std::str
   }
 }
 
+/// Throws when the MPM grid does not hold the whole mesh: the material points of a
+/// transfer (or of pure MPM) would start outside it. Checked for every mesh source, so
+/// that a Gmsh body too large for the grid is refused before the FE phase runs, not
+/// when mpm-solve starts from its particles (the case reader checks the generated
+/// geometries already, from their outlines).
+void check_body_in_grid(const Mesh& mesh, const MpmSpec& mpm, std::string_view case_source,
+                        std::string_view mesh_source) {
+  if (mesh.node_count() == 0) return;
+  Vec2 lo = mesh.nodes[0];
+  Vec2 hi = lo;
+  for (const Vec2& x : mesh.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const bool inside =
+      (lo.array() >= mpm.domain_min.array()).all() && (hi.array() <= mpm.domain_max.array()).all();
+  if (inside) return;
+  throw Error(
+      "{}: mpm.domain ({}, {})–({}, {}) m does not contain the body of {}, ({}, {})–({}, {}) m: "
+      "its material points would start outside the MPM grid; widen mpm.domain",
+      case_source, mpm.domain_min.x(), mpm.domain_min.y(), mpm.domain_max.x(), mpm.domain_max.y(),
+      mesh_source, lo.x(), lo.y(), hi.x(), hi.y());
+}
+
 /// The blocks of a "blocks" mesh, checked and mapped to their grids of nodes, before
 /// coincident nodes are merged.
 struct MappedBlocks {
@@ -689,6 +713,7 @@ Mesh build_mesh(const Case& c) {
                        from_gmsh);
   check_boundary_names(mesh, c.fem.failure_boundaries, "fem.failure.boundaries", source, from_gmsh);
   validate_mesh(mesh, source, c.materials.size());
+  check_body_in_grid(mesh, c.mpm, case_source, source);
   return mesh;
 }
 

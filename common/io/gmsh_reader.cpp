@@ -773,7 +773,7 @@ class GmshReader {
              "element {} is a triangle, which element type {} cannot use ({} mesh: {} "
              "triangles, {} quadrangles): use mesh.element = \"tri3\" (quadrangles are split "
              "in two), or mesh with quadrangles only (Gmsh: Mesh.RecombineAll = 1; "
-             "Mesh.Algorithm = 8; Mesh.SubdivisionAlgorithm = 1; cases/README.md)",
+             "Mesh.SubdivisionAlgorithm = 1; cases/README.md)",
              first->tag, to_string(type_), quadrangles > 0 ? "a mixed" : "a triangle", triangles,
              quadrangles);
   }

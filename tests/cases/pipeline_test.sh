@@ -6,7 +6,8 @@
 # number, or has no FE checkpoint, is a one-line error; TT=0 and TT=0.0 are one run; a
 # relative OUT is the caller's; a newer MPM program reruns the MPM stages but not the FE
 # phase or the transfer; `make help` and `make -C cases help` list targets and
-# variables; and `make -j2 sweep report` works from an empty folder.
+# variables; a Gmsh case's runs depend on its .msh; and `make -j2 sweep report` works
+# from an empty folder.
 #
 #   pipeline_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 set -euo pipefail
@@ -97,10 +98,18 @@ done
 make -s -C "$source/cases" help > "$work/cases-help.txt" || fail "make -C cases help failed"
 grep -q 'make -C cases validate' "$work/cases-help.txt" || fail "make -C cases help lists no targets"
 
+# A Gmsh case's runs depend on its mesh file: the FE phase and pure MPM list slope.msh
+# (Make's database of slope-gmsh's rules; nothing runs).
+gmsh_db=$(make -C "$source/cases/slope-gmsh" OUT="$work/out-gmsh" BIN="$work/bin" -pq fem 2> /dev/null || true)
+for target in fem/fem_t6.000.h5 pure-mpm/mpm_final.h5; do
+  grep -E "^$work/out-gmsh/$target:" <<< "$gmsh_db" | grep -qF "$source/cases/slope-gmsh/slope.msh" ||
+    fail "slope-gmsh: $target does not depend on slope.msh"
+done
+
 # `make -j2 sweep report` from nothing: the report waits for the sweep's own make.
 make -C "$source/cases/geostatic-4x4" OUT="$work/out-sweep" BIN="$work/bin" -j2 sweep report \
   > "$work/sweep.log" 2>&1 || { cat "$work/sweep.log"; fail "make -j2 sweep report failed"; }
 for f in sweep.csv report/report.md; do
   [[ -s $work/out-sweep/$f ]] || fail "make -j2 sweep report did not write $f"
 done
-echo "pipeline_test: main, up-to-date, newer-output, missing-run, TT, relative-OUT, stale-stage, help and sweep-report checks passed"
+echo "pipeline_test: main, up-to-date, newer-output, missing-run, TT, relative-OUT, stale-stage, help, mesh-file and sweep-report checks passed"
