@@ -383,6 +383,8 @@ Case column_case() {
   c.file = "cases/column-short/case.toml";
   c.materials = one_soil();
   c.mesh = profile_spec({{0, 40}, {50, 40}}, 1.0, ElementType::quad4_1gp);
+  c.mpm.domain_min = Vec2(0.0, 0.0);  // column-short's grid, which build_mesh checks
+  c.mpm.domain_max = Vec2(200.0, 45.0);
   c.fem.geostatic_boundaries = {{"left", BoundaryCondition::roller},
                                 {"right", BoundaryCondition::roller},
                                 {"base", BoundaryCondition::roller}};
