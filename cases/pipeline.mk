@@ -102,6 +102,17 @@ else
 endif
 
 FEM_DONE := $(OUT)/fem/fem_t$(call three_decimals,$(FEM_END)).h5
+# A TT without an FE checkpoint, once the FE phase has run: one line before anything
+# runs, naming the times there are. (Before the FE phase the transfer rule checks it.)
+fem_times = $(shell ls $(OUT)/fem 2> /dev/null | sed -n 's/^fem_t\(.*\)\.h5$$/\1/p' | sort -g | \
+              awk '{ printf "%s%g", (NR > 1 ? " " : ""), $$1 }')
+ifdef TT
+  ifneq ($(wildcard $(FEM_DONE)),)
+    ifeq ($(wildcard $(OUT)/fem/fem_t$(call three_decimals,$(RUN_TT)).h5),)
+      $(error no FE checkpoint at t_T = $(RUN_TT) s ($(OUT)/fem/fem_t$(call three_decimals,$(RUN_TT)).h5); the FE phase wrote t_T = $(fem_times))
+    endif
+  endif
+endif
 PURE_FEM := $(OUT)/pure-fem/particles_final.h5
 PURE_MPM := $(OUT)/pure-mpm/mpm_final.h5
 # The runs every sweep and main job compares against; a case without a failure stage
