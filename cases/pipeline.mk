@@ -134,7 +134,7 @@ MAIN_RUNS := $(call run_file,0) $(call run_file,$(MAIN_TT)) $(PURE_RUNS)
 
 all: main
 
-help:
+help::
 	@sed -n '/^#   make  /,/^# Every run/{/^# Every run/d;s/^# \{0,1\}//;p;}' $(PIPELINE_MK)
 
 # --------------------------------------------------------------------------- stages

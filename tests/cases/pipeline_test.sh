@@ -97,6 +97,7 @@ for word in 'make main' 'make sweep' 'TT=' 'OUT=' 'BIN=' 'THREADS=' 'VTK_EVERY='
   grep -qF -- "$word" "$work/help.txt" || fail "make help does not list $word"
 done
 make -s -C "$source/cases" help > "$work/cases-help.txt" || fail "make -C cases help failed"
+make -s -C "$source/cases/slope-gmsh" help | grep -q 'make mesh' || fail "slope-gmsh's make help does not list make mesh"
 grep -q 'make -C cases validate' "$work/cases-help.txt" || fail "make -C cases help lists no targets"
 
 # A Gmsh case's runs depend on its mesh file: the FE phase and pure MPM list slope.msh
