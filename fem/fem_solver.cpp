@@ -145,11 +145,8 @@ FemRun::FemRun(const Case& c, const FemOptions& options, const Logger& logger)
   run::check_checkpoint_cadence(options_.checkpoint_every, "--checkpoint-every");
   run::check_checkpoint_cadence(case_.fem.checkpoint_every, "fem.checkpoint_every");
   run::check_checkpoint_times(case_.fem.checkpoint_times, "fem", "fem.checkpoint_times", {0.0});
-  if (options_.vtk_every) {
-    run::check_vtk_every(*options_.vtk_every, case_.fem.output_every, "--vtk-every");
-  }
-  vtk_every_ = options_.vtk_every.value_or(case_.fem.vtk_every.value_or(
-      run::automatic_vtk_every(0.0, schedule_.end_time(), case_.fem.output_every)));
+  vtk_every_ = run::choose_vtk_every(options_.vtk_every, case_.fem.vtk_every, 0.0,
+                                     schedule_.end_time(), case_.fem.output_every);
 }
 
 FemRunSummary FemRun::execute() {
@@ -252,8 +249,7 @@ void FemRun::create_outputs(bool resume) {
   history_ = std::make_unique<FemHistory>(options_.output_dir / "fem_history.csv");
   if (options_.write_vtk) {
     vtk_ = std::make_unique<VtkSeries>(options_.output_dir);
-    logger_.info("VTK frames: {}", vtk_every_ > 0.0 ? fmt::format("every {:g} s", vtk_every_)
-                                                    : std::string("at every output step"));
+    logger_.info("VTK frames: {}", run::describe_vtk_every(vtk_every_));
   }
   if (!resume) return;
   history_->resume(state_.time, logger_);

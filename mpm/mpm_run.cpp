@@ -272,15 +272,9 @@ class MpmStage final : public run::Stage {
   double time() const override { return solver_.clock().time; }
   std::int64_t steps() const { return steps_; }
   /// The output of a fresh run's start (a VTK frame whatever the cadence).
-  void write_start_output(bool checkpoint) {
-    start_frame_ = true;
-    write_output(checkpoint);
-  }
+  void write_start_output(bool checkpoint) { write_output_at(checkpoint, true); }
   /// The last output of the run (a VTK frame whatever the cadence).
-  void write_last_output() {
-    last_frame_ = true;
-    write_output(false);
-  }
+  void write_last_output() { write_output_at(false, true); }
   double particle_steps() const { return particle_steps_; }
 
   bool advance_to(double stop) override {
@@ -312,7 +306,12 @@ class MpmStage final : public run::Stage {
     }
   }
 
-  void write_output(bool checkpoint) override {
+  void write_output(bool checkpoint) override { write_output_at(checkpoint, false); }
+
+ private:
+  /// One output: the stability check, the history row, the VTK frame (on the cadence,
+  /// at checkpoints, or `frame_forced`), the checkpoint.
+  void write_output_at(bool checkpoint, bool frame_forced) {
     const double now = solver_.clock().time;
     if (now == last_output_time_ && !checkpoint) return;  // written already
     last_output_time_ = now;
@@ -324,10 +323,9 @@ class MpmStage final : public run::Stage {
           last_checkpoint_.empty() ? "none" : last_checkpoint_.string());
     }
     history_.write(solver_, refs_.pe0);
-    if (vtk_ && run::is_vtk_frame(now, vtk_every_, start_frame_ || last_frame_ || checkpoint)) {
+    if (vtk_ && run::is_vtk_frame(now, vtk_every_, frame_forced || checkpoint)) {
       vtk_->write(solver_);
     }
-    start_frame_ = false;
     if (checkpoint) {
       last_checkpoint_ = options_.output_dir / run::checkpoint_file_name("mpm", now);
       write_mpm_checkpoint(last_checkpoint_, solver_, refs_, case_.name, transfer_);
@@ -335,7 +333,6 @@ class MpmStage final : public run::Stage {
     }
   }
 
- private:
   const Case& case_;
   const RunOptions& options_;
   const run::OutputSchedule& schedule_;
@@ -345,8 +342,6 @@ class MpmStage final : public run::Stage {
   MpmHistory& history_;
   std::optional<VtkWriter>& vtk_;
   double vtk_every_;
-  bool start_frame_ = false;
-  bool last_frame_ = false;
   Progress& progress_;
   ExitLog& exits_;
   fs::path last_checkpoint_;
@@ -490,15 +485,12 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   // The automatic cadence is that of the whole stage, from its start (t_T, or 0 for pure
   // MPM), so that a restart writes the frames the uninterrupted run writes.
   const double stage_start = start.fresh ? solver.clock().time : start.transfer.transfer_time;
-  const double vtk_every = options.vtk_every.value_or(c.mpm.vtk_every.value_or(
-      run::automatic_vtk_every(stage_start, end_time, c.mpm.output_every)));
-  if (options.vtk_every)
-    run::check_vtk_every(*options.vtk_every, c.mpm.output_every, "--vtk-every");
+  const double vtk_every = run::choose_vtk_every(options.vtk_every, c.mpm.vtk_every, stage_start,
+                                                 end_time, c.mpm.output_every);
   if (options.write_vtk) {
     vtk.emplace(options.output_dir,
                 start.fresh ? std::nullopt : std::optional(solver.clock().time));
-    log.info("VTK frames: {}", vtk_every > 0.0 ? fmt::format("every {:g} s", vtk_every)
-                                               : std::string("at every output step"));
+    log.info("VTK frames: {}", run::describe_vtk_every(vtk_every));
   }
   Progress progress(log, "mpm", solver.clock().time, end_time);
   ExitLog exits(log, settings.particle_exit);

@@ -6,7 +6,6 @@
 #pragma once
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <optional>
@@ -19,6 +18,7 @@
 #include <toml++/toml.h>
 
 #include "common/base/error.hpp"
+#include "common/base/numeric.hpp"
 #include "common/input/case_file.hpp"
 
 namespace slide::case_reader {
@@ -363,9 +363,7 @@ void read_schedule_and_step(const Section& s, StageSpec& spec) {
   spec.output_every = s.number("output_every", non_negative("s"), 0.0);
   if (s.has("vtk_every")) {
     const double every = s.number("vtk_every", non_negative("s"));
-    const double multiple = spec.output_every > 0.0 ? every / spec.output_every : 0.0;
-    if (every > 0.0 && spec.output_every > 0.0 &&
-        std::abs(multiple - std::round(multiple)) > 1e-9 * std::max(1.0, multiple)) {
+    if (every > 0.0 && spec.output_every > 0.0 && !is_whole_multiple(every, spec.output_every)) {
       s.fail("vtk_every",
              fmt::format("{} s is not a whole multiple of {}.output_every = {} s (frames are "
                          "written at output steps)",

@@ -1,6 +1,9 @@
 #include "common/run/output_schedule.hpp"
 
+#include <fmt/format.h>
+
 #include "common/base/error.hpp"
+#include "common/base/numeric.hpp"
 
 namespace slide::run {
 
@@ -62,8 +65,7 @@ bool OutputSchedule::is_output(double time) const {
 
 void check_vtk_every(double every, double output_every, std::string_view what) {
   if (!(every > 0.0) || !(output_every > 0.0)) return;
-  const double multiple = every / output_every;
-  if (std::abs(multiple - std::round(multiple)) > 1e-9 * std::max(1.0, multiple)) {
+  if (!is_whole_multiple(every, output_every)) {
     throw Error(
         "{} = {} s is not a whole multiple of the output step {} s (frames are written "
         "at output steps)",
@@ -76,6 +78,19 @@ double automatic_vtk_every(double start, double end, double output_every) {
   const double outputs = std::max(0.0, end - start) / output_every;
   const double stride = std::max(1.0, std::ceil(outputs / automatic_vtk_frames - 1e-9));
   return stride * output_every;
+}
+
+double choose_vtk_every(std::optional<double> option, std::optional<double> case_value,
+                        double start, double end, double output_every) {
+  if (option) {
+    check_vtk_every(*option, output_every, "--vtk-every");
+    return *option;
+  }
+  return case_value.value_or(automatic_vtk_every(start, end, output_every));
+}
+
+std::string describe_vtk_every(double every) {
+  return every > 0.0 ? fmt::format("every {:g} s", every) : std::string("at every output step");
 }
 
 }  // namespace slide::run

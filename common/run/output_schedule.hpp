@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -56,6 +58,15 @@ double automatic_vtk_every(double start, double end, double output_every);
 /// multiple of `output_every` when both are > 0: frames are written at output steps, and
 /// would then land on few of them.
 void check_vtk_every(double every, double output_every, std::string_view what);
+
+/// A stage's VTK cadence, s: --vtk-every (`option`, checked here), else the case file's
+/// vtk_every (checked by the case reader), else automatic_vtk_every from the stage's
+/// `start` to its `end`.
+double choose_vtk_every(std::optional<double> option, std::optional<double> case_value,
+                        double start, double end, double output_every);
+
+/// The cadence for the log: "every 0.2 s", or "at every output step" for 0.
+std::string describe_vtk_every(double every);
 
 /// Whether the output step at `time` writes a VTK frame: always at the stage's start, its
 /// checkpoints and its end, else on the grid k·`vtk_every` (every step for 0).
