@@ -192,9 +192,11 @@ void Mutator::set_boundary_integer(Bytes& data, Random& random) const {
 
 void Mutator::insert_random(Bytes& data, Random& random) const {
   const std::size_t at = random.below(data.size() + 1);
-  Bytes bytes(1 + random.below(16));
-  for (auto& byte : bytes) byte = static_cast<std::uint8_t>(random.next());
-  data.insert(data.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin(), bytes.end());
+  const std::size_t count = 1 + random.below(16);
+  // Made room for, then written in place: GCC 12's vectoriser with AVX-512 (-march=native
+  // on some CPUs) warned of a false overflow when the bytes went through a buffer.
+  data.insert(data.begin() + static_cast<std::ptrdiff_t>(at), count, std::uint8_t{0});
+  for (std::size_t b = 0; b < count; ++b) data[at + b] = static_cast<std::uint8_t>(random.next());
 }
 
 void Mutator::erase_range(Bytes& data, Random& random) const {
