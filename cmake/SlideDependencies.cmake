@@ -5,6 +5,7 @@ find_package(VTK 9 REQUIRED COMPONENTS CommonCore CommonDataModel CommonMisc IOX
 find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(fmt REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)  # OpenSees JSON models in, CB-Geo MPM input out
 find_package(OpenMP REQUIRED COMPONENTS CXX)
 find_path(NANOFLANN_INCLUDE_DIR nanoflann.hpp REQUIRED)
 

@@ -8,6 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git clang-format strace
   libeigen3-dev libhdf5-dev libvtk9-dev libcli11-dev libtomlplusplus-dev
   libnanoflann-dev libfmt-dev libgtest-dev libbenchmark-dev
+  nlohmann-json3-dev  # OpenSees model import (print -JSON) and CB-Geo MPM input export
   python3 python3-h5py python3-matplotlib python3-numpy
   gmsh  # cases/slope-gmsh's mesh: the test gmsh.slope-gmsh remakes it from its .geo
 )

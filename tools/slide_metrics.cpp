@@ -51,8 +51,7 @@ void case_info(const fs::path& case_file) {
   fmt::print("MPM_END={:g}\n", c.mpm.end_time);
   fmt::print("TAU_C={:.6g}\n", critical_time(c));
   // The mesh file the FE phase reads, when the case has one: a prerequisite of its runs.
-  fmt::print("MESH_FILE={}\n",
-             c.mesh.generator == MeshGenerator::gmsh ? c.mesh.gmsh_file.string() : "");
+  fmt::print("MESH_FILE={}\n", c.mesh.file().string());
 }
 
 void transfer_times(const fs::path& case_file, const fs::path& history_file) {

@@ -68,7 +68,7 @@ Case parse_case(std::string_view text, const std::filesystem::path& source_name)
   const NodeReader reader(file);
   const Section root(
       document, "", reader,
-      Section::Keys{"case", "materials", "mesh", "fem", "transfer", "mpm", "metrics"});
+      Section::Keys{"case", "materials", "mesh", "fem", "transfer", "mpm", "metrics", "opensees"});
   Case c;
   c.file = source_name;
   read_case_table(root, source_name, c);
@@ -78,6 +78,7 @@ Case parse_case(std::string_view text, const std::filesystem::path& source_name)
   c.transfer = read_transfer(root, c.fem);
   c.mpm = read_mpm(root, c.materials, c.mesh, c.transfer);
   c.metrics = read_metrics(root);
+  c.opensees = read_opensees_import(root, c.mesh, source_name.parent_path());
   return c;
 }
 

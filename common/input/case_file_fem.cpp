@@ -76,7 +76,7 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
   // (physical lines), checked against the mesh when it is read.
   const std::vector<std::string_view> names = mesh.generator == MeshGenerator::gmsh
                                                   ? std::vector<std::string_view>{}
-                                                  : generated_mesh_boundaries;
+                                                  : generated_mesh_boundaries;  // OpenSees too
   const Section geostatic = s.table("geostatic", Section::Keys{"boundaries"});
   fem.geostatic_boundaries = read_boundaries(
       geostatic, "boundaries", names,

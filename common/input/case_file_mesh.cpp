@@ -3,6 +3,7 @@
 
 #include "common/input/case_file_reader.hpp"
 #include "common/input/mesh_generation.hpp"
+#include "common/io/opensees_reader.hpp"
 
 namespace slide::case_reader {
 
@@ -10,10 +11,11 @@ namespace {
 
 /// The spellings of the mesh generators (those of the solvers' algorithms are in
 /// algorithms.hpp).
-constexpr std::array<Named<MeshGenerator>, 3> generator_names{{
+constexpr std::array<Named<MeshGenerator>, 4> generator_names{{
     {"profile", MeshGenerator::profile},
     {"blocks", MeshGenerator::blocks},
     {"gmsh", MeshGenerator::gmsh},
+    {"opensees", MeshGenerator::opensees},
 }};
 
 void read_profile(const Section& s, const MaterialTable& materials, MeshSpec& mesh) {
@@ -83,24 +85,71 @@ void read_blocks(const Section& s, const MaterialTable& materials, MeshSpec& mes
   }
 }
 
-void read_gmsh_file(const Section& s, const std::filesystem::path& case_folder, MeshSpec& mesh) {
-  const std::string file = s.string("file");
-  if (file.empty()) s.fail("file", "expected the path of a .msh file");
-  // Relative to the case's folder; stored absolute so that it reads from anywhere.
-  mesh.gmsh_file = std::filesystem::absolute(case_folder / file).lexically_normal();
+/// A file named by `key`, relative to the case's folder; returned absolute so that it
+/// reads from anywhere. `what` describes it for an empty value ("a .msh file").
+std::filesystem::path read_file_path(const Section& s, std::string_view key,
+                                     const std::filesystem::path& case_folder,
+                                     std::string_view what) {
+  const std::string file = s.string(key);
+  if (file.empty()) s.fail(key, fmt::format("expected the path of {}", what));
+  std::filesystem::path path = std::filesystem::absolute(case_folder / file).lexically_normal();
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(mesh.gmsh_file, ec)) {
-    s.fail("file",
-           fmt::format("\"{}\" does not exist (looked for {})", file, mesh.gmsh_file.string()));
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    s.fail(key, fmt::format("\"{}\" does not exist (looked for {})", file, path.string()));
   }
+  return path;
+}
+
+void read_gmsh_file(const Section& s, const std::filesystem::path& case_folder, MeshSpec& mesh) {
+  mesh.gmsh_file = read_file_path(s, "file", case_folder, "a .msh file");
+}
+
+/// generator = "opensees": file, materials = { "<tag>" = "<material>" }, ignore_elements.
+void read_opensees_model(const Section& s, const MaterialTable& materials,
+                         const std::filesystem::path& case_folder, MeshSpec& mesh) {
+  const NodeReader& reader = s.reader();
+  mesh.opensees_file = read_file_path(s, "file", case_folder, "a model printed by print -JSON");
+  const auto* table = s.node("materials").as_table();
+  if (table == nullptr) {
+    reader.wrong_type(s.node("materials"), s.dotted("materials"),
+                      "a table of OpenSees material tags, e.g. { \"1\" = \"soil\" }");
+  }
+  for (const auto& [tag, name] : *table) {
+    const std::string item = fmt::format("{}.{}", s.dotted("materials"), tag.str());
+    const std::string material = reader.string(name, item);
+    if (std::none_of(materials.begin(), materials.end(),
+                     [&](const Material& m) { return m.name == material; })) {
+      reader.fail(name, item, fmt::format("'{}' is not a material of the case", material));
+    }
+    mesh.opensees_materials.emplace(std::string(tag.str()), material);
+  }
+  if (mesh.opensees_materials.empty()) {
+    s.fail("materials", "map at least one OpenSees material tag to a material of the case");
+  }
+  if (s.has("ignore_elements")) {
+    const auto& items = reader.array(s.node("ignore_elements"), s.dotted("ignore_elements"));
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      mesh.ignore_elements.push_back(
+          reader.string(items[i], fmt::format("{}[{}]", s.dotted("ignore_elements"), i)));
+    }
+  }
+  // The element type is the model's (opensees_reader.hpp); a case that names one must
+  // name the same.
+  const ElementType type = read_opensees_element_type(mesh.opensees_file, mesh.ignore_elements);
+  if (s.has("element") && mesh.element_type != type) {
+    s.fail("element", fmt::format("\"{}\" differs from the model's elements, which are {}",
+                                  to_string(mesh.element_type), to_string(type)));
+  }
+  mesh.element_type = type;
 }
 
 }  // namespace
 
 MeshSpec read_mesh(const Section& root, const MaterialTable& materials,
                    const std::filesystem::path& case_folder) {
-  const Section s = root.table("mesh", Section::Keys{"generator", "element", "element_size",
-                                                     "surface", "material", "blocks", "file"});
+  const Section s = root.table(
+      "mesh", Section::Keys{"generator", "element", "element_size", "surface", "material", "blocks",
+                            "file", "materials", "ignore_elements"});
   MeshSpec mesh;
   mesh.generator = s.choice("generator", generator_names, std::optional<MeshGenerator>());
   if (s.has("element")) {
@@ -114,16 +163,20 @@ MeshSpec read_mesh(const Section& root, const MaterialTable& materials,
   };
   switch (mesh.generator) {
     case MeshGenerator::profile:
-      reject_all({"blocks", "file"});
+      reject_all({"blocks", "file", "materials", "ignore_elements"});
       read_profile(s, materials, mesh);
       break;
     case MeshGenerator::blocks:
-      reject_all({"element_size", "surface", "material", "file"});
+      reject_all({"element_size", "surface", "material", "file", "materials", "ignore_elements"});
       read_blocks(s, materials, mesh);
       break;
     case MeshGenerator::gmsh:
-      reject_all({"element_size", "surface", "material", "blocks"});
+      reject_all({"element_size", "surface", "material", "blocks", "materials", "ignore_elements"});
       read_gmsh_file(s, case_folder, mesh);
+      break;
+    case MeshGenerator::opensees:
+      reject_all({"element_size", "surface", "material", "blocks"});
+      read_opensees_model(s, materials, case_folder, mesh);
       break;
   }
   return mesh;
@@ -148,9 +201,37 @@ std::optional<std::pair<Vec2, Vec2>> body_box(const MeshSpec& mesh) {
       }
       return std::pair{lo, hi};
     case MeshGenerator::gmsh:
+    case MeshGenerator::opensees:
       return std::nullopt;
   }
   return std::nullopt;
+}
+
+std::optional<OpenSeesImportSpec> read_opensees_import(const Section& root, const MeshSpec& mesh,
+                                                       const std::filesystem::path& case_folder) {
+  const auto s = root.optional_table(
+      "opensees", Section::Keys{"reference_time", "start_time", "displacement", "velocity",
+                                "acceleration", "pore_pressure", "stress", "strain"});
+  if (!s) return std::nullopt;
+  if (mesh.generator != MeshGenerator::opensees) {
+    s->fail("displacement",
+            "[opensees] names the recorders of an OpenSees model: it needs "
+            "mesh.generator = \"opensees\"");
+  }
+  OpenSeesImportSpec spec;
+  if (s->has("reference_time")) spec.reference_time = s->number("reference_time", any_number());
+  spec.start_time = s->number("start_time", any_number(), 0.0);
+  const auto file = [&](std::string_view key, bool required) {
+    if (!required && !s->has(key)) return std::filesystem::path();
+    return read_file_path(*s, key, case_folder, "a recorder file");
+  };
+  spec.displacement = file("displacement", true);
+  spec.velocity = file("velocity", true);
+  spec.acceleration = file("acceleration", false);
+  spec.pore_pressure = file("pore_pressure", false);
+  spec.stress = file("stress", true);
+  spec.strain = file("strain", false);
+  return spec;
 }
 
 }  // namespace slide::case_reader

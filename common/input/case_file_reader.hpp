@@ -393,5 +393,8 @@ MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const Mesh
                  const TransferSpec& transfer);
 /// [metrics] (case_file_metrics.cpp).
 MetricsSpec read_metrics(const Section& root);
+/// [opensees] (case_file_mesh.cpp): only with an OpenSees mesh, whose recorders it names.
+std::optional<OpenSeesImportSpec> read_opensees_import(const Section& root, const MeshSpec& mesh,
+                                                       const std::filesystem::path& case_folder);
 
 }  // namespace slide::case_reader

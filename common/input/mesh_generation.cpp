@@ -28,6 +28,7 @@
 
 #include "common/base/error.hpp"
 #include "common/io/gmsh_reader.hpp"
+#include "common/io/opensees_reader.hpp"
 
 namespace slide {
 namespace {
@@ -705,6 +706,14 @@ Mesh build_mesh(const Case& c) {
       if (path.is_relative()) path = c.file.parent_path() / path;
       source = path.string();
       mesh = read_gmsh(path, spec.element_type, c.materials);
+      break;
+    }
+    case MeshGenerator::opensees: {
+      std::filesystem::path path = spec.opensees_file;
+      if (path.is_relative()) path = c.file.parent_path() / path;
+      source = path.string();
+      mesh =
+          read_opensees_mesh(path, spec.opensees_materials, spec.ignore_elements, c.materials).mesh;
       break;
     }
   }

@@ -1,0 +1,324 @@
+#include "tools/interop/opensees_import.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <unordered_map>
+
+#include "common/base/error.hpp"
+#include "common/base/program.hpp"
+#include "common/input/mesh_generation.hpp"
+#include "common/io/opensees_reader.hpp"
+#include "common/physics/constitutive.hpp"
+#include "fem/fem_model.hpp"
+#include "fem/fem_output.hpp"
+#include "fem/mesh_quality.hpp"
+
+namespace slide::interop {
+namespace {
+
+/// Recorded stress/strain components per Gauss point: [xx, yy, xy].
+constexpr std::size_t components = 3;
+
+/// Gauss points OpenSees records per element of a class: FourNodeQuad's 2×2 rule, one
+/// point for the others.
+std::size_t recorded_points(std::string_view element_class) {
+  return element_class == "FourNodeQuad" ? 4 : 1;
+}
+
+/// For each Gauss point of this project's rule, the index of the OpenSees point at the
+/// same place. FourNodeQuad records its points counter-clockwise, (−,−), (+,−), (+,+),
+/// (−,+), as quad4-2x2 orders them today; matching by place keeps the import right
+/// whatever either order becomes.
+std::vector<std::size_t> point_order(const fem::FemModel& model, std::string_view element_class) {
+  const std::size_t n = recorded_points(element_class);
+  std::vector<std::size_t> order(model.gauss_local.size(), 0);
+  if (n == 1) return order;
+  constexpr std::array<std::array<double, 2>, 4> opensees_signs{
+      {{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}};
+  for (std::size_t p = 0; p < order.size(); ++p) {
+    const Vec2& xi = model.gauss_local[p];
+    for (std::size_t q = 0; q < n; ++q) {
+      if (std::signbit(xi.x()) == (opensees_signs[q][0] < 0.0) &&
+          std::signbit(xi.y()) == (opensees_signs[q][1] < 0.0)) {
+        order[p] = q;
+      }
+    }
+  }
+  return order;
+}
+
+/// Reads rows at `time` and, when given, at the reference time.
+struct Rows {
+  RecorderRow at;
+  std::optional<RecorderRow> reference;
+};
+
+class RecorderSet {
+ public:
+  RecorderSet(double time, std::optional<double> reference_time, const Logger* logger)
+      : time_(time), reference_time_(reference_time), logger_(logger) {}
+
+  Rows read(const std::filesystem::path& file, std::size_t columns, std::string_view layout,
+            bool with_reference) const {
+    Rows rows{read_recorder_row(file, time_, columns, layout), std::nullopt};
+    note(file, rows.at);
+    if (with_reference && reference_time_) {
+      // The reference state comes first: the end of a gravity stage, before a later
+      // step of the same time on the clock that loadConst -time 0.0 reset.
+      rows.reference =
+          read_recorder_row(file, *reference_time_, columns, layout, RepeatedTime::first);
+      note(file, *rows.reference);
+    }
+    return rows;
+  }
+
+ private:
+  void note(const std::filesystem::path& file, const RecorderRow& row) const {
+    if (logger_ != nullptr) {
+      logger_->info("  {}:{}: t = {} s, {} values", file.string(), row.line, row.time,
+                    row.values.size());
+    }
+  }
+  double time_;
+  std::optional<double> reference_time_;
+  const Logger* logger_;
+};
+
+/// Node values: `per_node` columns per recorded node, mapped to the mesh's nodes.
+class NodeColumns {
+ public:
+  explicit NodeColumns(const OpenSeesMesh& model) {
+    std::unordered_map<std::int64_t, std::size_t> position;
+    for (std::size_t j = 0; j < model.all_node_tags.size(); ++j) {
+      position.emplace(model.all_node_tags[j], j);
+    }
+    for (const std::int64_t tag : model.node_tags) column_.push_back(position.at(tag));
+    recorded_ = model.all_node_tags.size();
+  }
+  std::size_t recorded() const { return recorded_; }
+  std::vector<Vec2> vectors(const Rows& rows) const {
+    std::vector<Vec2> v(column_.size(), Vec2::Zero());
+    for (std::size_t n = 0; n < column_.size(); ++n) {
+      const std::size_t j = 2 * column_[n];
+      v[n] = Vec2(rows.at.values[j], rows.at.values[j + 1]);
+      if (rows.reference) v[n] -= Vec2(rows.reference->values[j], rows.reference->values[j + 1]);
+    }
+    return v;
+  }
+
+ private:
+  std::vector<std::size_t> column_;  ///< per mesh node: its position among the recorded nodes
+  std::size_t recorded_ = 0;
+};
+
+std::string node_layout(std::size_t nodes) {
+  return fmt::format(
+      "-dof 1 2: 2 values for each of the model's {} nodes, in increasing tag "
+      "order",
+      nodes);
+}
+
+/// Pore pressures of the u–p nodes (ndf = 3): one column per such node of the model, in
+/// increasing tag order (`-dof 3 vel`).
+std::vector<double> pore_pressures(const OpenSeesMesh& model, const std::filesystem::path& file,
+                                   const RecorderSet& recorders) {
+  std::vector<double> p(model.node_tags.size(), 0.0);
+  if (file.empty()) return p;
+  std::vector<std::int64_t> up_tags;
+  std::unordered_map<std::int64_t, std::size_t> mesh_node;
+  for (std::size_t n = 0; n < model.node_tags.size(); ++n) {
+    mesh_node.emplace(model.node_tags[n], n);
+    if (model.node_dofs[n] == 3) up_tags.push_back(model.node_tags[n]);
+  }
+  if (up_tags.empty()) {
+    throw Error(
+        "{}: a pore-pressure recorder, but no node of the model has 3 degrees of freedom "
+        "(u–p elements such as SSPquadUP)",
+        file.string());
+  }
+  const Rows rows = recorders.read(
+      file, up_tags.size(),
+      fmt::format("-dof 3 vel: one value for each of the {} u–p nodes, in increasing tag order",
+                  up_tags.size()),
+      false);
+  for (std::size_t j = 0; j < up_tags.size(); ++j) p[mesh_node.at(up_tags[j])] = rows.at.values[j];
+  return p;
+}
+
+/// Gauss-point values of an element recorder: [xx, yy, xy] per recorded point, mapped to
+/// the rule's order; the reference row subtracted when there is one.
+std::vector<Vec4> gauss_values(const Rows& rows, const std::vector<std::size_t>& order,
+                               std::size_t recorded, std::size_t elements) {
+  const std::size_t n_gauss = order.size();
+  std::vector<Vec4> values(elements * n_gauss, Vec4::Zero());
+  for (std::size_t e = 0; e < elements; ++e) {
+    for (std::size_t p = 0; p < n_gauss; ++p) {
+      const std::size_t j = (e * recorded + order[p]) * components;
+      const auto& v = rows.at.values;
+      Vec4 value(v[j], v[j + 1], 0.0, v[j + 2]);
+      if (rows.reference) {
+        const auto& r = rows.reference->values;
+        value -= Vec4(r[j], r[j + 1], 0.0, r[j + 2]);
+      }
+      values[e * n_gauss + p] = value;
+    }
+  }
+  return values;
+}
+
+/// Small-strain B·u at every Gauss point, [εxx, εyy, 0, γxy].
+std::vector<Vec4> strains_from_displacement(const fem::FemModel& model,
+                                            const std::vector<Vec2>& u) {
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  std::vector<Vec4> strain(static_cast<std::size_t>(model.gauss_count()), Vec4::Zero());
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const auto nodes = model.mesh.element(e);
+    for (std::size_t p = 0; p < n_gauss; ++p) {
+      const std::size_t gp = static_cast<std::size_t>(e) * n_gauss + p;
+      const ShapeGradients& b = model.reference.gradients[gp];
+      Vec4 eps = Vec4::Zero();
+      for (std::size_t k = 0; k < nodes.size(); ++k) {
+        const Vec2& uk = u[static_cast<std::size_t>(nodes[k])];
+        const auto row = static_cast<Eigen::Index>(k);
+        eps[0] += b(row, 0) * uk.x();
+        eps[1] += b(row, 1) * uk.y();
+        eps[3] += b(row, 1) * uk.x() + b(row, 0) * uk.y();
+      }
+      strain[gp] = eps;
+    }
+  }
+  return strain;
+}
+
+/// Elastic hourglass forces Q = K_q q, q = Σ_k γ_k u_k, of one-point quads.
+std::vector<Vec2> elastic_hourglass_forces(const fem::FemModel& model, const std::vector<Vec2>& u) {
+  if (!model.hourglass) return {};
+  std::vector<Vec2> q_force(static_cast<std::size_t>(model.element_count()), Vec2::Zero());
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const auto nodes = model.mesh.element(e);
+    const Vec4& gamma = model.reference.hourglass_vector[static_cast<std::size_t>(e)];
+    Vec2 q = Vec2::Zero();
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      q += gamma[static_cast<Eigen::Index>(k)] * u[static_cast<std::size_t>(nodes[k])];
+    }
+    q_force[static_cast<std::size_t>(e)] =
+        model.reference.hourglass_stiffness[static_cast<std::size_t>(e)] * q;
+  }
+  return q_force;
+}
+
+const OpenSeesImportSpec& import_spec(const Case& c) {
+  if (c.mesh.generator != MeshGenerator::opensees) {
+    throw Error(
+        "{}: mesh.generator is not \"opensees\": opensees2fem imports an OpenSees model "
+        "(tools/interop/README.md)",
+        c.file.string());
+  }
+  if (!c.opensees) {
+    throw Error(
+        "{}: no [opensees] table: name the recorder files to import (tools/interop/"
+        "README.md)",
+        c.file.string());
+  }
+  return *c.opensees;
+}
+
+}  // namespace
+
+FemCheckpoint import_opensees(const Case& c, double time, const Logger* logger) {
+  const OpenSeesImportSpec& spec = import_spec(c);
+  const double t0 = spec.start_time;
+  if (time < t0) {
+    throw Error("--time {} s is before opensees.start_time = {} s, the start of the failure stage",
+                time, t0);
+  }
+  // The mesh as fem-solve builds it (validated, boundary names and grid checked), and the
+  // tags that map the recorders' columns to it.
+  Mesh mesh = build_mesh(c);
+  const OpenSeesMesh model_tags = read_opensees_mesh(
+      c.mesh.opensees_file, c.mesh.opensees_materials, c.mesh.ignore_elements, c.materials);
+  const fem::FemModel model =
+      fem::make_model(std::move(mesh), c.materials, c.fem.kinematics, c.fem.hourglass_coefficient);
+  if (logger != nullptr) {
+    std::string ignored;
+    for (const auto& [type, count] : model_tags.ignored) {
+      ignored += fmt::format(", {} {} ignored", count, type);
+    }
+    logger->info("{}: {} nodes, {} {} elements → {}{}", c.mesh.opensees_file.string(),
+                 model.node_count(), model.element_count(), model_tags.element_class,
+                 to_string(model.mesh.element_type), ignored);
+    logger->info("reading the recorders at t = {} s{}", time,
+                 spec.reference_time
+                     ? fmt::format(" (reference state at t = {} s)", *spec.reference_time)
+                     : std::string());
+  }
+
+  const RecorderSet recorders(time, spec.reference_time, logger);
+  const NodeColumns nodes(model_tags);
+  const std::string layout = node_layout(nodes.recorded());
+  fem::FemState state = fem::make_rest_state(model);
+  state.time = time - t0;
+  state.step = 0;
+  state.displacement =
+      nodes.vectors(recorders.read(spec.displacement, 2 * nodes.recorded(), layout, true));
+  state.velocity =
+      nodes.vectors(recorders.read(spec.velocity, 2 * nodes.recorded(), layout, false));
+  if (!spec.acceleration.empty()) {
+    state.acceleration =
+        nodes.vectors(recorders.read(spec.acceleration, 2 * nodes.recorded(), layout, false));
+  }
+  const std::vector<double> pore_pressure =
+      pore_pressures(model_tags, spec.pore_pressure, recorders);
+
+  const std::size_t elements = static_cast<std::size_t>(model.element_count());
+  const std::size_t recorded = recorded_points(model_tags.element_class);
+  const std::vector<std::size_t> order = point_order(model, model_tags.element_class);
+  const std::string element_layout = fmt::format(
+      "{} values (xx, yy, xy) at each of the {} point(s) of each of the model's {} {} elements, in "
+      "increasing tag order",
+      components, recorded, elements, model_tags.element_class);
+  const std::size_t element_columns = elements * recorded * components;
+  state.stress = gauss_values(recorders.read(spec.stress, element_columns, element_layout, false),
+                              order, recorded, elements);
+  // σzz of plane strain from the in-plane stresses, with the point's Poisson ratio.
+  const auto n_gauss = order.size();
+  for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
+    const double nu = model.material_of(static_cast<Index>(gp / n_gauss)).poisson_ratio;
+    state.stress[gp][2] = nu * (state.stress[gp][0] + state.stress[gp][1]);
+  }
+  state.strain =
+      spec.strain.empty()
+          ? strains_from_displacement(model, state.displacement)
+          : gauss_values(recorders.read(spec.strain, element_columns, element_layout, true), order,
+                         recorded, elements);
+  state.hourglass_force = elastic_hourglass_forces(model, state.displacement);
+
+  fem::CheckpointContext context;
+  context.case_name = c.name;
+  const std::vector<Vec2> no_velocity(static_cast<std::size_t>(model.node_count()), Vec2::Zero());
+  context.pe0 =
+      fem::compute_energies(model, model.reference, state, no_velocity, model.mesh.nodes).potential;
+  const bool failure = c.fem.failure_stage && state.time > 0.0;
+  context.boundary_conditions = fem::node_set_conditions(
+      model.mesh, failure ? c.fem.failure_boundaries : c.fem.geostatic_boundaries);
+  context.friction_coefficient = c.fem.friction_coefficient;
+  context.solver["stage"] = std::string(failure ? "failure" : "geostatic");
+  context.solver["source"] = std::string("opensees");
+  context.solver["opensees_model"] = c.mesh.opensees_file.string();
+  context.solver["opensees_element_class"] = model_tags.element_class;
+  context.solver["opensees_time"] = time;
+  context.solver["opensees_start_time"] = t0;
+  if (spec.reference_time) context.solver["opensees_reference_time"] = *spec.reference_time;
+  context.solver["kinematics"] = std::string(to_string(model.kinematics));
+  context.solver["element_type"] = std::string(to_string(model.mesh.element_type));
+  context.solver["hourglass_coefficient"] = model.hourglass_coefficient;
+
+  FemCheckpoint checkpoint = fem::make_checkpoint(model, state, context);
+  checkpoint.header.producer = "opensees2fem (" + version_string() + ")";
+  checkpoint.pore_pressure = pore_pressure;
+  return checkpoint;
+}
+
+}  // namespace slide::interop
