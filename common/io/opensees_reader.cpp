@@ -443,7 +443,7 @@ RecorderRow read_recorder_row(const std::filesystem::path& path, double time, st
   RecorderRow row;
   row.time = chosen_time;
   row.line = chosen_line;
-  row.values.reserve(columns);
+  if (columns != any_columns) row.values.reserve(columns);
   std::size_t at = next_token(chosen, 0).second;
   for (;;) {
     const auto [token, end] = next_token(chosen, at);
@@ -460,7 +460,7 @@ RecorderRow read_recorder_row(const std::filesystem::path& path, double time, st
     }
     row.values.push_back(*value);
   }
-  if (row.values.size() != columns) {
+  if (columns != any_columns && row.values.size() != columns) {
     throw Error("{}:{}: the row at t = {} s has {} values after the time, expected {} ({})", file,
                 chosen_line, chosen_time, row.values.size(), columns, layout);
   }

@@ -81,6 +81,9 @@ inline constexpr double recorder_time_tolerance = 5e-6;
 /// the same time.
 enum class RepeatedTime { first, last };
 
+/// `columns` value that accepts any number of values (the caller checks them).
+inline constexpr std::size_t any_columns = static_cast<std::size_t>(-1);
+
 /// The row of `path` at `time` (within the tolerance; the first or the last such row when
 /// the time repeats). Error, naming the file and line,
 /// when no row is at that time (with the first and last times there are), when a row has

@@ -311,6 +311,23 @@ stress = "stress.out"
   EXPECT_EQ(f.hourglass_force.size(), 2U);
 }
 
+TEST(OpenSeesImport, TakesSigmaZzFromAMultiYieldMaterialsStress) {
+  // SSPquad hands "stress" to its material; PressureIndependMultiYield answers with
+  // σxx σyy σzz σxy and its stress ratio.
+  write("disp.out", nodes_row(0, 0, 0));
+  write("vel.out", nodes_row(0, 0, 0));
+  write("stress.out", "0 -1 -2 -7 -3 0.5 -4 -5 -8 -6 0.9\n");
+  const Case c = import_case(two_quads("SSPquad"), R"(
+displacement = "disp.out"
+velocity = "vel.out"
+stress = "stress.out"
+)");
+  const FemCheckpoint f = interop::import_opensees(c, 0.0, nullptr);
+  ASSERT_EQ(f.stress.size(), 2U);
+  EXPECT_EQ(f.stress[0], Vec4(-1, -2, -7, -3));
+  EXPECT_EQ(f.stress[1], Vec4(-4, -5, -8, -6));
+}
+
 TEST(OpenSeesImport, RefusesRecordersThatDoNotFitTheModel) {
   write("disp.out", "0 1 2 3 4 5 6 7 8 9 10\n");  // 5 nodes, the model has 6
   write("vel.out", nodes_row(0, 0, 0));
@@ -328,7 +345,8 @@ stress = "stress.out"
   EXPECT_THAT(error_of([&] { interop::import_opensees(c, 0.0, nullptr); }),
               HasSubstr("stress.out:1: the row at t = 0 s has 3 values after the time, expected "
                         "24 (3 values (xx, yy, xy) at each of the 4 point(s) of each of the "
-                        "model's 2 FourNodeQuad elements, in increasing tag order)"));
+                        "model's 2 FourNodeQuad elements, in increasing tag order) or 40 (5 per "
+                        "point: a multi-yield material's σxx σyy σzz σxy and stress ratio)"));
   EXPECT_THAT(error_of([&] { interop::import_opensees(c, 0.5, nullptr); }),
               HasSubstr("disp.out: no row at t = 0.5 s (the rows run from t = 0 to 0 s, 1 rows)"));
 }

@@ -18,8 +18,11 @@
 namespace slide::interop {
 namespace {
 
-/// Recorded stress/strain components per Gauss point: [xx, yy, xy].
+/// Recorded stress/strain components per Gauss point: [xx, yy, xy] of a plane-strain
+/// element or material; a multi-yield material's own "stress" (SSPquad passes the
+/// request on to it) gives [xx, yy, zz, xy, stress ratio].
 constexpr std::size_t components = 3;
+constexpr std::size_t multi_yield_components = 5;
 
 /// Gauss points OpenSees records per element of a class: FourNodeQuad's 2×2 rule, one
 /// point for the others.
@@ -147,25 +150,39 @@ std::vector<double> pore_pressures(const OpenSeesMesh& model, const std::filesys
   return p;
 }
 
-/// Gauss-point values of an element recorder: [xx, yy, xy] per recorded point, mapped to
-/// the rule's order; the reference row subtracted when there is one.
+/// Gauss-point values of an element recorder, mapped to the rule's order: [xx, yy, 0, xy]
+/// from `width` = 3 values per point, [xx, yy, zz, xy] from 5 (the fifth, the stress
+/// ratio, is not kept); the reference row subtracted when there is one.
 std::vector<Vec4> gauss_values(const Rows& rows, const std::vector<std::size_t>& order,
-                               std::size_t recorded, std::size_t elements) {
+                               std::size_t recorded, std::size_t elements, std::size_t width) {
   const std::size_t n_gauss = order.size();
+  const auto pick = [&](const std::vector<double>& v, std::size_t j) {
+    return width == multi_yield_components ? Vec4(v[j], v[j + 1], v[j + 2], v[j + 3])
+                                           : Vec4(v[j], v[j + 1], 0.0, v[j + 2]);
+  };
   std::vector<Vec4> values(elements * n_gauss, Vec4::Zero());
   for (std::size_t e = 0; e < elements; ++e) {
     for (std::size_t p = 0; p < n_gauss; ++p) {
-      const std::size_t j = (e * recorded + order[p]) * components;
-      const auto& v = rows.at.values;
-      Vec4 value(v[j], v[j + 1], 0.0, v[j + 2]);
-      if (rows.reference) {
-        const auto& r = rows.reference->values;
-        value -= Vec4(r[j], r[j + 1], 0.0, r[j + 2]);
-      }
+      const std::size_t j = (e * recorded + order[p]) * width;
+      Vec4 value = pick(rows.at.values, j);
+      if (rows.reference) value -= pick(rows.reference->values, j);
       values[e * n_gauss + p] = value;
     }
   }
   return values;
+}
+
+/// The values per point of a stress row: 3, or 5 for a multi-yield material's own stress.
+std::size_t stress_width(const Rows& rows, const std::filesystem::path& file, std::size_t points,
+                         std::string_view layout) {
+  const std::size_t n = rows.at.values.size();
+  if (n == points * components) return components;
+  if (n == points * multi_yield_components) return multi_yield_components;
+  throw Error(
+      "{}:{}: the row at t = {} s has {} values after the time, expected {} ({}) or {} (5 "
+      "per point: a multi-yield material's σxx σyy σzz σxy and stress ratio)",
+      file.string(), rows.at.line, rows.at.time, n, points * components, layout,
+      points * multi_yield_components);
 }
 
 /// Small-strain B·u at every Gauss point, [εxx, εyy, 0, γxy].
@@ -280,19 +297,23 @@ FemCheckpoint import_opensees(const Case& c, double time, const Logger* logger) 
       "increasing tag order",
       components, recorded, elements, model_tags.element_class);
   const std::size_t element_columns = elements * recorded * components;
-  state.stress = gauss_values(recorders.read(spec.stress, element_columns, element_layout, false),
-                              order, recorded, elements);
-  // σzz of plane strain from the in-plane stresses, with the point's Poisson ratio.
-  const auto n_gauss = order.size();
-  for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
-    const double nu = model.material_of(static_cast<Index>(gp / n_gauss)).poisson_ratio;
-    state.stress[gp][2] = nu * (state.stress[gp][0] + state.stress[gp][1]);
+  const Rows stress_rows = recorders.read(spec.stress, any_columns, element_layout, false);
+  const std::size_t width =
+      stress_width(stress_rows, spec.stress, elements * recorded, element_layout);
+  state.stress = gauss_values(stress_rows, order, recorded, elements, width);
+  if (width == components) {
+    // σzz of plane strain from the in-plane stresses, with the point's Poisson ratio.
+    const auto n_gauss = order.size();
+    for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
+      const double nu = model.material_of(static_cast<Index>(gp / n_gauss)).poisson_ratio;
+      state.stress[gp][2] = nu * (state.stress[gp][0] + state.stress[gp][1]);
+    }
   }
   state.strain =
       spec.strain.empty()
           ? strains_from_displacement(model, state.displacement)
           : gauss_values(recorders.read(spec.strain, element_columns, element_layout, true), order,
-                         recorded, elements);
+                         recorded, elements, components);
   state.hourglass_force = elastic_hourglass_forces(model, state.displacement);
 
   fem::CheckpointContext context;

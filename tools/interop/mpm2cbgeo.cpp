@@ -1,0 +1,80 @@
+// mpm2cbgeo: particles (a fem2mpm particle file or an mpm-solve checkpoint) → the input
+// of a CB-Geo MPM run from the same state on the same grid (tools/interop/README.md).
+//
+//   mpm2cbgeo case.toml out/tt0/particles.h5 -o out/cbgeo-tt0
+//   mpm -f out/cbgeo-tt0/ -i mpm.json        # CB-Geo MPM
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+
+#include "common/base/error.hpp"
+#include "common/base/log.hpp"
+#include "common/base/program.hpp"
+#include "common/input/case_file.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/checkpoint.hpp"
+#include "tools/interop/cbgeo_export.hpp"
+
+namespace {
+
+using namespace slide;
+
+struct CommandLine {
+  std::string case_file;
+  std::string particles;
+  std::string output;
+  interop::CbGeoExportOptions options;
+  bool quiet = false;
+};
+
+void export_particles(const CommandLine& line) {
+  const Logger logger("mpm2cbgeo", line.quiet);
+  const Case c = load_case(line.case_file);
+  const ParticleCheckpoint checkpoint = read_particle_checkpoint(line.particles);
+  logger.info("read {}: {} particles at t = {} s ({})", line.particles,
+              checkpoint.particles.count(), checkpoint.header.time, checkpoint.header.producer);
+  const interop::CbGeoInput input = interop::export_cbgeo(c, checkpoint, line.options);
+  const std::filesystem::path folder = line.output;
+  std::error_code ec;
+  if (std::filesystem::exists(folder, ec) && !std::filesystem::is_directory(folder, ec)) {
+    throw Error("-o {}: is a file; expected the folder of the CB-Geo input", line.output);
+  }
+  std::filesystem::create_directories(folder);
+  remove_stale_temporaries(folder);
+  for (const auto& [name, text] : input.files) write_text_atomically(folder / name, text);
+  interop::write_cbgeo_particles(folder / input.resume_file, input.resume_particles);
+  for (const auto& note : input.notes) logger.info("not carried over: {}", note);
+  logger.info("wrote {} files to {}: dt = {:.6g} s, {} steps", input.files.size(), folder.string(),
+              input.time_step, input.steps);
+  logger.info("run it with CB-Geo MPM: mpm -f {}/ -i mpm.json", folder.string());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app(
+      "mpm2cbgeo: writes the input of a CB-Geo MPM run (mesh, particles, stresses, volumes, "
+      "entity sets, mpm.json) from a particle file or an mpm checkpoint (tools/interop/README.md)",
+      "mpm2cbgeo");
+  CommandLine line;
+  app.add_option("case", line.case_file, "the case file (grid, boundaries, MPM settings)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("particles", line.particles, "particle file (fem2mpm) or mpm checkpoint")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("-o,--output", line.output, "folder to write the CB-Geo input into")->required();
+  app.add_option("--end-time", line.options.end_time,
+                 "end time in s on the project's clock (default: the case's mpm.end_time)")
+      ->check(positive_number());
+  app.add_option("--output-every", line.options.output_every,
+                 "s between CB-Geo's HDF5 outputs (default: the case's mpm.checkpoint_every)")
+      ->check(positive_number());
+  app.add_option("--courant", line.options.courant,
+                 "Courant number of CB-Geo's fixed step (default 0.25: CB-Geo's USL on linear "
+                 "cells blew up at the project's 0.5)")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");
+  if (const auto status = parse_command_line(app, argc, argv)) return *status;
+  return run_main("mpm2cbgeo", [&] { export_particles(line); });
+}
