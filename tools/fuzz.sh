@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the five input readers with libFuzzer (tests/fuzz/README.md): installs what is
+# Fuzzes the seven input readers with libFuzzer (tests/fuzz/README.md): installs what is
 # missing (the project's Debian packages, clang 16, the fuzzer runtime, llvm-symbolizer),
 # configures build-fuzz/ with clang and -DSLIDE_FUZZ=ON (ASan, UBSan), builds the drivers
 # and the three programs (they write the checkpoint seeds), and runs each reader for

@@ -75,6 +75,17 @@ std::size_t object_end(std::string_view text, std::size_t open) {
   return std::string_view::npos;
 }
 
+/// nlohmann's message without its "[json.exception.…] " prefix and parse position.
+std::string reason(const Json::exception& error) {
+  std::string what = error.what();
+  if (const std::size_t colon_at = what.rfind(": "); colon_at != std::string::npos) {
+    what = what.substr(colon_at + 2);
+  } else if (const std::size_t bracket = what.find("] "); bracket != std::string::npos) {
+    what = what.substr(bracket + 2);
+  }
+  return what;
+}
+
 /// The "geometry" object of an OpenSees JSON print, parsed on its own (the rest of the
 /// document may be invalid JSON, see the header).
 Json parse_geometry(const std::filesystem::path& path) {
@@ -101,11 +112,10 @@ Json parse_geometry(const std::filesystem::path& path) {
   } catch (const Json::parse_error& error) {
     // error.byte counts from the start of the parsed range, 1-based.
     const std::size_t at = open + (error.byte > 0 ? error.byte - 1 : 0);
-    std::string what = error.what();
-    if (const std::size_t colon_at = what.rfind(": "); colon_at != std::string::npos) {
-      what = what.substr(colon_at + 2);
-    }
-    throw Error("{}:{}: invalid JSON in \"geometry\" ({})", where, line_of(text, at), what);
+    throw Error("{}:{}: invalid JSON in \"geometry\" ({})", where, line_of(text, at),
+                reason(error));
+  } catch (const Json::exception& error) {  // e.g. a number beyond the range of a double
+    throw Error("{}: invalid JSON in \"geometry\" ({})", where, reason(error));
   }
 }
 
@@ -181,7 +191,8 @@ JsonModel read_json_model(const std::filesystem::path& path) {
     JsonNode node;
     node.tag = item.integer("name");
     const Item tagged(nodes[i], fmt::format("{}: node {}", file, node.tag));
-    node.ndf = tagged.has("ndf") ? static_cast<int>(tagged.integer("ndf")) : 2;
+    const std::int64_t ndf = tagged.has("ndf") ? tagged.integer("ndf") : 2;
+    node.ndf = ndf >= 2 && ndf <= 3 ? static_cast<int>(ndf) : 0;
     const Json& crd = tagged.array("crd");
     if (crd.size() != 2) {
       throw Error("{} has {} coordinates, expected 2 (a 2D model: model BasicBuilder -ndm 2)",
@@ -195,11 +206,11 @@ JsonModel read_json_model(const std::filesystem::path& path) {
       }
       node.x[k] = c.get<double>();
     }
-    if (node.ndf < 2 || node.ndf > 3) {
+    if (node.ndf == 0) {
       throw Error(
           "{}: ndf = {}, expected 2 (displacements) or 3 (u–p: displacements and pore "
           "pressure)",
-          tagged.where(), node.ndf);
+          tagged.where(), ndf);
     }
     model.nodes.push_back(node);
   }

@@ -25,7 +25,8 @@ work="$out/work"
 export OMP_NUM_THREADS=1
 
 rm -rf "$out"
-for reader in case_file gmsh fem_checkpoint particle_file mpm_checkpoint; do
+readers=(case_file gmsh fem_checkpoint particle_file mpm_checkpoint opensees_model opensees_recorder)
+for reader in "${readers[@]}"; do
   mkdir -p "$out/$reader/valid" "$out/$reader/more"
 done
 mkdir -p "$work"
@@ -49,6 +50,13 @@ for file in "$root"/tests/common/data/*.msh; do
   esac
 done
 cp "$here"/corpus/gmsh/*.msh "$out/gmsh/valid/"
+# OpenSees: the elastic column's model and recorders (tests/tools/interop/data/column).
+column="$root/tests/tools/interop/data/column"
+cp "$column/model.json" "$out/opensees_model/valid/"
+cp "$column/disp.out" "$column/stress.out" "$out/opensees_recorder/valid/"
+cp "$column/vel.out" "$column/strain.out" "$out/opensees_recorder/more/"
+cp "$column/disp.out" "$out/opensees_model/more/"
+cp "$column/model.json" "$out/opensees_recorder/more/"
 
 # ---- checkpoint readers: files the programs write
 run() { "$@" --quiet > "$work/last.log" 2>&1 || { echo "make_seeds: failed: $*" >&2; cat "$work/last.log" >&2; exit 1; }; }
@@ -75,6 +83,6 @@ cp "$work/fem/fem_t0.020.h5" "$work/mpm/mpm_t0.030.h5" "$out/particle_file/more/
 cp "$work/fem/fem_t0.020.h5" "$work/particles.h5" "$out/mpm_checkpoint/more/"
 rm -rf "$work"
 
-for reader in case_file gmsh fem_checkpoint particle_file mpm_checkpoint; do
+for reader in "${readers[@]}"; do
   echo "make_seeds: $reader: $(ls "$out/$reader/valid" | wc -l) valid + $(ls "$out/$reader/more" | wc -l) more files, $(du -sk "$out/$reader" | cut -f1) kB"
 done

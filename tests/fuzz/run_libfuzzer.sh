@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the five libFuzzer drivers of a SLIDE_FUZZ=ON build (the target `fuzz`; tools/fuzz.sh
+# Runs the seven libFuzzer drivers of a SLIDE_FUZZ=ON build (the target `fuzz`; tools/fuzz.sh
 # sets it all up), each for SECONDS with its seeds and dictionary, in libFuzzer's fork
 # mode so that a crash, a leak, an out-of-memory or a hang is saved and counted and the
 # run goes on. Per reader in FUZZ_DIR:
@@ -14,14 +14,14 @@
 #
 #   tests/fuzz/run_libfuzzer.sh BIN_DIR FUZZ_DIR SECONDS
 #
-# SLIDE_FUZZ_READERS (space-separated, default all five) runs only those readers; the
+# SLIDE_FUZZ_READERS (space-separated, default all seven) runs only those readers; the
 # folders of the others are left as they are, and the summary covers the readers run.
 set -euo pipefail
 bin=$1
 fuzz_dir=$2
 seconds=$3
 here="$(cd "$(dirname "$0")" && pwd)"
-all_readers=(case_file gmsh fem_checkpoint particle_file mpm_checkpoint)
+all_readers=(case_file gmsh fem_checkpoint particle_file mpm_checkpoint opensees_model opensees_recorder)
 read -r -a readers <<< "${SLIDE_FUZZ_READERS:-${all_readers[*]}}"
 for reader in "${readers[@]}"; do
   [[ " ${all_readers[*]} " == *" $reader "* ]] ||

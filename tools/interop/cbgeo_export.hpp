@@ -37,10 +37,12 @@ namespace slide::interop {
 struct CbGeoExportOptions {
   double end_time = 0.0;      ///< s on the project's clock; 0: the case's mpm.end_time
   double output_every = 0.0;  ///< s between CB-Geo's HDF5 outputs; 0: mpm.checkpoint_every
-  /// Courant number of CB-Geo's fixed step C h / max c_p (a case's mpm.time_step wins).
-  /// Not the case's: CB-Geo's USL on linear cells blew up within 30 steps at C = 0.5 on
-  /// column-short's particles and ran its 20 s at 0.25 (tools/interop/README.md).
-  double courant = 0.25;
+  /// Courant number of CB-Geo's fixed step C h / max c_p at the particles' present
+  /// density (a case's mpm.time_step wins). Not the case's 0.5: CB-Geo keeps its step for
+  /// the whole run while the runout front spreads, and on column-short its front particles
+  /// grew to 24 times their volume by t = 2.8 s, which multiplies c_p by 4.9; at C = 0.5
+  /// the run blew up within 30 steps, at 0.25 between 2 and 4 s (tools/interop/README.md).
+  double courant = 0.05;
 };
 
 /// One particle as CB-Geo's HDF5 particle table holds it (the fields it reads back on a

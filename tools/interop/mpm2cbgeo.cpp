@@ -71,8 +71,8 @@ int main(int argc, char** argv) {
                  "s between CB-Geo's HDF5 outputs (default: the case's mpm.checkpoint_every)")
       ->check(positive_number());
   app.add_option("--courant", line.options.courant,
-                 "Courant number of CB-Geo's fixed step (default 0.25: CB-Geo's USL on linear "
-                 "cells blew up at the project's 0.5)")
+                 "Courant number of CB-Geo's fixed step, at the particles' present density "
+                 "(default 0.05: the step must hold while the front's particles expand)")
       ->check(CLI::Range(0.0, 1.0));
   app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
