@@ -22,10 +22,15 @@ namespace {
 using testing::error_of;
 using ::testing::HasSubstr;
 
-const std::filesystem::path scratch =
-    std::filesystem::temp_directory_path() / "slide_tests_opensees_import";
+/// The running test's own folder: ctest runs the tests of this file in parallel.
+std::filesystem::path scratch_folder() {
+  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  return std::filesystem::temp_directory_path() / "slide_tests_opensees_import" /
+         (std::string(test->test_suite_name()) + "." + test->name());
+}
 
 std::filesystem::path write(const std::string& name, const std::string& text) {
+  const std::filesystem::path scratch = scratch_folder();
   std::filesystem::create_directories(scratch);
   const auto path = scratch / name;
   std::ofstream(path) << text;
@@ -80,7 +85,7 @@ const std::map<std::string, std::string> tag_3_is_soil{{"3", "soil"}};
 std::string read_error(const std::string& json, std::vector<std::string> ignore = {}) {
   const auto path = write("model.json", json);
   std::string message = error_of([&] { read_opensees_mesh(path, tag_3_is_soil, ignore, soil()); });
-  const std::string prefix = scratch.string() + "/";
+  const std::string prefix = scratch_folder().string() + "/";
   if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
   return message;
 }
@@ -165,7 +170,7 @@ TEST(OpenSeesReader, RefusesBadModelsInOneLine) {
 std::string recorder_error(const std::string& text, double time, std::size_t columns) {
   const auto path = write("disp.out", text);
   std::string message = error_of([&] { read_recorder_row(path, time, columns, "2 per node"); });
-  const std::string prefix = scratch.string() + "/";
+  const std::string prefix = scratch_folder().string() + "/";
   if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
   return message;
 }

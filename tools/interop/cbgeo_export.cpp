@@ -318,13 +318,15 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
     throw Error("mpm2cbgeo: end time {} s is not after the particles' time {} s (give --end-time)",
                 end, start);
   }
-  // CB-Geo writes its state at the steps that are multiples of output_steps and runs
-  // steps 0 … nsteps − 1: the step is the Courant step shortened to divide the output
-  // interval, and one step more than the duration makes the last output the end time.
+  // CB-Geo writes its state at the steps that are multiples of output_steps and, resumed
+  // from step 0, runs steps 1 … nsteps − 1: the output interval is shortened to divide
+  // the duration, the step is the Courant step shortened to divide the interval, and
+  // nsteps − 1 steps make the duration, so that the last output is the end time.
   const double duration = end - start;
-  const double every = std::min(duration, options.output_every > 0.0     ? options.output_every
+  const double asked = std::min(duration, options.output_every > 0.0     ? options.output_every
                                           : c.mpm.checkpoint_every > 0.0 ? c.mpm.checkpoint_every
                                                                          : duration);
+  const double every = duration / std::ceil(duration / asked - 1e-9);
   const double courant = courant_step(c.mpm, options.courant, p, materials);
   const double per_output = std::ceil(every / courant - 1e-9);
   if (!(per_output * std::ceil(duration / every) < 1e9)) {

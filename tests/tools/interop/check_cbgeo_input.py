@@ -161,8 +161,12 @@ def main():
         check((entry["friction"], entry["cohesion"]) == angles[mid], f"material {mid} φ, c (degrees, Pa)")
     a = config["analysis"]
     check(a["type"] == "MPMExplicit2D" and a["mpm_scheme"] in ("usf", "usl"), f"analysis {a}")
-    check(a["dt"] > 0 and abs(a["nsteps"] * a["dt"] - (args.end_time - time)) <= a["dt"],
-          f"dt {a['dt']} × nsteps {a['nsteps']} is not the {args.end_time - time} s to the end")
+    # Resumed from step 0, CB-Geo runs steps 1 … nsteps − 1: (nsteps − 1) dt to the end.
+    duration = args.end_time - time
+    check(a["dt"] > 0 and abs((a["nsteps"] - 1) * a["dt"] - duration) <= 1e-9 * duration,
+          f"dt {a['dt']} × (nsteps {a['nsteps']} − 1) is not the {duration} s to the end")
+    check((a["nsteps"] - 1) % config["post_processing"]["output_steps"] == 0,
+          "the last step is not an output step: CB-Geo would not write the end state")
     check(config["external_loading_conditions"]["gravity"] == [0.0, -9.81], "gravity")
     check(config["post_processing"]["output_steps"] >= 1, "output_steps")
     # The resume table: CB-Geo's own particle output at step 0, which carries velocities
