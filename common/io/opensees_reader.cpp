@@ -180,55 +180,61 @@ struct JsonModel {
   std::vector<JsonElement> elements;  ///< increasing tag, every class
 };
 
+JsonNode read_node(const Json& json, std::size_t position, const std::string& file) {
+  const Item item(json, fmt::format("{}: geometry.nodes[{}]", file, position));
+  JsonNode node;
+  node.tag = item.integer("name");
+  const Item tagged(json, fmt::format("{}: node {}", file, node.tag));
+  const std::int64_t ndf = tagged.has("ndf") ? tagged.integer("ndf") : 2;
+  if (ndf < 2 || ndf > 3) {
+    throw Error(
+        "{}: ndf = {}, expected 2 (displacements) or 3 (u–p: displacements and pore "
+        "pressure)",
+        tagged.where(), ndf);
+  }
+  node.ndf = static_cast<int>(ndf);
+  const Json& crd = tagged.array("crd");
+  if (crd.size() != 2) {
+    throw Error("{} has {} coordinates, expected 2 (a 2D model: model BasicBuilder -ndm 2)",
+                tagged.where(), crd.size());
+  }
+  for (int k = 0; k < 2; ++k) {
+    const Json& c = crd[static_cast<std::size_t>(k)];
+    if (!c.is_number() || !std::isfinite(c.get<double>())) {
+      throw Error("{}: coordinate {} is {}, expected a finite number", tagged.where(), k + 1,
+                  c.dump());
+    }
+    node.x[k] = c.get<double>();
+  }
+  return node;
+}
+
+/// An element; the nodes and material only of the classes the import reads (the others
+/// are judged against mesh.ignore_elements later).
+JsonElement read_element(const Json& json, std::size_t position, const std::string& file) {
+  const Item item(json, fmt::format("{}: geometry.elements[{}]", file, position));
+  JsonElement element;
+  element.tag = item.integer("name");
+  const Item tagged(json, fmt::format("{}: element {}", file, element.tag));
+  element.type = tagged.string("type");
+  if (!opensees_element_type(element.type)) return element;
+  for (const Json& n : tagged.array("nodes"))
+    element.nodes.push_back(tagged.as_integer(n, "nodes"));
+  element.material = std::to_string(tagged.integer("material"));
+  return element;
+}
+
 JsonModel read_json_model(const std::filesystem::path& path) {
   const Json geometry = parse_geometry(path);
   const std::string file = path.string();
   const Item root(geometry, file + ": geometry");
   JsonModel model;
   const Json& nodes = root.array("nodes");
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    const Item item(nodes[i], fmt::format("{}: geometry.nodes[{}]", file, i));
-    JsonNode node;
-    node.tag = item.integer("name");
-    const Item tagged(nodes[i], fmt::format("{}: node {}", file, node.tag));
-    const std::int64_t ndf = tagged.has("ndf") ? tagged.integer("ndf") : 2;
-    node.ndf = ndf >= 2 && ndf <= 3 ? static_cast<int>(ndf) : 0;
-    const Json& crd = tagged.array("crd");
-    if (crd.size() != 2) {
-      throw Error("{} has {} coordinates, expected 2 (a 2D model: model BasicBuilder -ndm 2)",
-                  tagged.where(), crd.size());
-    }
-    for (int k = 0; k < 2; ++k) {
-      const Json& c = crd[static_cast<std::size_t>(k)];
-      if (!c.is_number() || !std::isfinite(c.get<double>())) {
-        throw Error("{}: coordinate {} is {}, expected a finite number", tagged.where(), k + 1,
-                    c.dump());
-      }
-      node.x[k] = c.get<double>();
-    }
-    if (node.ndf == 0) {
-      throw Error(
-          "{}: ndf = {}, expected 2 (displacements) or 3 (u–p: displacements and pore "
-          "pressure)",
-          tagged.where(), ndf);
-    }
-    model.nodes.push_back(node);
-  }
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    model.nodes.push_back(read_node(nodes[i], i, file));
   const Json& elements = root.array("elements");
   for (std::size_t i = 0; i < elements.size(); ++i) {
-    const Item item(elements[i], fmt::format("{}: geometry.elements[{}]", file, i));
-    JsonElement element;
-    element.tag = item.integer("name");
-    const Item tagged(elements[i], fmt::format("{}: element {}", file, element.tag));
-    element.type = tagged.string("type");
-    if (!opensees_element_type(element.type)) {
-      model.elements.push_back(std::move(element));  // judged against ignore_elements later
-      continue;
-    }
-    for (const Json& n : tagged.array("nodes"))
-      element.nodes.push_back(tagged.as_integer(n, "nodes"));
-    element.material = std::to_string(tagged.integer("material"));
-    model.elements.push_back(std::move(element));
+    model.elements.push_back(read_element(elements[i], i, file));
   }
   const auto by_tag = [](const auto& a, const auto& b) { return a.tag < b.tag; };
   std::sort(model.nodes.begin(), model.nodes.end(), by_tag);

@@ -14,6 +14,7 @@
 #include "common/input/case_file.hpp"
 #include "common/io/opensees_reader.hpp"
 #include "tests/support/errors.hpp"
+#include "tests/support/soil.hpp"
 #include "tools/interop/opensees_import.hpp"
 
 namespace slide {
@@ -70,14 +71,9 @@ std::string two_quads(const std::string& type = "FourNodeQuad", int ndf = 2) {
                        {element(2, "20, 30, 60, 50"), element(1, "10, 20, 50, 40")});
 }
 
+/// The reader needs the materials' names only.
 MaterialTable soil() {
-  Material m;
-  m.name = "soil";
-  m.model = MaterialModel::linear_elastic;
-  m.density = 2000.0;
-  m.youngs_modulus = 20e6;
-  m.poisson_ratio = 0.25;
-  return {m};
+  return {slide::testing::soil()};
 }
 
 const std::map<std::string, std::string> tag_3_is_soil{{"3", "soil"}};
