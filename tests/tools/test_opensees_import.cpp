@@ -293,6 +293,45 @@ stress = "stress.out"
   }
 }
 
+/// Displacement rows of the six nodes (tags 10 … 60 at (0,0), (1,0), (2,0), (0,1), (1,1),
+/// (2,1)) in the linear field u = (a x, b y + g x).
+std::string linear_field_row(double a, double b, double g) {
+  const double xy[6][2] = {{0, 0}, {1, 0}, {2, 0}, {0, 1}, {1, 1}, {2, 1}};
+  std::string row = "0";
+  for (const auto& p : xy) row += fmt::format(" {} {}", a * p[0], b * p[1] + g * p[0]);
+  return row + "\n";
+}
+
+TEST(OpenSeesImport, StrainsWithoutARecorderAreBTimesU) {
+  // A linear displacement field strains every point alike: εxx = a, εyy = b, γxy = g.
+  write("disp.out", linear_field_row(1e-3, -2e-3, 5e-4));
+  write("vel.out", nodes_row(0, 0, 0));
+  const std::string tri =
+      opensees_json({R"({"name": 10, "crd": [0, 0]})", R"({"name": 20, "crd": [1, 0]})",
+                     R"({"name": 30, "crd": [2, 0]})", R"({"name": 40, "crd": [0, 1]})",
+                     R"({"name": 50, "crd": [1, 1]})", R"({"name": 60, "crd": [2, 1]})"},
+                    {R"({"name": 1, "type": "Tri31", "nodes": [10, 20, 50], "material": "3"})",
+                     R"({"name": 2, "type": "Tri31", "nodes": [10, 50, 40], "material": "3"})",
+                     R"({"name": 3, "type": "Tri31", "nodes": [20, 30, 60], "material": "3"})",
+                     R"({"name": 4, "type": "Tri31", "nodes": [20, 60, 50], "material": "3"})"});
+  const std::string opensees =
+      "displacement = \"disp.out\"\nvelocity = \"vel.out\"\nstress = \"stress.out\"\n";
+  for (const auto& [model, points] :
+       {std::pair{two_quads(), 8}, std::pair{two_quads("SSPquad"), 2}, std::pair{tri, 4}}) {
+    std::string stress = "0";
+    for (int k = 0; k < 3 * points; ++k) stress += " -1";
+    write("stress.out", stress + "\n");
+    const FemCheckpoint f = interop::import_opensees(import_case(model, opensees), 0.0, nullptr);
+    ASSERT_EQ(f.strain.size(), static_cast<std::size_t>(points));
+    for (const Vec4& e : f.strain) {
+      EXPECT_NEAR(e[0], 1e-3, 1e-15);
+      EXPECT_NEAR(e[1], -2e-3, 1e-15);
+      EXPECT_EQ(e[2], 0.0);
+      EXPECT_NEAR(e[3], 5e-4, 1e-15);
+    }
+  }
+}
+
 TEST(OpenSeesImport, ReadsThePorePressureOfUpNodes) {
   write("disp.out", nodes_row(0, 0, 0));
   write("vel.out", nodes_row(0, 0, 0));
