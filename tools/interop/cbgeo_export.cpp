@@ -335,9 +335,11 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
   input.time_step = every / per_output;
   const auto output_steps = static_cast<long>(per_output);
   input.steps = std::lround(duration / input.time_step) + 1;
-  const std::string scheme = "usl";  // the project has USL and MUSL
-  if (c.mpm.update_scheme == UpdateScheme::musl) {
-    notes.push_back("update scheme: MUSL written as CB-Geo's USL (CB-Geo has USF and USL only)");
+  const std::string& scheme = options.scheme;
+  if (c.mpm.update_scheme == UpdateScheme::musl || scheme == "usf") {
+    notes.push_back(fmt::format("update scheme: {} written as CB-Geo's {} (CB-Geo has USF and USL)",
+                                c.mpm.update_scheme == UpdateScheme::musl ? "MUSL" : "USL",
+                                scheme == "usf" ? "USF" : "USL"));
   }
   if (c.mpm.shape_function == ShapeFunction::gimp) {
     notes.push_back(

@@ -43,6 +43,8 @@ struct CbGeoExportOptions {
   /// grew to 24 times their volume by t = 2.8 s, which multiplies c_p by 4.9; at C = 0.5
   /// the run blew up within 30 steps, at 0.25 between 2 and 4 s (tools/interop/README.md).
   double courant = 0.05;
+  /// CB-Geo's update scheme: "usl" (the nearest to the project's MUSL) or "usf".
+  std::string scheme = "usl";
 };
 
 /// One particle as CB-Geo's HDF5 particle table holds it (the fields it reads back on a

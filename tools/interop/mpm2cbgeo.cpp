@@ -74,6 +74,9 @@ int main(int argc, char** argv) {
                  "Courant number of CB-Geo's fixed step, at the particles' present density "
                  "(default 0.05: the step must hold while the front's particles expand)")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--scheme", line.options.scheme,
+                 "CB-Geo's update scheme: usl (default, the nearest to MUSL) or usf")
+      ->check(CLI::IsMember({"usl", "usf"}));
   app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
   return run_main("mpm2cbgeo", [&] { export_particles(line); });
