@@ -72,11 +72,11 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
     fem.damping = read_damping(*damping);
   }
 
-  // Generated meshes know left, right and base; Gmsh meshes name their own boundaries
-  // (physical lines), checked against the mesh when it is read.
+  // Generated and OpenSees meshes know left, right and base; Gmsh meshes name their own
+  // boundaries (physical lines), checked against the mesh when it is read.
   const std::vector<std::string_view> names = mesh.generator == MeshGenerator::gmsh
                                                   ? std::vector<std::string_view>{}
-                                                  : generated_mesh_boundaries;  // OpenSees too
+                                                  : generated_mesh_boundaries;
   const Section geostatic = s.table("geostatic", Section::Keys{"boundaries"});
   fem.geostatic_boundaries = read_boundaries(
       geostatic, "boundaries", names,

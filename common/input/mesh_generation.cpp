@@ -701,19 +701,16 @@ Mesh build_mesh(const Case& c) {
         throw Error("{}: {}", case_source, error.what());
       }
       break;
-    case MeshGenerator::gmsh: {
-      std::filesystem::path path = spec.gmsh_file;
-      if (path.is_relative()) path = c.file.parent_path() / path;
-      source = path.string();
-      mesh = read_gmsh(path, spec.element_type, c.materials);
-      break;
-    }
+    case MeshGenerator::gmsh:
     case MeshGenerator::opensees: {
-      std::filesystem::path path = spec.opensees_file;
+      std::filesystem::path path = spec.file();
       if (path.is_relative()) path = c.file.parent_path() / path;
       source = path.string();
       mesh =
-          read_opensees_mesh(path, spec.opensees_materials, spec.ignore_elements, c.materials).mesh;
+          spec.generator == MeshGenerator::gmsh
+              ? read_gmsh(path, spec.element_type, c.materials)
+              : read_opensees_mesh(path, spec.opensees_materials, spec.ignore_elements, c.materials)
+                    .mesh;
       break;
     }
   }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <unordered_map>
 
 #include "common/base/error.hpp"
@@ -11,6 +10,7 @@
 #include "common/input/mesh_generation.hpp"
 #include "common/io/opensees_reader.hpp"
 #include "common/physics/constitutive.hpp"
+#include "fem/element_kernels.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/fem_output.hpp"
 #include "fem/mesh_quality.hpp"
@@ -89,7 +89,7 @@ class RecorderSet {
   const Logger* logger_;
 };
 
-/// Node values: `per_node` columns per recorded node, mapped to the mesh's nodes.
+/// Node vectors: two columns per recorded node (`-dof 1 2`), mapped to the mesh's nodes.
 class NodeColumns {
  public:
   explicit NodeColumns(const OpenSeesMesh& model) {
@@ -185,45 +185,24 @@ std::size_t stress_width(const Rows& rows, const std::filesystem::path& file, st
       points * multi_yield_components);
 }
 
-/// Small-strain B·u at every Gauss point, [εxx, εyy, 0, γxy].
-std::vector<Vec4> strains_from_displacement(const fem::FemModel& model,
-                                            const std::vector<Vec2>& u) {
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
-  std::vector<Vec4> strain(static_cast<std::size_t>(model.gauss_count()), Vec4::Zero());
-  for (Index e = 0; e < model.element_count(); ++e) {
-    const auto nodes = model.mesh.element(e);
-    for (std::size_t p = 0; p < n_gauss; ++p) {
-      const std::size_t gp = static_cast<std::size_t>(e) * n_gauss + p;
-      const ShapeGradients& b = model.reference.gradients[gp];
-      Vec4 eps = Vec4::Zero();
-      for (std::size_t k = 0; k < nodes.size(); ++k) {
-        const Vec2& uk = u[static_cast<std::size_t>(nodes[k])];
-        const auto row = static_cast<Eigen::Index>(k);
-        eps[0] += b(row, 0) * uk.x();
-        eps[1] += b(row, 1) * uk.y();
-        eps[3] += b(row, 1) * uk.x() + b(row, 0) * uk.y();
-      }
-      strain[gp] = eps;
-    }
-  }
-  return strain;
-}
+/// What the elastic kernel makes of displacement `u` from the unstrained state: the
+/// small-strain B·u at every Gauss point and, for one-point quads, the hourglass forces
+/// K_q q. One elastic "step" of length 1 with velocity u, as fem-solve's geostatic stage
+/// derives its state from its solution (fem/geostatic.cpp).
+struct ElasticResponse {
+  std::vector<Vec4> strain;  ///< [εxx, εyy, 0, γxy]
+  std::vector<Vec2> hourglass_force;
+};
 
-/// Elastic hourglass forces Q = K_q q, q = Σ_k γ_k u_k, of one-point quads.
-std::vector<Vec2> elastic_hourglass_forces(const fem::FemModel& model, const std::vector<Vec2>& u) {
-  if (!model.hourglass) return {};
-  std::vector<Vec2> q_force(static_cast<std::size_t>(model.element_count()), Vec2::Zero());
-  for (Index e = 0; e < model.element_count(); ++e) {
-    const auto nodes = model.mesh.element(e);
-    const Vec4& gamma = model.reference.hourglass_vector[static_cast<std::size_t>(e)];
-    Vec2 q = Vec2::Zero();
-    for (std::size_t k = 0; k < nodes.size(); ++k) {
-      q += gamma[static_cast<Eigen::Index>(k)] * u[static_cast<std::size_t>(nodes[k])];
-    }
-    q_force[static_cast<std::size_t>(e)] =
-        model.reference.hourglass_stiffness[static_cast<std::size_t>(e)] * q;
+ElasticResponse elastic_response(const fem::FemModel& model, const std::vector<Vec2>& u) {
+  std::vector<ConstitutiveModel> elastic;
+  for (const Material& material : model.materials) {
+    elastic.push_back(ConstitutiveModel::elastic(material));
   }
-  return q_force;
+  fem::FemState state = fem::make_rest_state(model);
+  state.velocity = u;
+  fem::update_stresses(model, model.reference, elastic, 1.0, false, state);
+  return {std::move(state.strain), std::move(state.hourglass_force)};
 }
 
 const OpenSeesImportSpec& import_spec(const Case& c) {
@@ -309,12 +288,13 @@ FemCheckpoint import_opensees(const Case& c, double time, const Logger* logger) 
       state.stress[gp][2] = nu * (state.stress[gp][0] + state.stress[gp][1]);
     }
   }
+  ElasticResponse response = elastic_response(model, state.displacement);
   state.strain =
       spec.strain.empty()
-          ? strains_from_displacement(model, state.displacement)
+          ? std::move(response.strain)
           : gauss_values(recorders.read(spec.strain, element_columns, element_layout, true), order,
                          recorded, elements, components);
-  state.hourglass_force = elastic_hourglass_forces(model, state.displacement);
+  state.hourglass_force = std::move(response.hourglass_force);
 
   fem::CheckpointContext context;
   context.case_name = c.name;
