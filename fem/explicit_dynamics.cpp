@@ -112,30 +112,90 @@ Vec2 ExplicitSolver::nodal_force(Index node) const {
 }
 
 Vec2 ExplicitSolver::constrained_velocity(Index node, const FemState& state, const Vec2& trial,
-                                          double dt) const {
+                                          double dt, const Vec2& frame_velocity,
+                                          const Vec2& frame_displacement) const {
   const auto n = static_cast<std::size_t>(node);
   const auto constraints = constraints_.of(node);
   if (on_frictional_base(constraints)) {
-    return apply_constraints(constraints, friction_coefficient_, trial,
-                             {base_gap(constraints, state.displacement[n]), dt});
+    return frame_velocity +
+           apply_constraints(
+               constraints, friction_coefficient_, trial - frame_velocity,
+               {base_gap(constraints, state.displacement[n] - frame_displacement), dt});
   }
-  const Vec2 v =
-      constraints.empty() ? trial : apply_constraints(constraints, friction_coefficient_, trial);
+  const Vec2 v = constraints.empty()
+                     ? trial
+                     : frame_velocity + apply_constraints(constraints, friction_coefficient_,
+                                                          trial - frame_velocity);
   if (!base_plane_) return v;
-  const Vec2 x = model_.mesh.nodes[n] + state.displacement[n];
-  return apply_constraint(base_plane_->contact, friction_coefficient_, v,
-                          {base_plane_->gap(x), dt});
+  const Vec2 x = model_.mesh.nodes[n] + state.displacement[n] - frame_displacement;
+  return frame_velocity + apply_constraint(base_plane_->contact, friction_coefficient_,
+                                           v - frame_velocity, {base_plane_->gap(x), dt});
 }
 
-void ExplicitSolver::update_nodes(FemState& state, double dt) const {
-  const Index n_nodes = model_.node_count();
-  for (Index node = 0; node < n_nodes; ++node) {
-    const auto n = static_cast<std::size_t>(node);
-    const Vec2 previous = state.velocity[n];
-    const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], previous, nodal_force(node), dt,
-                                             damping_.nodal);
-    const Vec2 velocity = constrained_velocity(node, state, trial, dt);
-    state.acceleration[n] = (velocity - previous) / dt;
+void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vector<Vec2>& velocity,
+                                      double* boundary_work) {
+  const auto n_nodes = static_cast<std::size_t>(model_.node_count());
+  velocity.resize(n_nodes);
+  if (seismic_ == nullptr) {
+    for (std::size_t n = 0; n < n_nodes; ++n) {
+      const auto node = static_cast<Index>(n);
+      const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], state.velocity[n],
+                                               nodal_force(node), dt, damping_.nodal);
+      velocity[n] = constrained_velocity(node, state, trial, dt, Vec2::Zero(), Vec2::Zero());
+    }
+    return;
+  }
+  const SeismicBoundary& b = *seismic_;
+  const Vec2 incident_velocity = b.motion->step_velocity(state.time, dt);
+  const Vec2 frame_velocity = b.frame_velocity(state.time, dt);
+  const Vec2 frame_displacement = b.frame_displacement(state.time);
+  const Vec2 dashpot_reference = b.dashpots_in_base_frame ? frame_velocity : Vec2::Zero();
+  trial_.resize(n_nodes);
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    const double m = model_.nodal_mass[n];
+    const Vec2 force = nodal_force(static_cast<Index>(n)) + b.static_force[n] +
+                       b.incident[n].cwiseProduct(incident_velocity);
+    Vec2 trial = damped_trial_velocity(m, state.velocity[n], force, dt, damping_.nodal);
+    for (int i = 0; i < 2; ++i) {
+      // m (v⁺ − v⁻)/dt = F − c (v⁺ + v⁻)/2, relative to the dashpot's reference.
+      const double c = b.dashpot[n][i];
+      if (c == 0.0) continue;
+      const double r = dashpot_reference[i];
+      trial[i] =
+          r + (m * (trial[i] - r) - 0.5 * c * dt * (state.velocity[n][i] - r)) / (m + 0.5 * c * dt);
+    }
+    trial_[n] = trial;
+  }
+  for (const auto& [i, j] : b.tied) {
+    const auto a = static_cast<std::size_t>(i);
+    const auto c = static_cast<std::size_t>(j);
+    const double ma = model_.nodal_mass[a];
+    const double mc = model_.nodal_mass[c];
+    const Vec2 shared = (ma * trial_[a] + mc * trial_[c]) / (ma + mc);
+    trial_[a].x() = trial_[c].x() = shared.x();
+    if (b.tie_vertical) trial_[a].y() = trial_[c].y() = shared.y();
+  }
+  double work = 0.0;
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    const auto node = static_cast<Index>(n);
+    velocity[n] =
+        constrained_velocity(node, state, trial_[n], dt, frame_velocity, frame_displacement);
+    if (boundary_work == nullptr) continue;
+    // The boundaries' force over the step, m (v − v*_free)/dt, times the step's motion.
+    const double m = model_.nodal_mass[n];
+    const Vec2 free =
+        damped_trial_velocity(m, state.velocity[n], nodal_force(node), dt, damping_.nodal);
+    work += m * (velocity[n] - free).dot(velocity[n]);
+  }
+  if (boundary_work != nullptr) *boundary_work += work;
+}
+
+void ExplicitSolver::update_nodes(FemState& state, double dt) {
+  nodal_velocities(state, dt, next_velocity_, &boundary_work_);
+  const auto n_nodes = static_cast<std::size_t>(model_.node_count());
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    const Vec2& velocity = next_velocity_[n];
+    state.acceleration[n] = (velocity - state.velocity[n]) / dt;
     state.velocity[n] = velocity;
     state.displacement[n] += dt * velocity;
   }
@@ -151,6 +211,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
     saved_displacement_ = state.displacement;
     saved_velocity_ = state.velocity;
     saved_acceleration_ = state.acceleration;
+    const double saved_work = boundary_work_;
     update_nodes(state, dt);
     update_coordinates(model_, state, coordinates_);
     const Index inverted = compute_geometry(model_, coordinates_, current_);
@@ -158,6 +219,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
       state.displacement.swap(saved_displacement_);
       state.velocity.swap(saved_velocity_);
       state.acceleration.swap(saved_acceleration_);
+      boundary_work_ = saved_work;
       geometry_step_ = -1;
       return inverted;
     }
@@ -171,19 +233,13 @@ Index ExplicitSolver::step(FemState& state, double dt) {
 
 void ExplicitSolver::synchronised_velocity(const FemState& state, double dt,
                                            std::vector<Vec2>& velocity) {
-  velocity.resize(state.velocity.size());
   if (!(dt > 0.0)) {
     velocity = state.velocity;
     return;
   }
   compute_element_forces(model_, geometry_for(state), state, element_force_,
                          damping_.rayleigh_stiffness);
-  for (Index node = 0; node < model_.node_count(); ++node) {
-    const auto n = static_cast<std::size_t>(node);
-    const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], state.velocity[n],
-                                             nodal_force(node), 0.5 * dt, damping_.nodal);
-    velocity[n] = constrained_velocity(node, state, trial, 0.5 * dt);
-  }
+  nodal_velocities(state, 0.5 * dt, velocity, nullptr);
 }
 
 }  // namespace slide::fem

@@ -30,6 +30,7 @@
 #include "common/physics/constitutive.hpp"
 #include "common/physics/nodal_update.hpp"
 #include "fem/fem_model.hpp"
+#include "fem/seismic_boundary.hpp"
 
 namespace slide::fem {
 
@@ -75,6 +76,15 @@ class ExplicitSolver {
   /// energy refer to the same instant.
   void synchronised_velocity(const FemState& state, double dt, std::vector<Vec2>& velocity);
 
+  /// Shaking (docs/method.md §8): the boundaries of fem/seismic_boundary.hpp from now on
+  /// (none: the static base). The boundary must outlive the solver.
+  void set_seismic(const SeismicBoundary* boundary) { seismic_ = boundary; }
+  /// The work the boundaries of a shaken stage have done on the body since its start
+  /// (J/m): the prescribed base, the dashpots and incident forces, the static reactions.
+  /// The energy guard measures the total energy against it.
+  double boundary_work() const { return boundary_work_; }
+  void set_boundary_work(double work) { boundary_work_ = work; }
+
   /// The straight line of the frictional base nodes, if they lie on one.
   struct BasePlane {
     NodalConstraint contact;  ///< friction, with the base's outward normal of the body
@@ -86,11 +96,18 @@ class ExplicitSolver {
 
  private:
   const ElementGeometry& geometry_for(const FemState& state);
-  void update_nodes(FemState& state, double dt) const;
+  void update_nodes(FemState& state, double dt);
   Vec2 nodal_force(Index node) const;
 
-  /// The constrained velocity of one node from its trial velocity.
-  Vec2 constrained_velocity(Index node, const FemState& state, const Vec2& trial, double dt) const;
+  /// The constrained velocity of one node from its trial velocity; the constraints act on
+  /// the velocity relative to `frame_velocity` and gaps are measured from
+  /// `frame_displacement` (a rigid base's motion; zero for a static base).
+  Vec2 constrained_velocity(Index node, const FemState& state, const Vec2& trial, double dt,
+                            const Vec2& frame_velocity, const Vec2& frame_displacement) const;
+  /// The velocities after a step of length dt from state.velocity, with the element
+  /// forces in element_force_; adds the work of the boundaries to `boundary_work`.
+  void nodal_velocities(const FemState& state, double dt, std::vector<Vec2>& velocity,
+                        double* boundary_work);
 
   const FemModel& model_;
   NodalConstraints constraints_;
@@ -99,6 +116,9 @@ class ExplicitSolver {
   Damping damping_;
   std::vector<ConstitutiveModel> models_;
   bool updated_lagrangian_;
+  const SeismicBoundary* seismic_ = nullptr;
+  double boundary_work_ = 0.0;
+  std::vector<Vec2> next_velocity_, trial_;  ///< scratch of the nodal update
 
   std::vector<Vec2> element_force_;  ///< n_elements × nodes_per_element
   // Updated Lagrangian: the current geometry, valid for state step `geometry_step_`,

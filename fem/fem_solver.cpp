@@ -10,6 +10,7 @@
 
 #include "common/base/error.hpp"
 #include "common/input/mesh_generation.hpp"
+#include "common/input/motion.hpp"
 #include "common/io/atomic_file.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/run/output_schedule.hpp"
@@ -21,6 +22,8 @@
 #include "fem/fem_output.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_quality.hpp"
+#include "fem/recorders.hpp"
+#include "fem/seismic_boundary.hpp"
 #include "fem/stability_guard.hpp"
 
 namespace slide::fem {
@@ -75,7 +78,11 @@ class FemRun final : public run::Stage {
   void start_failure_stage(bool switch_models);
   void set_guard_limits(bool fresh_stage);
   void make_failure_solver();
+  BoundaryTable failure_boundaries() const;
   void choose_time_step(bool announce);
+  void prepare_motion();
+  void start_shaking(bool from_geostatic_state);
+  void start_recorders(bool resume);
   // run::Stage: the failure stage's steps and outputs.
   double time() const override { return state_.time; }
   bool advance_to(double stop) override;
@@ -119,6 +126,11 @@ class FemRun final : public run::Stage {
   // Recommended transfer zone: the state at the last output inside it.
   bool zone_exited_ = false;
   std::optional<FemState> zone_state_;
+
+  // Shaking (docs/method.md §8): the processed motion and what it does at the boundaries.
+  std::optional<GroundMotion> motion_;
+  SeismicBoundary seismic_;
+  std::unique_ptr<Recorders> recorders_;
 
   // Scratch of the output steps.
   std::vector<Vec2> coordinates_;
@@ -188,6 +200,7 @@ void FemRun::prepare_fresh() {
     // after the geostatic checkpoint has been written.
     make_failure_solver();
     choose_time_step(false);
+    prepare_motion();
   }
 }
 
@@ -231,6 +244,7 @@ void FemRun::prepare_restart() {
   state_ = state_from_checkpoint(*model_, checkpoint, file);
   make_failure_solver();
   choose_time_step(false);  // refuses a run too long to finish before any file is touched
+  prepare_motion();
   pe0_ = checkpoint.header.pe0;
   restart_settings_ = checkpoint.solver;
   last_checkpoint_ = file;
@@ -277,12 +291,86 @@ void FemRun::make_failure_solver() {
   for (const auto& material : model_->materials)
     models.push_back(ConstitutiveModel::from(material));
   solver_ = std::make_unique<ExplicitSolver>(
-      *model_,
-      make_constraints(model_->mesh, case_.fem.failure_boundaries, "fem.failure.boundaries"),
+      *model_, make_constraints(model_->mesh, failure_boundaries(), "fem.failure.boundaries"),
       case_.fem.friction_coefficient, damping_of(case_.fem.damping), std::move(models));
 }
 
+/// fem.failure.boundaries, without the side rollers that tied or viscous sides replace.
+BoundaryTable FemRun::failure_boundaries() const {
+  BoundaryTable table = case_.fem.failure_boundaries;
+  const auto& motion = case_.fem.motion;
+  if (motion && motion->lateral != LateralBoundary::boundaries) {
+    for (const char* side : {"left", "right"}) {
+      if (table.contains(side)) table[side] = BoundaryCondition::free;
+    }
+  }
+  return table;
+}
+
+/// The case's motion, sampled at the failure stage's step (refused before any file is
+/// written when its file or its numbers are bad).
+void FemRun::prepare_motion() {
+  if (!case_.fem.motion) return;
+  motion_ = make_ground_motion(*case_.fem.motion, time_step_);
+}
+
+/// The boundaries of the shaking from the start of the failure stage (docs/method.md §8).
+/// Released supports keep their static reactions: those of the state when it is still
+/// the geostatic one, else of the geostatic equilibrium solved again (a restart).
+void FemRun::start_shaking(bool from_geostatic_state) {
+  if (!motion_) return;
+  const MotionSpec& spec = *case_.fem.motion;
+  std::vector<Vec2> reactions;
+  if (from_geostatic_state) {
+    reactions = support_reactions(*model_, state_);
+  } else {
+    FemState geostatic = make_rest_state(*model_);
+    solve_geostatic(
+        *model_,
+        make_constraints(model_->mesh, case_.fem.geostatic_boundaries, "fem.geostatic.boundaries"),
+        geostatic);
+    reactions = support_reactions(*model_, geostatic);
+  }
+  seismic_ = make_seismic_boundary(*model_, spec, *motion_, reactions);
+  solver_->set_seismic(&seismic_);
+  if (const auto work = setting_double(restart_settings_, "boundary_work")) {
+    solver_->set_boundary_work(*work);
+  }
+  const GroundMotion::Peaks peaks = motion_->peaks();
+  logger_.info(
+      "motion: t = {:.3f} → {:.3f} s, sampled every {:.4g} s; peaks |a| = {:.4g}, {:.4g} m/s², "
+      "|v| = {:.4g}, {:.4g} m/s, |u| = {:.4g}, {:.4g} m (x, y){}",
+      motion_->start_time(), motion_->end_time(), motion_->step(), peaks.acceleration.x(),
+      peaks.acceleration.y(), peaks.velocity.x(), peaks.velocity.y(), peaks.displacement.x(),
+      peaks.displacement.y(),
+      spec.baseline_correction
+          ? fmt::format("; baseline correction removed {:.3g} → {:.3g} m/s² (x)",
+                        motion_->correction_start().x(), motion_->correction_end().x())
+          : std::string("; no baseline correction"));
+  logger_.info("{}", describe(seismic_, spec));
+  write_text_atomically(options_.output_dir / "motion.csv", motion_csv(*motion_));
+}
+
+void FemRun::start_recorders(bool resume) {
+  if (case_.fem.recorders.empty()) return;
+  const bool rigid = motion_ && case_.fem.motion->base == SeismicBase::rigid;
+  std::vector<Index> base_nodes;
+  if (motion_ && !rigid) {
+    for (const NodeSet& set : model_->mesh.node_sets) {
+      if (set.name == "base") base_nodes = set.nodes;
+    }
+  }
+  recorders_ =
+      std::make_unique<Recorders>(*model_, case_.fem.recorders, options_.output_dir / "recorders",
+                                  rigid ? &*motion_ : nullptr, std::move(base_nodes));
+  if (resume) recorders_->resume(state_.time, logger_);
+  logger_.info("recorders → {}: {}", (options_.output_dir / "recorders").string(),
+               recorders_->describe());
+}
+
 void FemRun::start_failure_stage(bool switch_models) {
+  start_shaking(switch_models);
+  start_recorders(!switch_models);
   if (switch_models) {
     const std::size_t returned = solver_->return_to_yield_surface(state_);
     logger_.info("failure stage: {} of {} Gauss points returned to the yield surface at the switch",
@@ -390,10 +478,9 @@ bool FemRun::advance_to(double stop) {
     if (inverted >= 0) stop_at_inversion(inverted, state_.time + step);
     ++steps_;
     last_step_ = step;
-    if (last) {
-      state_.time = stop;
-      break;
-    }
+    if (last) state_.time = stop;
+    if (recorders_) recorders_->record(state_, step);
+    if (last) break;
     if ((steps_ & 63) == 0) progress_->update(state_.time, state_.step);
   }
   return true;  // an inversion ends the run by an Error, never early
@@ -406,8 +493,12 @@ const ElementGeometry& FemRun::energy_geometry() {
   return current_geometry_;
 }
 
+/// E = KE + (PE − PE_0) + stored energy, less the work the boundaries of a shaken stage
+/// did on the body (zero otherwise): what the energy guard watches.
 double FemRun::total_energy(const Energies& energies) const {
-  return energies.kinetic + (energies.potential - pe0_) + energies.elastic + energies.hourglass;
+  const double work = solver_ ? solver_->boundary_work() : 0.0;
+  return energies.kinetic + (energies.potential - pe0_) + energies.elastic + energies.hourglass -
+         work;
 }
 
 HistoryRow FemRun::diagnose(const ElementQuality& quality) {
@@ -461,6 +552,7 @@ void FemRun::output(bool checkpoint) {
   if (checkpoint) {
     write_fem_checkpoint(state_, failure_stage,
                          options_.output_dir / run::checkpoint_file_name("fem", state_.time));
+    if (recorders_) recorders_->write();
   }
   if (newly_inverted) {
     Index inverted = 0;
@@ -541,7 +633,7 @@ void FemRun::write_fem_checkpoint(const FemState& state, const std::string& stag
   context.pe0 = pe0_;
   const bool geostatic = stage == geostatic_stage;
   context.boundary_conditions = node_set_conditions(
-      model_->mesh, geostatic ? case_.fem.geostatic_boundaries : case_.fem.failure_boundaries);
+      model_->mesh, geostatic ? case_.fem.geostatic_boundaries : failure_boundaries());
   context.friction_coefficient = case_.fem.friction_coefficient;
   context.solver["stage"] = stage;
   context.solver["kinematics"] = std::string(to_string(model_->kinematics));
@@ -558,8 +650,15 @@ void FemRun::write_fem_checkpoint(const FemState& state, const std::string& stag
   if (!geostatic) {
     context.solver["initial_energy"] = limits_.energy.initial_energy;
     context.solver["energy_scale"] = limits_.energy.energy_scale;
+    if (motion_) context.solver["boundary_work"] = solver_->boundary_work();
   }
-  write_checkpoint(file, make_checkpoint(*model_, state, context));
+  FemCheckpoint checkpoint = make_checkpoint(*model_, state, context);
+  if (motion_) {
+    const MotionSpec& spec = *case_.fem.motion;
+    checkpoint.motion = checkpoint_motion(*motion_, std::string(to_string(spec.base)),
+                                          std::string(to_string(spec.input)));
+  }
+  write_checkpoint(file, checkpoint);
   written_.push_back(file);
   last_checkpoint_ = file;
   logger_.info("t = {:.3f} s: wrote {}", state.time, file.string());
@@ -567,6 +666,7 @@ void FemRun::write_fem_checkpoint(const FemState& state, const std::string& stag
 
 FemRunSummary FemRun::finish() {
   if (progress_) progress_->finish();
+  if (recorders_) recorders_->write();
   FemRunSummary summary;
   summary.steps = steps_;
   summary.elements = model_->element_count();

@@ -74,7 +74,7 @@ Case parse_case(std::string_view text, const std::filesystem::path& source_name)
   read_case_table(root, source_name, c);
   c.materials = read_materials(root);
   c.mesh = read_mesh(root, c.materials, source_name.parent_path());
-  c.fem = read_fem(root, c.mesh);
+  c.fem = read_fem(root, c.mesh, source_name.parent_path());
   c.transfer = read_transfer(root, c.fem);
   c.mpm = read_mpm(root, c.materials, c.mesh, c.transfer);
   c.metrics = read_metrics(root);

@@ -110,6 +110,44 @@ struct RayleighCoefficients {
 };
 RayleighCoefficients rayleigh_coefficients(const DampingRatio& ratio);
 
+/// One component of the base acceleration, [fem.motion.horizontal] or [...vertical].
+struct MotionComponentSpec {
+  MotionSource source = MotionSource::ricker;
+  double scale = 1.0;           ///< m/s² per unit of the case's numbers (1, or 9.81 for g)
+  double amplitude = 0.0;       ///< ricker, sine: peak acceleration, m/s²
+  double peak_frequency = 0.0;  ///< ricker: f_p, Hz
+  double peak_time = 0.0;       ///< ricker: τ_p, s after the motion's start
+  double frequency = 0.0;       ///< sine: f, Hz
+  double duration = 0.0;        ///< sine: D, s
+  double taper = 0.0;           ///< sine: cosine taper at each end, s
+  std::filesystem::path file;   ///< file: two columns, absolute path
+};
+
+/// [fem.motion]: base shaking of the failure stage (docs/method.md §8).
+struct MotionSpec {
+  double start_time = 0.0;  ///< s on the failure stage's clock when the shaking begins
+  SeismicBase base = SeismicBase::rigid;
+  LateralBoundary lateral = LateralBoundary::boundaries;
+  MotionInput input = MotionInput::incident;  ///< compliant base only
+  double rock_density = 0.0;                  ///< ρ_r, kg/m³ (compliant)
+  double rock_shear_wave_speed = 0.0;         ///< V_s,r, m/s (compliant)
+  double rock_p_wave_speed = 0.0;             ///< V_p,r, m/s (compliant, vertical motion)
+  bool baseline_correction = true;
+  std::optional<MotionComponentSpec> horizontal;
+  std::optional<MotionComponentSpec> vertical;
+};
+
+/// [[fem.recorders]]: time histories written to OUT/recorders/<name>.csv. Node
+/// recorders take the nodes nearest `points` or a node set; element recorders the
+/// elements that contain `elements`.
+struct RecorderSpec {
+  std::string name;
+  std::vector<Vec2> points;    ///< nodes nearest these points
+  std::string node_set;        ///< or every node of this set
+  std::vector<Vec2> elements;  ///< or the elements containing these points
+  double every = 0.0;          ///< s between rows (0: every step)
+};
+
 struct FemSpec {
   /// False for geostatic-only cases: fem-solve stops after the t = 0 checkpoint.
   bool failure_stage = true;
@@ -130,6 +168,8 @@ struct FemSpec {
   DampingSpec damping;
   /// Instability guard: speeds above this factor × sqrt(2 g H) stop the run.
   double speed_limit_factor = 5.0;
+  std::optional<MotionSpec> motion;  ///< base shaking (none: a static base)
+  std::vector<RecorderSpec> recorders;
 };
 
 // ----------------------------------------------------------------------------- transfer

@@ -8,6 +8,10 @@ namespace slide::case_reader {
 
 namespace {
 
+const Section::Keys motion_component_keys{"source",         "units",     "amplitude",
+                                          "peak_frequency", "peak_time", "frequency",
+                                          "duration",       "taper",     "file"};
+
 /// [fem.damping]: Rayleigh damping either as α_M, β_K or as a ratio ξ at two frequencies
 /// (then α_M, β_K are derived), never both; Cundall's local α with either.
 DampingSpec read_damping(const Section& s) {
@@ -42,14 +46,183 @@ DampingSpec read_damping(const Section& s) {
   return damping;
 }
 
+/// The unit of a component's accelerations: "m/s2" (the default) or "g".
+double read_acceleration_unit(const Section& s) {
+  const std::string unit = s.string("units", "m/s2");
+  if (unit == "m/s2") return 1.0;
+  if (unit == "g") return gravity_acceleration;
+  s.reader().inadmissible(s.node("units"), s.dotted("units"), fmt::format("\"{}\"", unit),
+                          "one of: m/s2, g");
+}
+
+/// [fem.motion.horizontal] or [fem.motion.vertical].
+MotionComponentSpec read_motion_component(const Section& s,
+                                          const std::filesystem::path& case_folder) {
+  MotionComponentSpec spec;
+  spec.source = s.choice("source", motion_source_names, std::optional<MotionSource>());
+  spec.scale = read_acceleration_unit(s);
+  const auto only = [&](std::initializer_list<std::string_view> keys) {
+    for (std::string_view key :
+         {"amplitude", "peak_frequency", "peak_time", "frequency", "duration", "taper", "file"}) {
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+        s.reject(key, fmt::format("not used by source = \"{}\"", to_string(spec.source)));
+      }
+    }
+  };
+  switch (spec.source) {
+    case MotionSource::ricker:
+      only({"amplitude", "peak_frequency", "peak_time"});
+      spec.amplitude = spec.scale * s.number("amplitude", any_number());
+      spec.peak_frequency = s.number("peak_frequency", positive("Hz"));
+      // The wavelet starts at τ = 0 and is cut at 2 τ_p: below τ_p = 1/f_p its start
+      // jumps by more than 1e-3 of the peak.
+      spec.peak_time = s.number(
+          "peak_time", Range{.min = 1.0 / spec.peak_frequency,
+                             .min_closed = true,
+                             .unit = "s",
+                             .note = "at least 1/peak_frequency, so that the wavelet starts "
+                                     "from rest"});
+      break;
+    case MotionSource::sine:
+      only({"amplitude", "frequency", "duration", "taper"});
+      spec.amplitude = spec.scale * s.number("amplitude", any_number());
+      spec.frequency = s.number("frequency", positive("Hz"));
+      spec.duration = s.number("duration", positive("s"));
+      spec.taper = s.number("taper",
+                            Range{.min = 0.0,
+                                  .min_closed = true,
+                                  .max = 0.5 * spec.duration,
+                                  .max_closed = true,
+                                  .unit = "s",
+                                  .note = "at most half the duration"},
+                            std::min(1.0 / spec.frequency, 0.5 * spec.duration));
+      break;
+    case MotionSource::file: {
+      only({"file"});
+      const std::filesystem::path file = s.string("file");
+      spec.file = file.is_absolute() ? file : case_folder / file;
+      break;
+    }
+  }
+  return spec;
+}
+
+/// [fem.motion]: the shaking and the boundaries it needs; `failure` the failure stage's
+/// boundary table, which a compliant base and tied or viscous sides take over.
+MotionSpec read_motion(const Section& s, const std::filesystem::path& case_folder,
+                       const FemSpec& fem, const MeshSpec& mesh) {
+  MotionSpec motion;
+  motion.start_time = s.number("start_time", non_negative("s"), 0.0);
+  if (!(motion.start_time < fem.end_time)) {
+    s.fail("start_time",
+           fmt::format("{} s is not before fem.end_time = {} s", motion.start_time, fem.end_time));
+  }
+  motion.base = s.choice("base", seismic_base_names, std::optional(SeismicBase::rigid));
+  motion.lateral =
+      s.choice("lateral", lateral_boundary_names, std::optional(LateralBoundary::boundaries));
+  motion.baseline_correction = s.boolean("baseline_correction", true);
+  if (motion.base == SeismicBase::compliant) {
+    motion.input = s.choice("input", motion_input_names, std::optional(MotionInput::incident));
+    motion.rock_density = s.number("rock_density", positive("kg/m³"));
+    motion.rock_shear_wave_speed = s.number("rock_shear_wave_speed", positive("m/s"));
+  } else {
+    for (std::string_view key :
+         {"input", "rock_density", "rock_shear_wave_speed", "rock_p_wave_speed"}) {
+      s.reject(key, "only used with base = \"compliant\"");
+    }
+  }
+  if (auto h = s.optional_table("horizontal", motion_component_keys)) {
+    motion.horizontal = read_motion_component(*h, case_folder);
+  }
+  if (auto v = s.optional_table("vertical", motion_component_keys)) {
+    motion.vertical = read_motion_component(*v, case_folder);
+  }
+  if (!motion.horizontal && !motion.vertical) {
+    throw Error("{}: {}: neither [{}.horizontal] nor [{}.vertical]: no motion", s.where(), s.path(),
+                s.path(), s.path());
+  }
+  if (motion.base == SeismicBase::compliant) {
+    if (motion.vertical) {
+      motion.rock_p_wave_speed =
+          s.number("rock_p_wave_speed", Range{.min = motion.rock_shear_wave_speed,
+                                              .unit = "m/s",
+                                              .note = "above rock_shear_wave_speed"});
+    } else {
+      s.reject("rock_p_wave_speed", "only used with a vertical motion");
+    }
+  }
+  // The boundaries the motion takes over must be given as the supports they replace.
+  if (mesh.generator == MeshGenerator::gmsh) return motion;
+  const auto require = [&](const std::string& side, BoundaryCondition condition,
+                           std::string_view why) {
+    const auto found = fem.failure_boundaries.find(side);
+    if (found == fem.failure_boundaries.end() || found->second != condition) {
+      s.fail(side == "base" ? "base" : "lateral",
+             fmt::format("needs fem.failure.boundaries.{} = \"{}\" ({})", side,
+                         to_string(condition), why));
+    }
+  };
+  if (motion.base == SeismicBase::compliant) {
+    require("base", BoundaryCondition::roller,
+            "the vertical support of the compliant base before the shaking");
+  }
+  if (motion.lateral != LateralBoundary::boundaries) {
+    for (const std::string side : {"left", "right"}) {
+      require(side, BoundaryCondition::roller,
+              "the support whose reaction the tied or viscous side keeps");
+    }
+  }
+  return motion;
+}
+
+/// [[fem.recorders]].
+std::vector<RecorderSpec> read_recorders(const Section& s) {
+  std::vector<RecorderSpec> recorders;
+  for (const Section& r :
+       s.tables("recorders", Section::Keys{"name", "points", "node_set", "elements", "every"})) {
+    RecorderSpec spec;
+    spec.name = r.string("name");
+    if (spec.name.empty() ||
+        spec.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                    "0123456789-_") != std::string::npos) {
+      r.fail("name",
+             fmt::format("\"{}\" is not a file name of letters, digits, - and _", spec.name));
+    }
+    for (const RecorderSpec& other : recorders) {
+      if (other.name == spec.name) r.fail("name", fmt::format("\"{}\" twice", spec.name));
+    }
+    const int kinds = int{r.has("points")} + int{r.has("node_set")} + int{r.has("elements")};
+    if (kinds != 1) {
+      throw Error("{}: {}: give exactly one of points, node_set, elements (found {})", r.where(),
+                  r.path(), kinds);
+    }
+    const auto read_points = [&](std::string_view key) {
+      std::vector<Vec2> points;
+      const auto& items = r.reader().array(r.node(key), r.dotted(key));
+      if (items.empty()) r.fail(key, "an empty list");
+      for (std::size_t i = 0; i < items.size(); ++i) {
+        points.push_back(r.reader().point(items[i], fmt::format("{}[{}]", r.dotted(key), i)));
+      }
+      return points;
+    };
+    if (r.has("points")) spec.points = read_points("points");
+    if (r.has("elements")) spec.elements = read_points("elements");
+    if (r.has("node_set")) spec.node_set = r.string("node_set");
+    spec.every = r.number("every", non_negative("s"), 0.0);
+    recorders.push_back(std::move(spec));
+  }
+  return recorders;
+}
+
 }  // namespace
 
-FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
-  const Section s =
-      root.table("fem", Section::Keys{"failure_stage", "kinematics", "end_time", "checkpoint_times",
-                                      "checkpoint_every", "output_every", "vtk_every", "courant",
-                                      "time_step", "hourglass_coefficient", "friction_coefficient",
-                                      "speed_limit_factor", "damping", "geostatic", "failure"});
+FemSpec read_fem(const Section& root, const MeshSpec& mesh,
+                 const std::filesystem::path& case_folder) {
+  const Section s = root.table(
+      "fem", Section::Keys{"failure_stage", "kinematics", "end_time", "checkpoint_times",
+                           "checkpoint_every", "output_every", "vtk_every", "courant", "time_step",
+                           "hourglass_coefficient", "friction_coefficient", "speed_limit_factor",
+                           "damping", "geostatic", "failure", "motion", "recorders"});
   FemSpec fem;
   fem.failure_stage = s.boolean("failure_stage", true);
   fem.kinematics =
@@ -84,6 +257,17 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh) {
   if (fem.failure_stage) {
     const Section failure = s.table("failure", Section::Keys{"boundaries"});
     fem.failure_boundaries = read_boundaries(failure, "boundaries", names, friction_problem(s));
+  }
+  if (auto motion = s.optional_table(
+          "motion", Section::Keys{"start_time", "base", "lateral", "input", "rock_density",
+                                  "rock_shear_wave_speed", "rock_p_wave_speed",
+                                  "baseline_correction", "horizontal", "vertical"})) {
+    if (!fem.failure_stage) motion->fail("start_time", "only used when fem.failure_stage = true");
+    fem.motion = read_motion(*motion, case_folder, fem, mesh);
+  }
+  if (s.has("recorders")) {
+    if (!fem.failure_stage) s.fail("recorders", "only used when fem.failure_stage = true");
+    fem.recorders = read_recorders(s);
   }
   return fem;
 }

@@ -385,7 +385,9 @@ MeshSpec read_mesh(const Section& root, const MaterialTable& materials,
 /// Bounding box of the initial body, when the case file alone determines it.
 std::optional<std::pair<Vec2, Vec2>> body_box(const MeshSpec& mesh);
 /// [fem] (case_file_fem.cpp).
-FemSpec read_fem(const Section& root, const MeshSpec& mesh);
+/// A motion file is looked for relative to `case_folder`.
+FemSpec read_fem(const Section& root, const MeshSpec& mesh,
+                 const std::filesystem::path& case_folder);
 /// [transfer] (case_file_transfer.cpp).
 TransferSpec read_transfer(const Section& root, const FemSpec& fem);
 /// [mpm] (case_file_mpm.cpp): the grid must hold the body, the run outlast every transfer.

@@ -430,6 +430,24 @@ void write_boundary(Writer& writer, const FemCheckpoint& c, const Rows& nodes) {
   }
 }
 
+void write_motion(Writer& writer, const std::optional<CheckpointMotion>& motion) {
+  if (!motion) return;
+  const CheckpointMotion& m = *motion;
+  if (!std::isfinite(m.start_time) || !(m.step > 0.0) || !std::isfinite(m.step)) {
+    throw Error("{}: cannot write /motion: start_time {} s, step {} s", writer.target(),
+                m.start_time, m.step);
+  }
+  hdf5::Group g = writer.file().create_group("motion");
+  g.write_double_attribute("start_time", m.start_time);
+  g.write_double_attribute("step", m.step);
+  g.write_string_attribute("base", m.base);
+  g.write_string_attribute("input", m.input);
+  const Rows samples{"sample", "n_samples", m.acceleration.size()};
+  writer.vectors<2>(g, "acceleration", m.acceleration, samples, "m/s^2");
+  writer.vectors<2>(g, "velocity", m.velocity, samples, "m/s");
+  writer.vectors<2>(g, "displacement", m.displacement, samples, "m");
+}
+
 void write_fem(Writer& writer, const FemCheckpoint& c) {
   hdf5::File& file = writer.file();
   write_header(file, c.header, CheckpointKind::fem);
@@ -480,6 +498,7 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
 
   write_boundary(writer, c, nodes);
   write_solver(writer, c.solver);
+  write_motion(writer, c.motion);
 }
 
 void write_transfer(Writer& writer, const TransferSettings& t) {
@@ -538,6 +557,7 @@ void write_particles(Writer& writer, const ParticleCheckpoint& c) {
     write_transfer(writer, c.transfer);
   }
   write_solver(writer, c.solver);
+  write_motion(writer, c.motion);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -815,6 +835,35 @@ void require_kind(const Reader& reader, CheckpointKind actual,
               expected_text);
 }
 
+std::optional<CheckpointMotion> read_motion(const Reader& reader) {
+  if (!reader.file().contains("motion")) return std::nullopt;
+  const hdf5::Group g = reader.file().open_group("motion");
+  CheckpointMotion m;
+  m.start_time = g.read_double_attribute("start_time");
+  m.step = g.read_double_attribute("step");
+  m.base = g.read_string_attribute("base");
+  m.input = g.read_string_attribute("input");
+  if (!std::isfinite(m.start_time) || !(m.step > 0.0) || !std::isfinite(m.step)) {
+    throw Error("{}: attributes start_time = {}, step = {} (expected finite, step > 0)", g.where(),
+                m.start_time, m.step);
+  }
+  if (m.base != "rigid" && m.base != "compliant") {
+    throw Error("{}: attribute base is \"{}\" (expected \"rigid\" or \"compliant\")", g.where(),
+                m.base);
+  }
+  if (m.input != "incident" && m.input != "outcrop") {
+    throw Error("{}: attribute input is \"{}\" (expected \"incident\" or \"outcrop\")", g.where(),
+                m.input);
+  }
+  const Rows samples = reader.define_rows("/motion/acceleration", TypeClass::floating_point, 2,
+                                          "sample", "n_samples");
+  if (samples.count < 1) throw Error("{}: no samples", g.where());
+  m.acceleration = reader.vectors<2>("/motion/acceleration", samples);
+  m.velocity = reader.vectors<2>("/motion/velocity", samples);
+  m.displacement = reader.vectors<2>("/motion/displacement", samples);
+  return m;
+}
+
 TransferSettings read_transfer(const Reader& reader) {
   const hdf5::Group group = reader.file().open_group("transfer");
   TransferSettings t;
@@ -834,6 +883,22 @@ TransferSettings read_transfer(const Reader& reader) {
 
 // -----------------------------------------------------------------------------------------
 // Public interface
+
+CheckpointMotion checkpoint_motion(const GroundMotion& motion, std::string base,
+                                   std::string input) {
+  return {.start_time = motion.start_time(),
+          .step = motion.step(),
+          .acceleration = motion.acceleration_samples(),
+          .velocity = motion.velocity_samples(),
+          .displacement = motion.displacement_samples(),
+          .base = std::move(base),
+          .input = std::move(input)};
+}
+
+GroundMotion ground_motion(const CheckpointMotion& motion) {
+  return GroundMotion(motion.start_time, motion.step, motion.acceleration, motion.velocity,
+                      motion.displacement);
+}
 
 void write_checkpoint(const fs::path& path, const FemCheckpoint& checkpoint) {
   const std::string target = path.string();
@@ -933,6 +998,7 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
 
   read_boundary(reader, c, nodes);
   c.solver = read_solver(reader);
+  c.motion = read_motion(reader);
   return c;
 }
 
@@ -979,6 +1045,7 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
     c.transfer = read_transfer(reader);
   }
   c.solver = read_solver(reader);
+  c.motion = read_motion(reader);
   return c;
 }
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "common/base/types.hpp"
 #include "common/geometry/mesh.hpp"
 #include "common/physics/constitutive.hpp"
+#include "common/physics/ground_motion.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/particles.hpp"
 
@@ -45,6 +47,22 @@ struct CheckpointHeader {
 /// "stage" = "failure", "time_step" = 1.2e-3.
 using SettingValue = std::variant<std::int64_t, double, std::string>;
 using SolverSettings = std::map<std::string, SettingValue>;
+
+/// The base motion of a shaken run (optional group /motion, docs/method.md §8): the
+/// processed samples of common/physics/ground_motion.hpp and how the base took them, so
+/// that a later stage (or a restart) continues the same earthquake.
+struct CheckpointMotion {
+  double start_time = 0.0;  ///< s on the run's clock of the first sample
+  double step = 0.0;        ///< s between samples
+  std::vector<Vec2> acceleration, velocity, displacement;  ///< n_samples each
+  std::string base;                                        ///< "rigid" or "compliant"
+  std::string input;  ///< "incident" or "outcrop" (what the samples are at a compliant base)
+};
+
+/// The samples of `motion` as a checkpoint records them.
+CheckpointMotion checkpoint_motion(const GroundMotion& motion, std::string base, std::string input);
+/// The motion a checkpoint recorded.
+GroundMotion ground_motion(const CheckpointMotion& motion);
 
 /// Kind "fem": the FE model at one time.
 struct FemCheckpoint {
@@ -88,6 +106,7 @@ struct FemCheckpoint {
 
   MaterialTable materials;
   SolverSettings solver;
+  std::optional<CheckpointMotion> motion;
 };
 
 /// Extra information a particle file (kind "particles") carries about its transfer.
@@ -107,6 +126,7 @@ struct ParticleCheckpoint {
   MaterialTable materials;
   TransferSettings transfer;  ///< kind "particles"; also kept in "mpm" files when known
   SolverSettings solver;      ///< kind "mpm": grid and solver settings for a restart
+  std::optional<CheckpointMotion> motion;  ///< the base motion the run continues
 };
 
 /// Writes atomically (temporary file + rename). Throws Error on any failure; the target

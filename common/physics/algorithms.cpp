@@ -5,6 +5,18 @@ namespace slide {
 std::string_view to_string(Kinematics kinematics) {
   return name_of(kinematics_names, kinematics);
 }
+std::string_view to_string(MotionSource source) {
+  return name_of(motion_source_names, source);
+}
+std::string_view to_string(SeismicBase base) {
+  return name_of(seismic_base_names, base);
+}
+std::string_view to_string(LateralBoundary lateral) {
+  return name_of(lateral_boundary_names, lateral);
+}
+std::string_view to_string(MotionInput input) {
+  return name_of(motion_input_names, input);
+}
 std::string_view to_string(StressInterpolation interpolation) {
   return name_of(interpolation_names, interpolation);
 }

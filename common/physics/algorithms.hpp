@@ -13,6 +13,21 @@ namespace slide {
 
 enum class Kinematics { small_strain, updated_lagrangian };
 
+// ----------------------------------------------------------------------------- seismic
+
+/// Where a base acceleration component comes from (docs/method.md §8).
+enum class MotionSource { ricker, sine, file };
+/// Rigid: the base nodes follow the motion (fixed, roller or frictional relative to it).
+/// Compliant: Lysmer–Kuhlemeyer dashpots on the base and the incident wave as a force.
+enum class SeismicBase { rigid, compliant };
+/// The left and right edges while the failure stage runs: as fem.failure.boundaries say
+/// (moving with the base), tied to each other (the periodic free field of level ground:
+/// both components, or the horizontal one only) or viscous dashpots.
+enum class LateralBoundary { boundaries, tied, tied_horizontal, viscous };
+/// What the motion of a compliant base is: the incident (upgoing) wave at the base, or
+/// the outcrop motion of the rock, twice the incident one.
+enum class MotionInput { incident, outcrop };
+
 // ----------------------------------------------------------------------------- transfer
 
 enum class StressInterpolation { rbf, rbf_local, element };
@@ -45,6 +60,25 @@ struct Named {
 inline constexpr std::array<Named<Kinematics>, 2> kinematics_names{{
     {"small-strain", Kinematics::small_strain},
     {"updated-lagrangian", Kinematics::updated_lagrangian},
+}};
+inline constexpr std::array<Named<MotionSource>, 3> motion_source_names{{
+    {"ricker", MotionSource::ricker},
+    {"sine", MotionSource::sine},
+    {"file", MotionSource::file},
+}};
+inline constexpr std::array<Named<SeismicBase>, 2> seismic_base_names{{
+    {"rigid", SeismicBase::rigid},
+    {"compliant", SeismicBase::compliant},
+}};
+inline constexpr std::array<Named<LateralBoundary>, 4> lateral_boundary_names{{
+    {"boundaries", LateralBoundary::boundaries},
+    {"tied", LateralBoundary::tied},
+    {"tied-horizontal", LateralBoundary::tied_horizontal},
+    {"viscous", LateralBoundary::viscous},
+}};
+inline constexpr std::array<Named<MotionInput>, 2> motion_input_names{{
+    {"incident", MotionInput::incident},
+    {"outcrop", MotionInput::outcrop},
 }};
 inline constexpr std::array<Named<StressInterpolation>, 3> interpolation_names{{
     {"rbf", StressInterpolation::rbf},
@@ -90,6 +124,10 @@ constexpr std::string_view name_of(const std::array<Named<E>, N>& names, E value
 }
 
 std::string_view to_string(Kinematics kinematics);
+std::string_view to_string(MotionSource source);
+std::string_view to_string(SeismicBase base);
+std::string_view to_string(LateralBoundary lateral);
+std::string_view to_string(MotionInput input);
 std::string_view to_string(StressInterpolation interpolation);
 std::string_view to_string(RbfPolynomial polynomial);
 std::string_view to_string(ShapeFunction shape_function);

@@ -1,0 +1,17 @@
+// The processed input motion of a case (docs/method.md §8): [fem.motion] turned into the
+// GroundMotion both phases evaluate (common/physics/ground_motion.hpp).
+#pragma once
+
+#include "common/input/case_file.hpp"
+#include "common/physics/ground_motion.hpp"
+
+namespace slide {
+
+/// The raw acceleration of one component, sampled at `step` where it is built in.
+AccelerationRecord raw_acceleration(const MotionComponentSpec& spec, double step);
+
+/// Reads or builds both components, resamples them to `step` (the solver's step),
+/// integrates and baseline-corrects them. Throws Error naming the fault.
+GroundMotion make_ground_motion(const MotionSpec& spec, double step);
+
+}  // namespace slide

@@ -1,0 +1,211 @@
+#include "fem/seismic_boundary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "common/base/error.hpp"
+#include "fem/element_kernels.hpp"
+
+namespace slide::fem {
+
+namespace {
+
+const NodeSet& node_set(const Mesh& mesh, std::string_view name) {
+  for (const NodeSet& set : mesh.node_sets) {
+    if (set.name == name) return set;
+  }
+  throw Error("fem.motion: the mesh has no node set \"{}\"", name);
+}
+
+/// Each node's share of the length of a straight boundary: half of each neighbouring
+/// segment along it.
+std::map<Index, double> tributary_lengths(const Mesh& mesh, const NodeSet& set) {
+  const Vec2 tangent(-set.normal.y(), set.normal.x());
+  std::vector<std::pair<double, Index>> along;
+  for (const Index node : set.nodes) {
+    along.emplace_back(mesh.nodes[static_cast<std::size_t>(node)].dot(tangent), node);
+  }
+  std::ranges::sort(along);
+  std::map<Index, double> length;
+  for (std::size_t i = 0; i < along.size(); ++i) {
+    double share = 0.0;
+    if (i > 0) share += 0.5 * (along[i].first - along[i - 1].first);
+    if (i + 1 < along.size()) share += 0.5 * (along[i + 1].first - along[i].first);
+    length[along[i].second] = share;
+  }
+  return length;
+}
+
+/// The material of the first element at a node.
+const Material& material_at(const FemModel& model, Index node) {
+  const auto n = static_cast<std::size_t>(node);
+  const auto slot = model.node_slots[static_cast<std::size_t>(model.node_slot_offsets[n])];
+  return model.material_of(slot / model.nodes_per_element);
+}
+
+/// Lysmer dashpots of the soil on a vertical edge: normal ρ V_p L, tangential ρ V_s L,
+/// and the horizontal static reaction.
+void make_viscous(const FemModel& model, Index node, double length,
+                  const std::vector<Vec2>& reactions, SeismicBoundary& boundary) {
+  const Material& m = material_at(model, node);
+  const auto n = static_cast<std::size_t>(node);
+  const double shear_speed = std::sqrt(m.shear_modulus() / m.density);
+  boundary.dashpot[n] +=
+      Vec2(m.density * m.p_wave_speed() * length, m.density * shear_speed * length);
+  boundary.static_force[n].x() += reactions[n].x();
+  ++boundary.viscous_side_nodes;
+}
+
+}  // namespace
+
+std::vector<Vec2> support_reactions(const FemModel& model, const FemState& state) {
+  std::vector<Vec2> element_force(
+      static_cast<std::size_t>(model.element_count() * model.nodes_per_element));
+  FemState at_rest = state;
+  std::ranges::fill(at_rest.velocity, Vec2::Zero());
+  compute_element_forces(model, model.reference, at_rest, element_force);
+  std::vector<Vec2> reactions(static_cast<std::size_t>(model.node_count()));
+  for (std::size_t n = 0; n < reactions.size(); ++n) {
+    Vec2 force = model.gravity_force[n];
+    for (auto i = model.node_slot_offsets[n]; i < model.node_slot_offsets[n + 1]; ++i) {
+      force +=
+          element_force[static_cast<std::size_t>(model.node_slots[static_cast<std::size_t>(i)])];
+    }
+    reactions[n] = -force;
+  }
+  return reactions;
+}
+
+SeismicBoundary make_seismic_boundary(const FemModel& model, const MotionSpec& spec,
+                                      const GroundMotion& motion,
+                                      const std::vector<Vec2>& reactions) {
+  const Mesh& mesh = model.mesh;
+  const auto n_nodes = static_cast<std::size_t>(model.node_count());
+  SeismicBoundary boundary;
+  boundary.base = spec.base;
+  boundary.motion = &motion;
+  boundary.dashpot.assign(n_nodes, Vec2::Zero());
+  boundary.incident.assign(n_nodes, Vec2::Zero());
+  boundary.static_force.assign(n_nodes, Vec2::Zero());
+  boundary.dashpots_in_base_frame = spec.base == SeismicBase::rigid;
+
+  std::vector<std::uint8_t> on_base(n_nodes, 0);
+  if (spec.base == SeismicBase::compliant) {
+    const NodeSet& base = node_set(mesh, "base");
+    const double impedance_s = spec.rock_density * spec.rock_shear_wave_speed;
+    const double impedance_p = spec.rock_density * spec.rock_p_wave_speed;
+    // The incident wave is the motion (incident input) or half of it (outcrop).
+    const double incident_factor = spec.input == MotionInput::incident ? 2.0 : 1.0;
+    for (const auto& [node, length] : tributary_lengths(mesh, base)) {
+      const auto n = static_cast<std::size_t>(node);
+      on_base[n] = 1;
+      boundary.dashpot[n].x() = impedance_s * length;
+      boundary.incident[n].x() = incident_factor * impedance_s * length;
+      if (spec.vertical) {
+        boundary.dashpot[n].y() = impedance_p * length;
+        boundary.incident[n].y() = incident_factor * impedance_p * length;
+        boundary.static_force[n].y() = reactions[n].y();
+      }
+    }
+  } else {
+    for (const Index node : node_set(mesh, "base").nodes)
+      on_base[static_cast<std::size_t>(node)] = 1;
+  }
+  if (spec.lateral == LateralBoundary::boundaries) return boundary;
+
+  const NodeSet& left = node_set(mesh, "left");
+  const NodeSet& right = node_set(mesh, "right");
+  const auto left_length = tributary_lengths(mesh, left);
+  const auto right_length = tributary_lengths(mesh, right);
+  // A rigid base prescribes its nodes: its corners belong to no pair.
+  const auto side_nodes = [&](const std::map<Index, double>& lengths) {
+    std::vector<std::pair<double, Index>> nodes;
+    for (const auto& [node, length] : lengths) {
+      if (spec.base == SeismicBase::rigid && on_base[static_cast<std::size_t>(node)]) continue;
+      nodes.emplace_back(mesh.nodes[static_cast<std::size_t>(node)].y(), node);
+    }
+    std::ranges::sort(nodes);
+    return nodes;
+  };
+  const auto left_nodes = side_nodes(left_length);
+  const auto right_nodes = side_nodes(right_length);
+  if (spec.lateral == LateralBoundary::viscous) {
+    for (const auto& [y, node] : left_nodes) {
+      make_viscous(model, node, left_length.at(node), reactions, boundary);
+    }
+    for (const auto& [y, node] : right_nodes) {
+      make_viscous(model, node, right_length.at(node), reactions, boundary);
+    }
+    return boundary;
+  }
+  // Tied: pair nodes at equal elevation (within 1e-6 of the model's height).
+  boundary.tie_vertical = spec.lateral == LateralBoundary::tied;
+  const double tolerance = 1e-6 * std::max(model.height, 1.0);
+  std::size_t j = 0;
+  std::vector<std::uint8_t> paired(n_nodes, 0);
+  for (const auto& [y, node] : left_nodes) {
+    while (j < right_nodes.size() && right_nodes[j].first < y - tolerance) ++j;
+    if (j < right_nodes.size() && std::abs(right_nodes[j].first - y) <= tolerance) {
+      const Index partner = right_nodes[j].second;
+      boundary.tied.emplace_back(node, partner);
+      paired[static_cast<std::size_t>(node)] = paired[static_cast<std::size_t>(partner)] = 1;
+      for (const Index n : {node, partner}) {
+        boundary.static_force[static_cast<std::size_t>(n)].x() +=
+            reactions[static_cast<std::size_t>(n)].x();
+      }
+      ++j;
+    }
+  }
+  if (boundary.tied.empty()) {
+    throw Error(
+        "fem.motion.lateral = \"{}\": no node of the left edge is at the elevation of a node "
+        "of the right edge",
+        to_string(spec.lateral));
+  }
+  for (const auto& [y, node] : left_nodes) {
+    if (!paired[static_cast<std::size_t>(node)]) {
+      make_viscous(model, node, left_length.at(node), reactions, boundary);
+    }
+  }
+  for (const auto& [y, node] : right_nodes) {
+    if (!paired[static_cast<std::size_t>(node)]) {
+      make_viscous(model, node, right_length.at(node), reactions, boundary);
+    }
+  }
+  return boundary;
+}
+
+std::string describe(const SeismicBoundary& boundary, const MotionSpec& spec) {
+  std::string text;
+  if (spec.base == SeismicBase::rigid) {
+    text = "rigid base (the constraints of fem.failure.boundaries move with it)";
+  } else {
+    text = fmt::format("compliant base: ρ_r V_s,r = {:.4g} Pa·s/m{}, {} input",
+                       spec.rock_density * spec.rock_shear_wave_speed,
+                       spec.vertical ? fmt::format(", ρ_r V_p,r = {:.4g} Pa·s/m",
+                                                   spec.rock_density * spec.rock_p_wave_speed)
+                                     : std::string(", vertical roller"),
+                       to_string(spec.input));
+  }
+  const Index viscous = boundary.viscous_side_nodes;
+  switch (spec.lateral) {
+    case LateralBoundary::boundaries:
+      text += "; sides as fem.failure.boundaries";
+      break;
+    case LateralBoundary::tied:
+    case LateralBoundary::tied_horizontal:
+      text += fmt::format("; tied sides ({}): {} pairs, {} unpaired nodes viscous",
+                          boundary.tie_vertical ? "both components" : "horizontal",
+                          boundary.tied.size(), viscous);
+      break;
+    case LateralBoundary::viscous:
+      text += fmt::format("; viscous sides: {} nodes", viscous);
+      break;
+  }
+  return text;
+}
+
+}  // namespace slide::fem
