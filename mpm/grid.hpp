@@ -104,6 +104,12 @@ struct GridGeometry {
 struct GridBoundaries {
   std::array<NodalConstraint, 4> edge;  ///< indexed by GridEdge
   double friction_coefficient = 0.0;
+  /// Shaking (docs/method.md §8): the edges move with the base at this velocity over the
+  /// current step, and every constraint acts on the velocity relative to it (a fixed
+  /// node follows the base, a frictional one slides on it). `moving` is set for a run
+  /// with a base motion, even while the motion is at rest.
+  Vec2 frame_velocity = Vec2::Zero();
+  bool moving = false;
 
   /// From the case's "left", "right", "base", "top" entries (missing ones are free).
   static GridBoundaries from(const BoundaryTable& table, double friction_coefficient);

@@ -619,9 +619,9 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
   }
 }
 
-void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
-                 const NodalDamping& damping, double dt_velocity, double mass_floor,
-                 const ParticleBlocks& blocks, GridState& state) {
+double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
+                   const NodalDamping& damping, double dt_velocity, double mass_floor,
+                   const ParticleBlocks& blocks, GridState& state) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const bool parallel = state.parallel;
   auto add = [](NodeSums& to, const NodeSums& from) {
@@ -631,7 +631,9 @@ void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
     to.force_x += from.force_x;
     to.force_y += from.force_y;
   };
-#pragma omp parallel for schedule(static) if (parallel)
+  const Vec2 frame = boundaries.frame_velocity;
+  double power = 0.0;
+#pragma omp parallel for schedule(static) if (parallel) reduction(+ : power)
   for (int column = state.active_begin; column < state.active_end; ++column) {
     const std::size_t first = static_cast<std::size_t>(column) * rows;
     sum_column(blocks, blocks.sums_window, column, rows, state.sums.data() + first, NodeSums{},
@@ -649,15 +651,20 @@ void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
       std::array<NodalConstraint, 2> constraints;
       const int count =
           boundaries.constraints_of(grid, column - 1, static_cast<int>(row) - 1, constraints);
+      // Constraints act on the velocity relative to the moving base (zero: at rest).
       const Vec2 end_velocity =
-          count == 0
-              ? trial
-              : apply_constraints(std::span(constraints.data(), static_cast<std::size_t>(count)),
-                                  boundaries.friction_coefficient, trial);
+          count == 0 ? trial
+                     : frame + apply_constraints(
+                                   std::span(constraints.data(), static_cast<std::size_t>(count)),
+                                   boundaries.friction_coefficient, trial - frame);
+      if (boundaries.moving && count > 0) {
+        power += s.mass * (end_velocity - trial).dot(end_velocity) / dt_velocity;
+      }
       const Vec2 acceleration = (end_velocity - velocity) / dt_velocity;
       motion = {acceleration.x(), acceleration.y(), end_velocity.x(), end_velocity.y()};
     }
   }
+  return power;
 }
 
 void update_particle_velocities_and_remap(Particles& particles, const GridGeometry& grid,
@@ -707,8 +714,9 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
       const int count =
           boundaries.constraints_of(grid, column - 1, static_cast<int>(row) - 1, constraints);
       if (count > 0) {
-        v = apply_constraints(std::span(constraints.data(), static_cast<std::size_t>(count)), 0.0,
-                              v);
+        v = boundaries.frame_velocity +
+            apply_constraints(std::span(constraints.data(), static_cast<std::size_t>(count)), 0.0,
+                              v - boundaries.frame_velocity);
       }
     }
   }

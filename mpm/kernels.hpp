@@ -122,9 +122,11 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
 /// The grid update, column by column: the blocks' windows summed in block order, then
 /// the nodal update (common/physics/nodal_update.hpp: damping, then the constraints of the grid
 /// edges): v_i = p_i/m_i, v_i^L and a_i = (v_i^L − v_i)/Δt_v.
-void update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
-                 const NodalDamping& damping, double dt_velocity, double mass_floor,
-                 const ParticleBlocks& blocks, GridState& state);
+/// Returns the power of the constraints when the boundaries are moving (Σ m (v − v*)·v
+/// / dt_v over the constrained nodes, W/m; the solver multiplies it by the step), else 0.
+double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
+                   const NodalDamping& damping, double dt_velocity, double mass_floor,
+                   const ParticleBlocks& blocks, GridState& state);
 
 /// MUSL, pass 2: the particle velocities from the grid (FLIP with a PIC share α),
 ///   v_p ← (1 − α)(v_p + Δt_v Σ N_ip a_i) + α Σ N_ip v_i^L,

@@ -64,7 +64,8 @@ T setting(const SolverSettings& s, const std::string& key, const std::string& so
 }  // namespace
 
 void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunReferences& references,
-                          const std::string& case_name, const TransferSettings& transfer) {
+                          const std::string& case_name, const TransferSettings& transfer,
+                          const std::optional<CheckpointMotion>& motion) {
   ParticleCheckpoint c;
   c.header.kind = CheckpointKind::mpm;
   c.header.producer = "mpm-solve (" + version_string() + ")";
@@ -86,6 +87,10 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   c.solver["initial_energy"] = references.energy.initial_energy;
   c.solver["energy_scale"] = references.energy.energy_scale;
   c.solver["rest_timer"] = references.rest_timer;
+  if (motion) {
+    c.motion = motion;
+    c.solver["boundary_work"] = clock.boundary_work;
+  }
   // Borrow the arrays (moves, no copy) and give them back whatever the write does.
   c.particles = solver.lend_particles();
   try {
@@ -138,6 +143,13 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
     throw Error("{}: /solver attribute frozen_particles = {} is out of range", source, frozen);
   }
   clock.frozen = static_cast<std::size_t>(frozen);
+  if (s.contains("boundary_work")) {
+    clock.boundary_work = setting<double>(s, "boundary_work", source);
+    if (!std::isfinite(clock.boundary_work)) {
+      throw Error("{}: /solver attribute boundary_work = {} is not finite", source,
+                  clock.boundary_work);
+    }
+  }
   references.pe0 = checkpoint.header.pe0;
   references.reference_height = at_least("reference_height", 0.0);
   references.energy.initial_energy =

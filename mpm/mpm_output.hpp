@@ -32,7 +32,8 @@ struct RunReferences {
 /// copying them (a copy would double the particle memory at every checkpoint).
 void write_mpm_checkpoint(const std::filesystem::path& path, MpmSolver& solver,
                           const RunReferences& references, const std::string& case_name,
-                          const TransferSettings& transfer);
+                          const TransferSettings& transfer,
+                          const std::optional<CheckpointMotion>& motion = std::nullopt);
 
 /// Restores the counters and references of a kind "mpm" checkpoint; throws Error naming
 /// `source` when a setting is missing.

@@ -31,7 +31,21 @@ struct Start {
   bool fresh = true;      ///< not a restart: t0 outputs and references still to set
   bool pure_mpm = false;  ///< particles from the case geometry
   Mesh body;              ///< pure MPM: the body's mesh (surface heights for K0)
+  std::optional<CheckpointMotion> motion;  ///< the base motion the file carries
 };
+
+/// The motion the grid's base follows (docs/method.md §8): the recorded base motion, or,
+/// when the FE phase had a compliant base driven by the incident wave, the outcrop
+/// motion 2 v_in the rock surface would make (the MPM grid's base is rigid).
+GroundMotion grid_base_motion(const CheckpointMotion& record) {
+  CheckpointMotion m = record;
+  if (m.base == "compliant" && m.input == "incident") {
+    for (auto* samples : {&m.acceleration, &m.velocity, &m.displacement}) {
+      for (Vec2& x : *samples) x *= 2.0;
+    }
+  }
+  return ground_motion(m);
+}
 
 // A particle file's materials must be the case's by count, name and density (its
 // particle masses were computed with that density); their other properties may differ:
@@ -74,6 +88,7 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
     compare_materials(file.materials, c.materials, path.string(), log);
   }
   start.transfer = file.transfer;
+  start.motion = file.motion;
   if (restart) {
     read_restart_state(file, path.string(), start.clock, start.references);
     start.stored_settings = file.solver;
@@ -187,7 +202,7 @@ std::optional<std::string> check_stability(const MpmSolver& solver, const RunRef
   }
   const Energies e = solver.energies();
   return run::energy_growth(
-      e.total(), r.energy,
+      e.total() - solver.clock().boundary_work, r.energy,
       fmt::format("kinetic {:.4g} + potential + elastic {:.4g} J/m", e.kinetic, e.elastic));
   return std::nullopt;
 }
@@ -253,14 +268,16 @@ class MpmStage final : public run::Stage {
  public:
   MpmStage(const Case& c, const RunOptions& options, const run::OutputSchedule& schedule,
            MpmSolver& solver, RunReferences& references, const TransferSettings& transfer,
-           MpmHistory& history, std::optional<VtkWriter>& vtk, double vtk_every, Progress& progress,
-           ExitLog& exits, fs::path last_checkpoint, const Logger& log)
+           const std::optional<CheckpointMotion>& motion, MpmHistory& history,
+           std::optional<VtkWriter>& vtk, double vtk_every, Progress& progress, ExitLog& exits,
+           fs::path last_checkpoint, const Logger& log)
       : case_(c),
         options_(options),
         schedule_(schedule),
         solver_(solver),
         refs_(references),
         transfer_(transfer),
+        motion_(motion),
         history_(history),
         vtk_(vtk),
         vtk_every_(vtk_every),
@@ -328,7 +345,7 @@ class MpmStage final : public run::Stage {
     }
     if (checkpoint) {
       last_checkpoint_ = options_.output_dir / run::checkpoint_file_name("mpm", now);
-      write_mpm_checkpoint(last_checkpoint_, solver_, refs_, case_.name, transfer_);
+      write_mpm_checkpoint(last_checkpoint_, solver_, refs_, case_.name, transfer_, motion_);
       exits_.report(now);
     }
   }
@@ -339,6 +356,7 @@ class MpmStage final : public run::Stage {
   MpmSolver& solver_;
   RunReferences& refs_;
   const TransferSettings& transfer_;
+  const std::optional<CheckpointMotion>& motion_;
   MpmHistory& history_;
   std::optional<VtkWriter>& vtk_;
   double vtk_every_;
@@ -444,6 +462,17 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   run::check_checkpoint_times(c.mpm.checkpoint_times, "mpm", "mpm.checkpoint_times",
                               {start.clock.time});
   MpmSolver solver(settings, c.materials, std::move(start.particles), start.clock);
+  if (start.motion) {
+    solver.set_base_motion(grid_base_motion(*start.motion));
+    const GroundMotion& m = *solver.base_motion();
+    const auto peaks = m.peaks();
+    log.info(
+        "base motion from {} ({} base in FE{}): t = {:.3f} → {:.3f} s, peak |a| = {:.4g} m/s², "
+        "|v| = {:.4g} m/s (x); the grid's edges move with it",
+        source, start.motion->base,
+        start.motion->base == "compliant" ? fmt::format(", {} input", start.motion->input) : "",
+        m.start_time(), m.end_time(), peaks.acceleration.x(), peaks.velocity.x());
+  }
   if (start.stored_settings) {
     for (const auto& change :
          changed_settings(*start.stored_settings, settings, c.mpm.time_step, c.mpm.courant)) {
@@ -494,8 +523,8 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   }
   Progress progress(log, "mpm", solver.clock().time, end_time);
   ExitLog exits(log, settings.particle_exit);
-  MpmStage stage(c, options, schedule, solver, refs, start.transfer, history, vtk, vtk_every,
-                 progress, exits, options.restart_file.value_or(fs::path()), log);
+  MpmStage stage(c, options, schedule, solver, refs, start.transfer, start.motion, history, vtk,
+                 vtk_every, progress, exits, options.restart_file.value_or(fs::path()), log);
   if (start.fresh) stage.write_start_output(schedule.is_checkpoint(solver.clock().time));
 
   // ---- the time loop, then the final row and mpm_final.h5
@@ -506,7 +535,8 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   stage.write_last_output();
-  write_mpm_checkpoint(options.output_dir / "mpm_final.h5", solver, refs, c.name, start.transfer);
+  write_mpm_checkpoint(options.output_dir / "mpm_final.h5", solver, refs, c.name, start.transfer,
+                       start.motion);
 
   RunSummary summary;
   summary.steps = stage.steps();

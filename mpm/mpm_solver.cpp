@@ -160,8 +160,12 @@ StepReport MpmSolver::step(double dt) {
 
   particles_to_grid(particles_, s.grid, s.shape_function, s.velocity_transfer, s.gravity, blocks_,
                     grid_state_);
-  update_grid(s.grid, s.boundaries, s.damping, lengths.dt_velocity, mass_floor_, blocks_,
-              grid_state_);
+  if (base_motion_) {
+    settings_.boundaries.frame_velocity = base_motion_->step_velocity(clock_.time, dt);
+  }
+  const double power = update_grid(s.grid, s.boundaries, s.damping, lengths.dt_velocity,
+                                   mass_floor_, blocks_, grid_state_);
+  clock_.boundary_work += power * dt;
   if (s.update_scheme == UpdateScheme::musl) {
     update_particle_velocities_and_remap(particles_, s.grid, s.boundaries, s.shape_function,
                                          s.velocity_transfer, lengths, s.pic_fraction, mass_floor_,
@@ -179,6 +183,11 @@ StepReport MpmSolver::step(double dt) {
   last_kinetic_energy_ = 0.0;
   for (double e : blocks_.kinetic_energy) last_kinetic_energy_ += e;
   return {exited_this_step_};
+}
+
+void MpmSolver::set_base_motion(GroundMotion motion) {
+  base_motion_ = std::move(motion);
+  settings_.boundaries.moving = true;
 }
 
 Energies MpmSolver::energies() const {

@@ -22,6 +22,7 @@
 #include "common/base/error.hpp"
 #include "common/input/case_file.hpp"
 #include "common/physics/constitutive.hpp"
+#include "common/physics/ground_motion.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/particles.hpp"
 #include "mpm/grid.hpp"
@@ -64,6 +65,9 @@ struct SolverClock {
   std::int64_t steps_since_sort = 0;
   bool sorted_once = false;  ///< false: sort before the first step
   std::size_t frozen = 0;    ///< the last `frozen` particles are frozen
+  /// Work the moving base's constraints did on the body since the start of the run
+  /// (docs/method.md §8), J/m: the energy guard measures the total energy against it.
+  double boundary_work = 0.0;
 };
 
 /// What one step did that the driver reports.
@@ -89,6 +93,11 @@ class MpmSolver {
 
   /// One explicit step of length dt > 0 (see the header comment).
   StepReport step(double dt);
+  /// The base motion the grid's edges follow from now on (docs/method.md §8): over a step
+  /// t → t + dt they move at (u_g(t + dt) − u_g(t))/dt and every constraint acts on the
+  /// velocity relative to that.
+  void set_base_motion(GroundMotion motion);
+  const std::optional<GroundMotion>& base_motion() const { return base_motion_; }
 
   /// The models the stress update uses: the materials' own (default) or linear elastic
   /// with the same constants (gravity stage of pure MPM).
@@ -172,6 +181,7 @@ class MpmSolver {
   double mass_floor_ = 0.0;
   double last_kinetic_energy_ = 0.0;
   std::size_t exited_this_step_ = 0;
+  std::optional<GroundMotion> base_motion_;
 };
 
 /// Checks particles before a run; throws Error naming `source` and the first bad

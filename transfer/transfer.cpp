@@ -740,6 +740,8 @@ void describe_particle_file(const FemCheckpoint& fem, const ParticleLayout& layo
       report.rbf_polynomial.empty() ? std::string("none") : report.rbf_polynomial;
   out.transfer.rbf_shape = report.rbf_shape;
   out.transfer.rbf_neighbours = report.rbf_neighbours;
+  // The base motion, so that mpm-solve continues the same earthquake from t_T.
+  out.motion = fem.motion;
 }
 
 /// The conservation totals of both sides, so the report can show what the transfer kept.
