@@ -39,8 +39,9 @@ void build_node_slots(FemModel& model) {
 }  // namespace
 
 FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
-                    double hourglass_coefficient) {
+                    double hourglass_coefficient, const Vec2& gravity) {
   FemModel model;
+  model.gravity = gravity;
   model.mesh = std::move(mesh);
   model.materials = std::move(materials);
   model.kinematics = kinematics;
@@ -94,7 +95,7 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
   model.gravity_force.resize(model.nodal_mass.size());
   for (std::size_t n = 0; n < model.nodal_mass.size(); ++n) {
     if (!(model.nodal_mass[n] > 0.0)) throw Error("mesh: node {} belongs to no element", n);
-    model.gravity_force[n] = model.nodal_mass[n] * gravity_vector();
+    model.gravity_force[n] = model.nodal_mass[n] * model.gravity;
   }
 
   double y_max = -std::numeric_limits<double>::infinity();

@@ -52,6 +52,7 @@ struct FemModel {
   int gauss_per_element = 1;
   bool hourglass = false;  ///< quad4-1gp: physical hourglass stabilisation is on
 
+  Vec2 gravity = gravity_vector();           ///< g, m/s²
   ElementGeometry reference;                 ///< on the reference coordinates X
   std::vector<Mat3> elasticity;              ///< per material, plane strain
   std::vector<double> wave_speed;            ///< per material: c_p = sqrt(M/ρ), m/s
@@ -81,7 +82,7 @@ struct FemModel {
 /// Precomputes everything from a validated mesh. Throws Error when an element has
 /// det J ≤ 0 at a Gauss point of its rule or when a material id is out of range.
 FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
-                    double hourglass_coefficient);
+                    double hourglass_coefficient, const Vec2& gravity = gravity_vector());
 
 struct FemState {
   double time = 0.0;  ///< s, t = 0 at the start of the failure stage

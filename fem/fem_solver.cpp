@@ -83,6 +83,7 @@ class FemRun final : public run::Stage {
   void prepare_motion();
   void start_shaking(bool from_geostatic_state);
   void start_recorders(bool resume);
+  Vec2 mean_base_displacement(const FemState& state) const;
   // run::Stage: the failure stage's steps and outputs.
   double time() const override { return state_.time; }
   bool advance_to(double stop) override;
@@ -192,8 +193,9 @@ void FemRun::prepare_fresh() {
   if (case_.fem.failure_stage) {
     make_constraints(mesh, case_.fem.failure_boundaries, "fem.failure.boundaries");
   }
-  model_ = std::make_unique<FemModel>(make_model(
-      std::move(mesh), case_.materials, case_.fem.kinematics, case_.fem.hourglass_coefficient));
+  model_ =
+      std::make_unique<FemModel>(make_model(std::move(mesh), case_.materials, case_.fem.kinematics,
+                                            case_.fem.hourglass_coefficient, case_.gravity));
   state_ = make_rest_state(*model_);
   if (case_.fem.failure_stage) {
     // A run too long to finish (a huge stiffness, a tiny fixed step) is refused now, not
@@ -239,8 +241,9 @@ void FemRun::prepare_restart() {
   }
   validate_mesh(checkpoint.mesh, file.string(), case_.materials.size());
   make_constraints(checkpoint.mesh, case_.fem.failure_boundaries, "fem.failure.boundaries");
-  model_ = std::make_unique<FemModel>(make_model(
-      checkpoint.mesh, case_.materials, case_.fem.kinematics, case_.fem.hourglass_coefficient));
+  model_ =
+      std::make_unique<FemModel>(make_model(checkpoint.mesh, case_.materials, case_.fem.kinematics,
+                                            case_.fem.hourglass_coefficient, case_.gravity));
   state_ = state_from_checkpoint(*model_, checkpoint, file);
   make_failure_solver();
   choose_time_step(false);  // refuses a run too long to finish before any file is touched
@@ -349,6 +352,21 @@ void FemRun::start_shaking(bool from_geostatic_state) {
           : std::string("; no baseline correction"));
   logger_.info("{}", describe(seismic_, spec));
   write_text_atomically(options_.output_dir / "motion.csv", motion_csv(*motion_));
+}
+
+/// Where the base is: the motion's displacement for a rigid base (its nodes on it, or
+/// sliding on it), the mean displacement of the base nodes for a compliant one (which
+/// includes the drift of the whole model on its dashpots).
+Vec2 FemRun::mean_base_displacement(const FemState& state) const {
+  if (case_.fem.motion->base == SeismicBase::rigid) return motion_->displacement(state.time);
+  Vec2 sum = Vec2::Zero();
+  std::size_t count = 0;
+  for (const NodeSet& set : model_->mesh.node_sets) {
+    if (set.name != "base") continue;
+    for (const Index n : set.nodes) sum += state.displacement[static_cast<std::size_t>(n)];
+    count += set.nodes.size();
+  }
+  return count > 0 ? Vec2(sum / static_cast<double>(count)) : Vec2::Zero();
 }
 
 void FemRun::start_recorders(bool resume) {
@@ -657,6 +675,8 @@ void FemRun::write_fem_checkpoint(const FemState& state, const std::string& stag
     const MotionSpec& spec = *case_.fem.motion;
     checkpoint.motion = checkpoint_motion(*motion_, std::string(to_string(spec.base)),
                                           std::string(to_string(spec.input)));
+    checkpoint.motion->base_time = state.time;
+    checkpoint.motion->base_displacement = mean_base_displacement(state);
   }
   write_checkpoint(file, checkpoint);
   written_.push_back(file);

@@ -89,16 +89,18 @@ Energies compute_energies(const FemModel& model, const ElementGeometry& geometry
   for (Index e = 0; e < mesh.element_count(); ++e) {
     const auto ei = static_cast<std::size_t>(e);
     Vec2 mean_velocity = Vec2::Zero();
-    double mean_elevation = 0.0;
+    Vec2 mean_position = Vec2::Zero();
     for (Index node : mesh.element(e)) {
       mean_velocity += velocity[static_cast<std::size_t>(node)];
-      mean_elevation += coordinates[static_cast<std::size_t>(node)].y();
+      mean_position += coordinates[static_cast<std::size_t>(node)];
     }
     mean_velocity *= inverse_nodes;
-    mean_elevation *= inverse_nodes;
+    mean_position *= inverse_nodes;
     const double mass = model.element_mass[ei];
     energies.kinetic += 0.5 * mass * mean_velocity.squaredNorm();
-    energies.potential += mass * gravity_acceleration * mean_elevation;
+    // −m g·x, written so that g = (0, −9.81) gives (m 9.81) y exactly as before.
+    energies.potential += -(mass * model.gravity.y()) * mean_position.y() -
+                          (mass * model.gravity.x()) * mean_position.x();
     const Material& material = model.material_of(e);
     for (std::size_t p = 0; p < n_gauss; ++p) {
       const std::size_t gp = ei * n_gauss + p;

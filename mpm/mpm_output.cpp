@@ -185,8 +185,16 @@ void MpmHistory::write(const MpmSolver& solver, double pe0) {
   const double time = solver.clock().time;
   if (!csv_.rows().empty() && time <= csv_.rows().back().front()) return;
   const Energies e = solver.energies();
+  // Positions from the base (a shaken run's grid moves with it).
+  const Vec2 shift = solver.base_shift(time);
+  const auto& x = solver.particles().coordinates;
+  std::vector<Vec2> from_base;
+  if (shift != Vec2::Zero()) {
+    from_base.reserve(x.size());
+    for (const Vec2& p : x) from_base.push_back(p - shift);
+  }
   const SurfaceProfile profile =
-      surface_profile(solver.particles().coordinates, metrics_.bin_width,
+      surface_profile(from_base.empty() ? x : from_base, metrics_.bin_width,
                       metrics_.profile_percentile, metrics_.foundation_level);
   const RunoutMeasures m = runout_measures(profile, metrics_.initial_length);
   csv_.add({time, e.kinetic, pe0, e.kinetic / pe0, m.x_toe, m.runout, m.runout_normalised});

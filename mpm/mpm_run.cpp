@@ -7,6 +7,7 @@
 
 #include "common/base/error.hpp"
 #include "common/input/mesh_generation.hpp"
+#include "common/input/motion.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/run/output_schedule.hpp"
 #include "common/run/stability_guard.hpp"
@@ -33,19 +34,6 @@ struct Start {
   Mesh body;              ///< pure MPM: the body's mesh (surface heights for K0)
   std::optional<CheckpointMotion> motion;  ///< the base motion the file carries
 };
-
-/// The motion the grid's base follows (docs/method.md §8): the recorded base motion, or,
-/// when the FE phase had a compliant base driven by the incident wave, the outcrop
-/// motion 2 v_in the rock surface would make (the MPM grid's base is rigid).
-GroundMotion grid_base_motion(const CheckpointMotion& record) {
-  CheckpointMotion m = record;
-  if (m.base == "compliant" && m.input == "incident") {
-    for (auto* samples : {&m.acceleration, &m.velocity, &m.displacement}) {
-      for (Vec2& x : *samples) x *= 2.0;
-    }
-  }
-  return ground_motion(m);
-}
 
 // A particle file's materials must be the case's by count, name and density (its
 // particle masses were computed with that density); their other properties may differ:
@@ -379,6 +367,7 @@ MpmSettings settings_for(const Case& c, const RunOptions& options) {
     throw Error("--particles and --restart exclude each other (a restart carries its particles)");
   }
   MpmSettings settings = MpmSettings::from(c.mpm);
+  settings.gravity = c.gravity;
   if (options.shape_function) settings.shape_function = *options.shape_function;
   if (options.update_scheme) settings.update_scheme = *options.update_scheme;
   if (options.sort_interval) settings.sort_interval = *options.sort_interval;
@@ -456,14 +445,28 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   const std::string source = options.restart_file     ? options.restart_file->string()
                              : options.particles_file ? options.particles_file->string()
                                                       : c.file.string();
-  validate_particles(start.particles, settings, c.materials.size(), source, start.clock.frozen);
+  // A shaken run's grid is where the base is at the start (MpmSolver::set_base_motion).
+  MpmSettings placed = settings;
+  if (start.motion) {
+    placed.grid.origin +=
+        base_position(*start.motion, grid_motion(*start.motion), start.clock.time);
+  }
+  validate_particles(start.particles, placed, c.materials.size(), source, start.clock.frozen);
   // Every checkpoint under a name of its own (a fresh run checkpoints its start).
   run::check_checkpoint_cadence(c.mpm.checkpoint_every, "mpm.checkpoint_every");
   run::check_checkpoint_times(c.mpm.checkpoint_times, "mpm", "mpm.checkpoint_times",
                               {start.clock.time});
   MpmSolver solver(settings, c.materials, std::move(start.particles), start.clock);
+  // Pure MPM of a shaken case: the case's motion, sampled at the first step (the grid's
+  // base is rigid; an FE compliant base's motion is taken as grid_base_motion does).
+  if (start.pure_mpm && c.fem.motion) {
+    const MotionSpec& spec = *c.fem.motion;
+    start.motion =
+        checkpoint_motion(make_ground_motion(spec, time_step(c.mpm, solver)),
+                          std::string(to_string(spec.base)), std::string(to_string(spec.input)));
+  }
   if (start.motion) {
-    solver.set_base_motion(grid_base_motion(*start.motion));
+    solver.set_base_motion(grid_motion(*start.motion), *start.motion);
     const GroundMotion& m = *solver.base_motion();
     const auto peaks = m.peaks();
     log.info(

@@ -154,15 +154,13 @@ StepReport MpmSolver::step(double dt) {
   const MpmSettings& s = settings_;
   exited_this_step_ = 0;
   size_affine_velocity();  // the settings may have switched to APIC since the start
+  if (base_motion_) follow_base(dt);
 
   locate();
   if (!clock_.sorted_once || clock_.steps_since_sort >= s.sort_interval) sort();
 
   particles_to_grid(particles_, s.grid, s.shape_function, s.velocity_transfer, s.gravity, blocks_,
                     grid_state_);
-  if (base_motion_) {
-    settings_.boundaries.frame_velocity = base_motion_->step_velocity(clock_.time, dt);
-  }
   const double power = update_grid(s.grid, s.boundaries, s.damping, lengths.dt_velocity,
                                    mass_floor_, blocks_, grid_state_);
   clock_.boundary_work += power * dt;
@@ -185,9 +183,29 @@ StepReport MpmSolver::step(double dt) {
   return {exited_this_step_};
 }
 
-void MpmSolver::set_base_motion(GroundMotion motion) {
+void MpmSolver::set_base_motion(GroundMotion motion, const CheckpointMotion& record) {
   base_motion_ = std::move(motion);
+  motion_record_ = record;
   settings_.boundaries.moving = true;
+  resting_origin_ = settings_.grid.origin;
+  settings_.grid.origin = grid_origin_at(clock_.time);
+  located_ = false;
+}
+
+Vec2 MpmSolver::grid_origin_at(double time) const {
+  return base_motion_ ? resting_origin_ + base_position(motion_record_, *base_motion_, time)
+                      : settings_.grid.origin;
+}
+
+/// The grid translates with the base: at the step's start it is where the base is, and
+/// over the step its edges move at the base's velocity (the constraints' frame).
+void MpmSolver::follow_base(double dt) {
+  const Vec2 origin = grid_origin_at(clock_.time);
+  if (origin != settings_.grid.origin) {
+    settings_.grid.origin = origin;
+    located_ = false;  // the last pass located the particles on the grid where it was
+  }
+  settings_.boundaries.frame_velocity = base_motion_->step_velocity(clock_.time, dt);
 }
 
 Energies MpmSolver::energies() const {

@@ -21,6 +21,7 @@
 
 #include "common/base/error.hpp"
 #include "common/input/case_file.hpp"
+#include "common/io/checkpoint.hpp"
 #include "common/physics/constitutive.hpp"
 #include "common/physics/ground_motion.hpp"
 #include "common/physics/material.hpp"
@@ -93,10 +94,17 @@ class MpmSolver {
 
   /// One explicit step of length dt > 0 (see the header comment).
   StepReport step(double dt);
-  /// The base motion the grid's edges follow from now on (docs/method.md §8): over a step
-  /// t → t + dt they move at (u_g(t + dt) − u_g(t))/dt and every constraint acts on the
-  /// velocity relative to that.
-  void set_base_motion(GroundMotion motion);
+  /// The base motion the grid follows from now on (docs/method.md §8): the grid translates
+  /// with the base, its origin at the resting origin + u_g(t) at the start of each step;
+  /// over the step t → t + dt its edges move at (u_g(t + dt) − u_g(t))/dt and every
+  /// constraint acts on the velocity relative to that. Particles stay absolute.
+  /// `record` places the base at the start (CheckpointMotion::base_displacement).
+  void set_base_motion(GroundMotion motion, const CheckpointMotion& record);
+  /// The base's displacement at `time` (the grid's shift from its resting origin; zero
+  /// without a motion): positions measured from the base are positions minus this.
+  Vec2 base_shift(double time) const { return grid_origin_at(time) - resting_origin_; }
+  /// Where the grid's origin is at `time` (the settings' origin without a motion).
+  Vec2 grid_origin_at(double time) const;
   const std::optional<GroundMotion>& base_motion() const { return base_motion_; }
 
   /// The models the stress update uses: the materials' own (default) or linear elastic
@@ -182,6 +190,10 @@ class MpmSolver {
   double last_kinetic_energy_ = 0.0;
   std::size_t exited_this_step_ = 0;
   std::optional<GroundMotion> base_motion_;
+  Vec2 resting_origin_ = Vec2::Zero();  ///< the grid's origin with the base at rest
+  CheckpointMotion motion_record_;
+
+  void follow_base(double dt);
 };
 
 /// Checks particles before a run; throws Error naming `source` and the first bad

@@ -14,6 +14,12 @@ import pathlib
 import sys
 import tomllib
 
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
 G = 9.81
 ZONE_JACOBIAN_AVG = 0.97
 ZONE_EPS_Q_AVG = 0.20
@@ -225,6 +231,139 @@ def stress_quality_lines(case, sweep, report_dir):
     return lines
 
 
+def seismic_lines(case, out, report_dir, sweep):
+    """The shaking of a case with [fem.motion] (docs/method.md §8): the motion, the check
+    that the slope stands before it, the time histories, KE/PE0 of both phases."""
+    spec = case["fem"].get("motion")
+    if spec is None or not (out / "fem" / "motion.csv").exists():
+        return []
+    import limit_equilibrium
+    import seismic
+
+    motion = seismic.read_table(out / "fem" / "motion.csv")
+    seismic.plot_motion(out / "fem" / "motion.csv", report_dir / "motion.png")
+    start = spec.get("start_time", 0.0)
+    end = motion["time"][-1]
+    peak_a = np.max(np.abs(motion["ax"]))
+    peak_v = np.max(np.abs(motion["vx"]))
+    peak_u = np.max(np.abs(motion["ux"]))
+    stability = limit_equilibrium.slope_stability(case)
+    history = read_csv(out / "fem" / "fem_history.csv")
+    before = [r for r in history if number(r["time"]) <= start + 1e-9]
+    lines = ["## Shaking", ""]
+    lines.append(
+        f"- Base: {spec.get('base', 'rigid')}"
+        + (f" (ρ_r = {spec['rock_density']:g} kg/m³, V_s,r = {spec['rock_shear_wave_speed']:g} m/s, "
+           f"{spec.get('input', 'incident')} motion)" if spec.get("base") == "compliant" else "")
+        + f"; sides {spec.get('lateral', 'boundaries')}.")
+    lines.append(
+        f"- Motion from t = {start:g} to {end:.2f} s: peak |a| = {peak_a:.3f} m/s² "
+        f"({peak_a / G:.3f} g), |v| = {peak_v:.3f} m/s, |u| = {peak_u:.3f} m after baseline "
+        "correction (figure below).")
+    lines.append(
+        f"- Before the shaking the slope stands: factor of safety {stability['fs']:.2f} "
+        f"(Bishop's simplified method, tools/limit_equilibrium.py; circle centre "
+        f"({stability['circle'][0]:.1f}, {stability['circle'][1]:.1f}) m, radius "
+        f"{stability['circle'][2]:.1f} m), pseudo-static yield acceleration "
+        f"k_y = {stability['ky']:.3f} g, so the peak base acceleration is "
+        f"{peak_a / G / stability['ky']:.1f} k_y.")
+    if before:
+        ke = max(number(r["ke_over_pe0"]) for r in before)
+        last = before[-1]
+        lines.append(
+            f"- Pre-shaking check (FE, t = 0 → {start:g} s on the seismic boundaries): KE/PE0 at "
+            f"most {ke:.2e}, {ke_trend(before)}; {int(number(last['n_elements_yielding']))} "
+            f"elements yielding at t = {start:g} s.")
+    recorders = []
+    for name in ("crest", "toe"):
+        path = out / "fem" / "recorders" / f"{name}.csv"
+        if path.exists():
+            table = seismic.read_table(path)
+            ux = table[seismic.node_columns(table, "ux_rel")[0]]
+            uy = table[seismic.node_columns(table, "uy_rel")[0]]
+            t = table["time"]
+            at = lambda q, time: float(np.interp(time, t, q))  # noqa: E731
+            recorders.append((name, t, ux, uy))
+            lines.append(
+                f"- The {name} relative to the base: u = ({at(ux, start):+.3f}, {at(uy, start):+.3f}) m "
+                f"when the shaking starts, ({at(ux, end):+.3f}, {at(uy, end):+.3f}) m when it ends, "
+                f"({ux[-1]:+.3f}, {uy[-1]:+.3f}) m at t = {t[-1]:g} s.")
+    lines += ["", "![base motion](motion.png)", ""]
+    if recorders:
+        fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+        axes[0].plot(motion["time"], motion["ax"] / G, "k-", lw=0.8)
+        axes[0].set_ylabel("base a_x (g)")
+        for name, t, ux, uy in recorders:
+            axes[1].plot(t, ux, label=f"{name}: u_x")
+            axes[1].plot(t, uy, "--", label=f"{name}: u_y")
+        axes[1].set_ylabel("displacement relative to the base (m)")
+        axes[1].set_xlabel("t (s)")
+        axes[1].legend(ncol=2)
+        for ax in axes:
+            ax.axvspan(start, end, color="0.9", zorder=0)
+            ax.grid(alpha=0.3)
+        axes[0].set_title("FE phase: the recorders (grey: the shaking)")
+        fig.tight_layout()
+        seismic.write_figure(fig, report_dir / "recorders.png")
+        lines += ["![recorders](recorders.png)", ""]
+    # KE/PE0 of the FE phase and of every MPM run against time.
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    ax.semilogy([number(r["time"]) for r in history], [max(number(r["ke_over_pe0"]), 1e-9) for r in history],
+                "k-", lw=2, label="FE")
+    for run in sorted(out.glob("tt*/mpm_history.csv"), key=lambda p: float(p.parent.name[2:])):
+        rows = read_csv(run)
+        ax.semilogy([number(r["time"]) for r in rows], [max(number(r["ke_over_pe0"]), 1e-9) for r in rows],
+                    lw=0.9, label=f"MPM from t_T = {run.parent.name[2:]} s")
+    ax.axvspan(start, end, color="0.9", zorder=0)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("KE / PE0")
+    ax.set_title("Kinetic energy of the FE phase and of the MPM runs (grey: the shaking)")
+    ax.legend(fontsize=7, ncol=2)
+    ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    seismic.write_figure(fig, report_dir / "seismic_energy.png")
+    lines += ["![KE/PE0](seismic_energy.png)", ""]
+    return lines
+
+
+def ke_trend(rows):
+    """Whether KE/PE0 of the pre-shaking rows falls (settling) or grows (a runaway)."""
+    ke = [number(r["ke_over_pe0"]) for r in rows]
+    if len(ke) < 4:
+        return "too few rows to judge"
+    half = len(ke) // 2
+    first, second = max(ke[:half]), max(ke[half:])
+    return (f"falling from {first:.2e} to {second:.2e} (settling, no runaway)" if second <= first
+            else f"**growing** from {first:.2e} to {second:.2e}")
+
+
+def seismic_reading(case, sweep):
+    """How the runout depends on when, relative to the shaking, the body was handed over."""
+    spec = case["fem"]["motion"]
+    start = spec.get("start_time", 0.0)
+    runs = sorted((r for r in sweep if r["run"].startswith("tt")), key=lambda r: number(r["tt"]))
+    if len(runs) < 2:
+        return ""
+    comp = case["fem"]["motion"].get("horizontal", {})
+    duration = comp.get("duration", 2 * comp.get("peak_time", 0.0))
+    motion_end = start + duration
+    def phase(t):
+        return "before" if t <= start + 1e-9 else ("during" if t < motion_end - 1e-9 else "after")
+    groups = {}
+    for r in runs:
+        groups.setdefault(phase(number(r["tt"])), []).append(r)
+    text = [f"The shaking runs from t = {start:g} to {motion_end:g} s."]
+    for name in ("before", "during", "after"):
+        if name not in groups:
+            continue
+        rs = groups[name]
+        values = [number(r["runout"]) for r in rs]
+        text.append(
+            f"Transfers {name} it (t_T = {', '.join(format(number(r['tt']), 'g') for r in rs)} s) run out "
+            f"R = {min(values):.2f} to {max(values):.2f} m.")
+    return " ".join(text)
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: report.py CASE.toml OUT_DIR")
@@ -267,9 +406,12 @@ def main():
                             ("geostatic_transfer_error.png", "Transfer error of σyy")):
         if (report_dir / figure).exists():
             md += [f"![{caption}]({figure})", ""]
+    md += seismic_lines(case, out, report_dir, sweep)
     md += stress_quality_lines(case, sweep, report_dir)
     if sweep:
         text = reading(case, sweep, last_inside, tau_c)
+        if "motion" in case["fem"]:
+            text += " " + seismic_reading(case, sweep)
         if case["fem"].get("end_time", 0) == 0:
             text = geostatic_reading(case, out)
         md += ["## Reading", "", text, ""]

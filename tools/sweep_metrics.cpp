@@ -168,8 +168,14 @@ double critical_time(const Case& c) {
 
 RunMetrics measure_run(const Case& c, const std::string& run, std::optional<double> tt,
                        const std::filesystem::path& particle_file) {
-  const ParticleCheckpoint checkpoint = read_particle_checkpoint(particle_file);
-  const Particles& p = checkpoint.particles;
+  ParticleCheckpoint checkpoint = read_particle_checkpoint(particle_file);
+  Particles& p = checkpoint.particles;
+  // A shaken run: positions from the base, which the MPM grid followed (docs/method.md §8).
+  if (checkpoint.motion) {
+    const Vec2 shift =
+        base_position(*checkpoint.motion, grid_motion(*checkpoint.motion), checkpoint.header.time);
+    for (Vec2& x : p.coordinates) x -= shift;
+  }
   RunMetrics metrics;
   metrics.run = run;
   metrics.tt = tt;

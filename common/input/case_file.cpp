@@ -12,7 +12,9 @@
 // with "rbf", gravity_stage_* with "k0"), so that switching an option is a one-line edit.
 #include "common/input/case_file.hpp"
 
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "common/input/case_file_reader.hpp"
@@ -25,7 +27,7 @@ using namespace case_reader;
 namespace {
 
 void read_case_table(const Section& root, const std::filesystem::path& file, Case& c) {
-  const Section s = root.table("case", Section::Keys{"name", "description"});
+  const Section s = root.table("case", Section::Keys{"name", "description", "gravity_angle"});
   c.name = s.string("name");
   const bool well_formed =
       !c.name.empty() && std::all_of(c.name.begin(), c.name.end(), [](char ch) {
@@ -43,6 +45,14 @@ void read_case_table(const Section& root, const std::filesystem::path& file, Cas
                                folder.filename().string()));
   }
   c.description = s.string("description", "");
+  // A verification device: a level model under gravity turned by θ is a model on an
+  // incline of θ (falling towards +x), seen in the incline's frame (tests/seismic).
+  const double angle =
+      s.number("gravity_angle", Range{.min = -45.0, .max = 45.0, .unit = "degrees"}, 0.0);
+  if (angle != 0.0) {
+    const double theta = angle * std::numbers::pi / 180.0;
+    c.gravity = gravity_acceleration * Vec2(std::sin(theta), -std::cos(theta));
+  }
 }
 
 }  // namespace

@@ -245,6 +245,8 @@ struct Case {
   std::filesystem::path file;  ///< the case file it was read from
   std::string name;
   std::string description;
+  /// g, m/s²: (0, −9.81) (docs/method.md §2), or turned by [case] gravity_angle.
+  Vec2 gravity = gravity_vector();
   MaterialTable materials;
   MeshSpec mesh;
   FemSpec fem;

@@ -442,6 +442,12 @@ void write_motion(Writer& writer, const std::optional<CheckpointMotion>& motion)
   g.write_double_attribute("step", m.step);
   g.write_string_attribute("base", m.base);
   g.write_string_attribute("input", m.input);
+  if (!m.base_displacement.allFinite() || !std::isfinite(m.base_time)) {
+    throw Error("{}: cannot write /motion: base displacement or time not finite", writer.target());
+  }
+  g.write_double_attribute("base_time", m.base_time);
+  g.write_double_attribute("base_displacement_x", m.base_displacement.x());
+  g.write_double_attribute("base_displacement_y", m.base_displacement.y());
   const Rows samples{"sample", "n_samples", m.acceleration.size()};
   writer.vectors<2>(g, "acceleration", m.acceleration, samples, "m/s^2");
   writer.vectors<2>(g, "velocity", m.velocity, samples, "m/s");
@@ -843,6 +849,13 @@ std::optional<CheckpointMotion> read_motion(const Reader& reader) {
   m.step = g.read_double_attribute("step");
   m.base = g.read_string_attribute("base");
   m.input = g.read_string_attribute("input");
+  m.base_time = g.read_double_attribute("base_time");
+  m.base_displacement = Vec2(g.read_double_attribute("base_displacement_x"),
+                             g.read_double_attribute("base_displacement_y"));
+  if (!m.base_displacement.allFinite() || !std::isfinite(m.base_time)) {
+    throw Error("{}: attributes base_time, base_displacement_x, base_displacement_y must be finite",
+                g.where());
+  }
   if (!std::isfinite(m.start_time) || !(m.step > 0.0) || !std::isfinite(m.step)) {
     throw Error("{}: attributes start_time = {}, step = {} (expected finite, step > 0)", g.where(),
                 m.start_time, m.step);
@@ -898,6 +911,19 @@ CheckpointMotion checkpoint_motion(const GroundMotion& motion, std::string base,
 GroundMotion ground_motion(const CheckpointMotion& motion) {
   return GroundMotion(motion.start_time, motion.step, motion.acceleration, motion.velocity,
                       motion.displacement);
+}
+
+GroundMotion grid_motion(const CheckpointMotion& record) {
+  if (record.base != "compliant" || record.input != "incident") return ground_motion(record);
+  CheckpointMotion m = record;
+  for (auto* samples : {&m.acceleration, &m.velocity, &m.displacement}) {
+    for (Vec2& x : *samples) x *= 2.0;
+  }
+  return ground_motion(m);
+}
+
+Vec2 base_position(const CheckpointMotion& motion, const GroundMotion& grid, double time) {
+  return motion.base_displacement + (grid.displacement(time) - grid.displacement(motion.base_time));
 }
 
 void write_checkpoint(const fs::path& path, const FemCheckpoint& checkpoint) {

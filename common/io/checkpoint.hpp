@@ -57,7 +57,20 @@ struct CheckpointMotion {
   std::vector<Vec2> acceleration, velocity, displacement;  ///< n_samples each
   std::string base;                                        ///< "rigid" or "compliant"
   std::string input;  ///< "incident" or "outcrop" (what the samples are at a compliant base)
+  /// Where the FE model's base was (the mean displacement of its base nodes) at
+  /// `base_time`: the motion's own displacement for a rigid base; for a compliant one it
+  /// includes the drift of the whole model on its dashpots. The MPM grid starts there.
+  Vec2 base_displacement = Vec2::Zero();
+  double base_time = 0.0;
 };
+
+/// The motion the MPM grid's base follows: the samples, or, after a compliant base
+/// driven by the incident wave, twice them (the outcrop motion; the MPM base is rigid).
+GroundMotion grid_motion(const CheckpointMotion& motion);
+/// The base's displacement at `time` as the MPM grid follows it: base_displacement plus
+/// the grid motion's displacement since base_time. Positions measured from the base
+/// (the runout) are positions minus this.
+Vec2 base_position(const CheckpointMotion& motion, const GroundMotion& grid, double time);
 
 /// The samples of `motion` as a checkpoint records them.
 CheckpointMotion checkpoint_motion(const GroundMotion& motion, std::string base, std::string input);
