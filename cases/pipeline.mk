@@ -43,19 +43,8 @@
 
 .DEFAULT_GOAL := main
 PIPELINE_MK := $(lastword $(MAKEFILE_LIST))
-ROOT    := $(abspath $(CASE_DIR)/../..)
-BUILD   ?= $(ROOT)/build
-BIN     ?= $(BUILD)/bin
-PYTHON  ?= /usr/bin/python3
-OUT     ?= $(CASE_DIR)/out
-# A relative OUT from the command line or the environment is taken from the caller's
-# directory: the shell's PWD, which `make -C` leaves as it was (CURDIR is the case's).
-# Sub-makes are given the absolute OUT, since their shells' PWD is the case folder.
-ifneq ($(filter command line environment,$(origin OUT)),)
-  override OUT := $(abspath $(if $(filter /%,$(OUT)),$(OUT),$(or $(PWD),$(CURDIR))/$(OUT)))
-endif
+include $(dir $(PIPELINE_MK))paths.mk
 CASE    := $(CASE_DIR)/case.toml
-TOOLS   := $(ROOT)/tools
 
 FEM_SOLVE := $(BIN)/fem-solve
 FEM2MPM   := $(BIN)/fem2mpm

@@ -15,6 +15,9 @@
 //      inversion, and without it nodes sank below y = 0 and KE/PE0 exceeded 1)
 //   3. positions:                          u_{n+1} = u_n + dt v_{n+1/2}
 //   4. strain increment and stress update: Δε = dt sym∇v_{n+1/2}, σ_{n+1} = model(σ_n, Δε)
+// A shaken stage (docs/method.md §8, fem/seismic_boundary.hpp) adds to step 2 the static
+// reactions, the incident forces and the dashpots of its boundaries, ties the side pairs,
+// and applies the constraints to the velocity relative to a moving rigid base.
 // A step depends only on the stored state (u, v, σ, state, Q) and dt, so a run restarted
 // from a checkpoint continues bit for bit. Small strain evaluates ∇ on the reference
 // geometry; updated Lagrangian on x_{n+1}, rotates σ by the Jaumann spin first, and

@@ -49,8 +49,8 @@ struct SeismicBoundary {
   /// `tie_vertical`.
   std::vector<std::pair<Index, Index>> tied;
   bool tie_vertical = false;
-  /// Nodes whose dashpot acts on the velocity relative to the base (rigid base: every
-  /// dashpot; compliant: none).
+  /// Whether the dashpots act on the velocity relative to the base (a rigid base: the
+  /// far field moves with it) or on the absolute one (a compliant base).
   bool dashpots_in_base_frame = false;
   Index viscous_side_nodes = 0;  ///< side nodes with Lysmer dashpots
 
@@ -63,7 +63,6 @@ struct SeismicBoundary {
   Vec2 frame_displacement(double t) const {
     return base == SeismicBase::rigid ? motion->displacement(t) : Vec2::Zero();
   }
-  Index tied_count() const { return static_cast<Index>(tied.size()); }
 };
 
 /// The reaction each node's supports carry in `state` (the geostatic equilibrium):
