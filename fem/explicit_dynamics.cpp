@@ -111,25 +111,30 @@ Vec2 ExplicitSolver::nodal_force(Index node) const {
   return force;
 }
 
+template <bool MovingBase>
 Vec2 ExplicitSolver::constrained_velocity(Index node, const FemState& state, const Vec2& trial,
                                           double dt, const Vec2& frame_velocity,
                                           const Vec2& frame_displacement) const {
+  // The static base skips the frame's arithmetic (a tenth of the nodal update's work).
+  const auto relative = [&](const Vec2& v) { return MovingBase ? Vec2(v - frame_velocity) : v; };
+  const auto absolute = [&](const Vec2& v) { return MovingBase ? Vec2(v + frame_velocity) : v; };
   const auto n = static_cast<std::size_t>(node);
   const auto constraints = constraints_.of(node);
   if (on_frictional_base(constraints)) {
-    return frame_velocity +
-           apply_constraints(
-               constraints, friction_coefficient_, trial - frame_velocity,
-               {base_gap(constraints, state.displacement[n] - frame_displacement), dt});
+    const Vec2 u =
+        MovingBase ? Vec2(state.displacement[n] - frame_displacement) : state.displacement[n];
+    return absolute(apply_constraints(constraints, friction_coefficient_, relative(trial),
+                                      {base_gap(constraints, u), dt}));
   }
-  const Vec2 v = constraints.empty()
-                     ? trial
-                     : frame_velocity + apply_constraints(constraints, friction_coefficient_,
-                                                          trial - frame_velocity);
+  const Vec2 v =
+      constraints.empty()
+          ? trial
+          : absolute(apply_constraints(constraints, friction_coefficient_, relative(trial)));
   if (!base_plane_) return v;
-  const Vec2 x = model_.mesh.nodes[n] + state.displacement[n] - frame_displacement;
-  return frame_velocity + apply_constraint(base_plane_->contact, friction_coefficient_,
-                                           v - frame_velocity, {base_plane_->gap(x), dt});
+  Vec2 x = model_.mesh.nodes[n] + state.displacement[n];
+  if (MovingBase) x -= frame_displacement;
+  return absolute(apply_constraint(base_plane_->contact, friction_coefficient_, relative(v),
+                                   {base_plane_->gap(x), dt}));
 }
 
 void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vector<Vec2>& velocity,
@@ -141,7 +146,7 @@ void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vec
       const auto node = static_cast<Index>(n);
       const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], state.velocity[n],
                                                nodal_force(node), dt, damping_.nodal);
-      velocity[n] = constrained_velocity(node, state, trial, dt, Vec2::Zero(), Vec2::Zero());
+      velocity[n] = constrained_velocity<false>(node, state, trial, dt, Vec2::Zero(), Vec2::Zero());
     }
     return;
   }
@@ -179,7 +184,7 @@ void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vec
   for (std::size_t n = 0; n < n_nodes; ++n) {
     const auto node = static_cast<Index>(n);
     velocity[n] =
-        constrained_velocity(node, state, trial_[n], dt, frame_velocity, frame_displacement);
+        constrained_velocity<true>(node, state, trial_[n], dt, frame_velocity, frame_displacement);
     if (boundary_work == nullptr) continue;
     // The boundaries' force over the step, m (v − v*_free)/dt, times the step's motion.
     const double m = model_.nodal_mass[n];
@@ -191,8 +196,24 @@ void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vec
 }
 
 void ExplicitSolver::update_nodes(FemState& state, double dt) {
-  nodal_velocities(state, dt, next_velocity_, &boundary_work_);
   const auto n_nodes = static_cast<std::size_t>(model_.node_count());
+  if (seismic_ == nullptr) {
+    // A static base: one pass, no scratch (2.7 % of the step's instructions on
+    // column-short when it went through nodal_velocities).
+    for (std::size_t n = 0; n < n_nodes; ++n) {
+      const auto node = static_cast<Index>(n);
+      const Vec2 previous = state.velocity[n];
+      const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], previous, nodal_force(node),
+                                               dt, damping_.nodal);
+      const Vec2 velocity =
+          constrained_velocity<false>(node, state, trial, dt, Vec2::Zero(), Vec2::Zero());
+      state.acceleration[n] = (velocity - previous) / dt;
+      state.velocity[n] = velocity;
+      state.displacement[n] += dt * velocity;
+    }
+    return;
+  }
+  nodal_velocities(state, dt, next_velocity_, &boundary_work_);
   for (std::size_t n = 0; n < n_nodes; ++n) {
     const Vec2& velocity = next_velocity_[n];
     state.acceleration[n] = (velocity - state.velocity[n]) / dt;

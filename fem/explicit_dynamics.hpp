@@ -105,6 +105,7 @@ class ExplicitSolver {
   /// The constrained velocity of one node from its trial velocity; the constraints act on
   /// the velocity relative to `frame_velocity` and gaps are measured from
   /// `frame_displacement` (a rigid base's motion; zero for a static base).
+  template <bool MovingBase>
   Vec2 constrained_velocity(Index node, const FemState& state, const Vec2& trial, double dt,
                             const Vec2& frame_velocity, const Vec2& frame_displacement) const;
   /// The velocities after a step of length dt from state.velocity, with the element
