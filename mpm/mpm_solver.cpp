@@ -271,7 +271,16 @@ double MpmSolver::courant_time_step(double courant) const {
   for (std::size_t p = 0; p < active_count(); ++p) {
     const double c2 = modulus[static_cast<std::size_t>(particles_.material_id[p])] *
                       particles_.volume[p] / particles_.mass[p];
-    if (!(c2 <= fastest_squared)) fastest_squared = c2;  // also catches NaN
+    if (!std::isfinite(c2) || !(c2 > 0.0)) {
+      // A volume gone to zero, below it, to infinity or NaN: the run has blown up (the
+      // linear shape's cell crossing in a stiff sliding block did so); name the particle.
+      throw InstabilityError(
+          "instability at t = {:.6g} s (step {}): particle {} (id {}) at ({:.3f}, {:.3f}) m has "
+          "volume {} m^3/m, so no Courant step exists",
+          clock_.time, clock_.step, p, particles_.id[p], particles_.coordinates[p].x(),
+          particles_.coordinates[p].y(), particles_.volume[p]);
+    }
+    fastest_squared = std::max(fastest_squared, c2);
   }
   if (active_count() == 0) {
     for (auto id : particles_.material_id)
