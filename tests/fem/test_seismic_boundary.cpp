@@ -1,0 +1,112 @@
+// The seismic boundaries of fem/seismic_boundary.hpp on small meshes: dashpot lengths,
+// tie pairing, and the static reactions the released supports keep.
+#include <gtest/gtest.h>
+
+#include "common/base/error.hpp"
+#include "fem/fem_model.hpp"
+#include "fem/geostatic.hpp"
+#include "fem/seismic_boundary.hpp"
+#include "tests/support/meshes.hpp"
+#include "tests/support/soil.hpp"
+
+namespace slide::fem {
+namespace {
+
+struct Column {
+  FemModel model;
+  FemState geostatic;
+  GroundMotion motion;
+};
+
+/// A 2 m wide, 4 m high elastic column of 0.5 m quads in geostatic equilibrium on
+/// rollers, and a motion at rest (the boundaries do not depend on it).
+Column column() {
+  Column c{make_model(testing::rectangle_mesh(ElementType::quad4_1gp, 4, 8, 2.0, 4.0),
+                      {testing::soil()}, Kinematics::small_strain, 1.0),
+           {},
+           GroundMotion(AccelerationRecord{{0.0, 1.0}, {0.0, 0.0}}, {}, 0.0, 0.1, false)};
+  c.geostatic = make_rest_state(c.model);
+  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
+                              {"right", BoundaryCondition::roller},
+                              {"base", BoundaryCondition::roller}};
+  solve_geostatic(c.model, make_constraints(c.model.mesh, rollers, "test"), c.geostatic);
+  return c;
+}
+
+MotionSpec compliant_tied() {
+  MotionSpec spec;
+  spec.base = SeismicBase::compliant;
+  spec.lateral = LateralBoundary::tied;
+  spec.rock_density = 2000.0;
+  spec.rock_shear_wave_speed = 300.0;
+  return spec;
+}
+
+// The base's dashpots share its 2 m by tributary length (the corners 0.25 m, the inner
+// nodes 0.5 m): Σ c = ρ_r V_s,r · 2 m; the incident force per unit velocity is twice the
+// dashpot for an incident input.
+TEST(SeismicBoundary, CompliantBaseDashpotsSumToTheImpedanceTimesTheBase) {
+  const Column c = column();
+  const MotionSpec spec = compliant_tied();
+  const SeismicBoundary b =
+      make_seismic_boundary(c.model, spec, c.motion, support_reactions(c.model, c.geostatic));
+  double dashpot = 0.0, incident = 0.0;
+  for (std::size_t n = 0; n < b.dashpot.size(); ++n) {
+    dashpot += b.dashpot[n].x();
+    incident += b.incident[n].x();
+    EXPECT_EQ(b.dashpot[n].y(), 0.0);  // no vertical motion: the roller stays
+  }
+  const double impedance = spec.rock_density * spec.rock_shear_wave_speed;
+  EXPECT_NEAR(dashpot, impedance * 2.0, 1e-9 * impedance);
+  EXPECT_NEAR(incident, 2.0 * impedance * 2.0, 1e-9 * impedance);
+  EXPECT_FALSE(b.dashpots_in_base_frame);
+}
+
+// Tied sides pair every node of the left edge with the right node at its elevation (the
+// compliant base's corners too), and keep each roller's horizontal reaction: in a level
+// column a pair's two reactions cancel, so the pair starts in equilibrium.
+TEST(SeismicBoundary, TiedSidesPairEqualElevationsAndKeepCancellingReactions) {
+  const Column c = column();
+  const std::vector<Vec2> reactions = support_reactions(c.model, c.geostatic);
+  const SeismicBoundary b = make_seismic_boundary(c.model, compliant_tied(), c.motion, reactions);
+  ASSERT_EQ(b.tied.size(), 9u);  // 8 rows: 9 nodes a side
+  EXPECT_TRUE(b.tie_vertical);
+  EXPECT_EQ(b.viscous_side_nodes, 0);
+  double largest = 0.0;
+  for (const auto& [left, right] : b.tied) {
+    const auto l = static_cast<std::size_t>(left), r = static_cast<std::size_t>(right);
+    EXPECT_DOUBLE_EQ(c.model.mesh.nodes[l].y(), c.model.mesh.nodes[r].y());
+    EXPECT_DOUBLE_EQ(b.static_force[l].x(), reactions[l].x());
+    largest = std::max(largest, std::abs(reactions[l].x()));
+    EXPECT_NEAR(b.static_force[l].x() + b.static_force[r].x(), 0.0, 1e-9 * largest);
+  }
+  EXPECT_GT(largest, 0.0);  // the rollers did carry the K0 thrust
+}
+
+// A rigid base prescribes its nodes: its corners are in no pair; viscous sides get
+// ρ V_p L normal and ρ V_s L tangential dashpots with the soil's speeds.
+TEST(SeismicBoundary, RigidBaseCornersAreNotTiedAndViscousSidesUseTheSoilsSpeeds) {
+  const Column c = column();
+  const std::vector<Vec2> reactions = support_reactions(c.model, c.geostatic);
+  MotionSpec spec;
+  spec.lateral = LateralBoundary::tied_horizontal;
+  const SeismicBoundary tied = make_seismic_boundary(c.model, spec, c.motion, reactions);
+  EXPECT_EQ(tied.tied.size(), 8u);
+  EXPECT_FALSE(tied.tie_vertical);
+  spec.lateral = LateralBoundary::viscous;
+  const SeismicBoundary viscous = make_seismic_boundary(c.model, spec, c.motion, reactions);
+  EXPECT_EQ(viscous.viscous_side_nodes, 16);
+  const Material& m = c.model.materials[0];
+  const double vs = std::sqrt(m.shear_modulus() / m.density);
+  double normal = 0.0, tangential = 0.0;
+  for (const Index n : c.model.mesh.node_sets[0].nodes) {  // left
+    normal += viscous.dashpot[static_cast<std::size_t>(n)].x();
+    tangential += viscous.dashpot[static_cast<std::size_t>(n)].y();
+  }
+  // The left edge's 4 m less the base corner's half cell (a rigid base's node).
+  EXPECT_NEAR(normal, m.density * m.p_wave_speed() * 3.75, 1e-9 * normal);
+  EXPECT_NEAR(tangential, m.density * vs * 3.75, 1e-9 * tangential);
+}
+
+}  // namespace
+}  // namespace slide::fem
