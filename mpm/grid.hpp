@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/base/types.hpp"
@@ -131,7 +132,10 @@ struct GridState {
   /// lower-left corner.
   std::vector<CellAverages> cell_averages;
   int active_begin = 0, active_end = 0;  ///< node columns
-  bool parallel = false;                 ///< enough work for several threads
+  /// Node columns this process owns (all on one process; mpm/domain.hpp on several):
+  /// sums over nodes, such as the constraints' work, count only these.
+  int own_begin = 0, own_end = std::numeric_limits<int>::max();
+  bool parallel = false;  ///< enough work for several threads
 
   void resize(const GridGeometry& grid);
   std::size_t bytes() const;

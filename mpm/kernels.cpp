@@ -476,6 +476,8 @@ struct ParticleRow {
   }
 };
 
+}  // namespace
+
 void move_particle(Particles& p, std::size_t to, std::size_t from) {
   p.coordinates[to] = p.coordinates[from];
   p.displacement[to] = p.displacement[from];
@@ -495,6 +497,8 @@ void move_particle(Particles& p, std::size_t to, std::size_t from) {
   std::copy(source.begin(), source.end(), p.surface_stress.of(to).begin());
   if (!p.affine_velocity.empty()) p.affine_velocity[to] = p.affine_velocity[from];
 }
+
+namespace {
 
 /// Particle k takes the place of old particle order[k] (`order` is a permutation of
 /// [0, n)), in place: each cycle of the permutation is followed once with a one-particle
@@ -619,11 +623,8 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
   }
 }
 
-double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
-                   const NodalDamping& damping, double dt_velocity, double mass_floor,
-                   const ParticleBlocks& blocks, GridState& state) {
+void sum_node_windows(const GridGeometry& grid, const ParticleBlocks& blocks, GridState& state) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
-  const bool parallel = state.parallel;
   auto add = [](NodeSums& to, const NodeSums& from) {
     to.mass += from.mass;
     to.momentum_x += from.momentum_x;
@@ -631,13 +632,25 @@ double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
     to.force_x += from.force_x;
     to.force_y += from.force_y;
   };
-  const Vec2 frame = boundaries.frame_velocity;
-  double power = 0.0;
-#pragma omp parallel for schedule(static) if (parallel) reduction(+ : power)
+#pragma omp parallel for schedule(static) if (state.parallel)
   for (int column = state.active_begin; column < state.active_end; ++column) {
     const std::size_t first = static_cast<std::size_t>(column) * rows;
     sum_column(blocks, blocks.sums_window, column, rows, state.sums.data() + first, NodeSums{},
                add);
+  }
+}
+
+double update_nodes(const GridGeometry& grid, const GridBoundaries& boundaries,
+                    const NodalDamping& damping, double dt_velocity, double mass_floor,
+                    GridState& state) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const Vec2 frame = boundaries.frame_velocity;
+  double power = 0.0;
+#pragma omp parallel for schedule(static) if (state.parallel) reduction(+ : power)
+  for (int column = state.active_begin; column < state.active_end; ++column) {
+    const std::size_t first = static_cast<std::size_t>(column) * rows;
+    // A node shared with a neighbouring rank does its work on the rank that owns it.
+    const bool own = column >= state.own_begin && column < state.own_end;
     for (std::size_t row = 0; row < rows; ++row) {
       const NodeSums& s = state.sums[first + row];
       NodeMotion& motion = state.motion[first + row];
@@ -657,7 +670,7 @@ double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
                      : frame + apply_constraints(
                                    std::span(constraints.data(), static_cast<std::size_t>(count)),
                                    boundaries.friction_coefficient, trial - frame);
-      if (boundaries.moving && count > 0) {
+      if (boundaries.moving && count > 0 && own) {
         power += s.mass * (end_velocity - trial).dot(end_velocity) / dt_velocity;
       }
       const Vec2 acceleration = (end_velocity - velocity) / dt_velocity;
@@ -667,11 +680,16 @@ double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
   return power;
 }
 
-void update_particle_velocities_and_remap(Particles& particles, const GridGeometry& grid,
-                                          const GridBoundaries& boundaries, ShapeFunction shape,
-                                          VelocityTransfer transfer, const StepLengths& step,
-                                          double pic_fraction, double mass_floor,
-                                          ParticleBlocks& blocks, GridState& state) {
+double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
+                   const NodalDamping& damping, double dt_velocity, double mass_floor,
+                   const ParticleBlocks& blocks, GridState& state) {
+  sum_node_windows(grid, blocks, state);
+  return update_nodes(grid, boundaries, damping, dt_velocity, mass_floor, state);
+}
+
+void remap_momenta(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
+                   VelocityTransfer transfer, const StepLengths& step, double pic_fraction,
+                   ParticleBlocks& blocks, GridState& state) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const auto nblocks = static_cast<int>(blocks.count());
 #pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
@@ -694,14 +712,23 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
     remap(particles, grid, state, step, pic_fraction, blocks.offsets[k], blocks.offsets[k + 1],
           blocks.column_begin[k], window);
   }
-  // Momenta summed in block order → velocity, with the kinematic part of the edge
-  // constraints (μ = 0 turns a friction edge into a roller).
-  const bool parallel = blocks.parallel;
-#pragma omp parallel for schedule(static) if (parallel)
+  // Momenta summed in block order.
+#pragma omp parallel for schedule(static) if (blocks.parallel)
   for (int column = state.active_begin; column < state.active_end; ++column) {
     const std::size_t first = static_cast<std::size_t>(column) * rows;
     sum_column(blocks, blocks.momentum_window, column, rows, state.remapped_velocity.data() + first,
                Vec2::Zero().eval(), [](Vec2& to, const Vec2& from) { to += from; });
+  }
+}
+
+void finish_remapped_velocities(const GridGeometry& grid, const GridBoundaries& boundaries,
+                                double mass_floor, GridState& state) {
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  // Momentum → velocity, with the kinematic part of the edge constraints (μ = 0 turns a
+  // friction edge into a roller).
+#pragma omp parallel for schedule(static) if (state.parallel)
+  for (int column = state.active_begin; column < state.active_end; ++column) {
+    const std::size_t first = static_cast<std::size_t>(column) * rows;
     for (std::size_t row = 0; row < rows; ++row) {
       const double m = state.sums[first + row].mass;
       Vec2& v = state.remapped_velocity[first + row];
@@ -720,6 +747,15 @@ void update_particle_velocities_and_remap(Particles& particles, const GridGeomet
       }
     }
   }
+}
+
+void update_particle_velocities_and_remap(Particles& particles, const GridGeometry& grid,
+                                          const GridBoundaries& boundaries, ShapeFunction shape,
+                                          VelocityTransfer transfer, const StepLengths& step,
+                                          double pic_fraction, double mass_floor,
+                                          ParticleBlocks& blocks, GridState& state) {
+  remap_momenta(particles, grid, shape, transfer, step, pic_fraction, blocks, state);
+  finish_remapped_velocities(grid, boundaries, mass_floor, state);
 }
 
 namespace {

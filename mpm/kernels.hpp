@@ -119,6 +119,15 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
                        VelocityTransfer transfer, const Vec2& gravity, ParticleBlocks& blocks,
                        GridState& state);
 
+/// The grid update in its two halves, for a run on several ranks (mpm/domain.hpp), which
+/// completes the shared nodes' sums between them: the blocks' windows summed into the
+/// nodes in block order; then the nodal update (below) of the summed nodes, whose
+/// constraint power counts the nodes of GridState's own columns only.
+void sum_node_windows(const GridGeometry& grid, const ParticleBlocks& blocks, GridState& state);
+double update_nodes(const GridGeometry& grid, const GridBoundaries& boundaries,
+                    const NodalDamping& damping, double dt_velocity, double mass_floor,
+                    GridState& state);
+
 /// The grid update, column by column: the blocks' windows summed in block order, then
 /// the nodal update (common/physics/nodal_update.hpp: damping, then the constraints of the grid
 /// edges): v_i = p_i/m_i, v_i^L and a_i = (v_i^L − v_i)/Δt_v.
@@ -127,6 +136,15 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
 double update_grid(const GridGeometry& grid, const GridBoundaries& boundaries,
                    const NodalDamping& damping, double dt_velocity, double mass_floor,
                    const ParticleBlocks& blocks, GridState& state);
+
+/// MUSL's pass 2 in its two halves (see sum_node_windows): the particle velocities and
+/// the re-projected momenta summed into GridState::remapped_velocity; then those momenta
+/// divided by the nodal masses, with the kinematic constraints.
+void remap_momenta(Particles& particles, const GridGeometry& grid, ShapeFunction shape,
+                   VelocityTransfer transfer, const StepLengths& step, double pic_fraction,
+                   ParticleBlocks& blocks, GridState& state);
+void finish_remapped_velocities(const GridGeometry& grid, const GridBoundaries& boundaries,
+                                double mass_floor, GridState& state);
 
 /// MUSL, pass 2: the particle velocities from the grid (FLIP with a PIC share α),
 ///   v_p ← (1 − α)(v_p + Δt_v Σ N_ip a_i) + α Σ N_ip v_i^L,
@@ -171,6 +189,9 @@ LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, S
 /// per-particle memory it takes is the 4-byte permutation.
 void sort_particles_by_cell(Particles& particles, std::size_t active_count,
                             const GridGeometry& grid);
+
+/// Copies every field of particle `from` onto particle `to` (`from` is left as it was).
+void move_particle(Particles& particles, std::size_t to, std::size_t from);
 
 /// Moves the particles listed in `indices` (sorted, all < active_count) behind the active
 /// ones (freeze) or deletes them (remove), keeping the order of the others. Returns the

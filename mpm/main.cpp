@@ -16,10 +16,13 @@
 #include "common/base/error.hpp"
 #include "common/base/log.hpp"
 #include "common/base/program.hpp"
+#include "common/base/ranks.hpp"
 #include "mpm/mpm_run.hpp"
 
 int main(int argc, char** argv) {
   using namespace slide;
+  // MPI build: the ranks of `mpirun -np N mpm-solve …` (docs/parallel.md); one otherwise.
+  const RankSession session(argc, argv);
   CLI::App app{"mpm-solve: material point runout phase (sequential hybrid FEM → MPM)", "mpm-solve"};
   std::string case_file, output_dir, particles, restart, shape, scheme;
   double until = 0.0, vtk_every = 0.0;
@@ -47,9 +50,9 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "print warnings, errors and the summary line only");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 
-  return run_main("mpm-solve", [&] {
+  return run_main_on_ranks("mpm-solve", [&] {
     if (threads > 0) omp_set_num_threads(threads);
-    const Logger log("mpm-solve", quiet);
+    const Logger log("mpm-solve", quiet, !Ranks::world().root());
     const Case c = load_case(case_file);
     mpm::RunOptions options;
     options.output_dir = output_dir;

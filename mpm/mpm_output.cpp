@@ -1,5 +1,6 @@
 #include "mpm/mpm_output.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -82,7 +83,10 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   // 0 in the checkpoint a run writes at its start, before its first step sorts: a
   // restart from it then sorts too, and continues bit for bit.
   c.solver["sorted_once"] = std::int64_t{clock.sorted_once ? 1 : 0};
-  c.solver["frozen_particles"] = static_cast<std::int64_t>(clock.frozen);
+  const Ranks& ranks = solver.ranks();
+  // The file's count: every rank's frozen particles (they are the file's last rows).
+  c.solver["frozen_particles"] =
+      static_cast<std::int64_t>(ranks.sum(static_cast<double>(clock.frozen)));
   c.solver["reference_height"] = references.reference_height;
   c.solver["initial_energy"] = references.energy.initial_energy;
   c.solver["energy_scale"] = references.energy.energy_scale;
@@ -94,7 +98,7 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   // Borrow the arrays (moves, no copy) and give them back whatever the write does.
   c.particles = solver.lend_particles();
   try {
-    write_checkpoint(path, c);
+    write_checkpoint_on_ranks(path, c, clock.frozen, ranks);
   } catch (...) {
     solver.return_particles(std::move(c.particles));
     throw;
@@ -185,17 +189,22 @@ void MpmHistory::write(const MpmSolver& solver, double pe0) {
   const double time = solver.clock().time;
   if (!csv_.rows().empty() && time <= csv_.rows().back().front()) return;
   const Energies e = solver.energies();
-  // Positions from the base (a shaken run's grid moves with it).
+  // Positions from the base (a shaken run's grid moves with it), every rank's on the
+  // root, which alone writes the file.
   const Vec2 shift = solver.base_shift(time);
   const auto& x = solver.particles().coordinates;
-  std::vector<Vec2> from_base;
-  if (shift != Vec2::Zero()) {
-    from_base.reserve(x.size());
-    for (const Vec2& p : x) from_base.push_back(p - shift);
-  }
-  const SurfaceProfile profile =
-      surface_profile(from_base.empty() ? x : from_base, metrics_.bin_width,
-                      metrics_.profile_percentile, metrics_.foundation_level);
+  std::vector<std::array<double, 2>> from_base(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k)
+    from_base[k] = {x[k].x() - shift.x(), x[k].y() - shift.y()};
+  const Ranks& ranks = solver.ranks();
+  const auto gathered = Ranks::values_of<std::array<double, 2>>(
+      ranks.gather_to_root(Ranks::bytes_of(std::span<const std::array<double, 2>>(from_base))));
+  if (!ranks.root()) return;
+  std::vector<Vec2> positions(gathered.size());
+  for (std::size_t k = 0; k < gathered.size(); ++k)
+    positions[k] = Vec2(gathered[k][0], gathered[k][1]);
+  const SurfaceProfile profile = surface_profile(
+      positions, metrics_.bin_width, metrics_.profile_percentile, metrics_.foundation_level);
   const RunoutMeasures m = runout_measures(profile, metrics_.initial_length);
   csv_.add({time, e.kinetic, pe0, e.kinetic / pe0, m.x_toe, m.runout, m.runout_normalised});
 }
@@ -220,7 +229,12 @@ void VtkWriter::write(const MpmSolver& solver) {
     plastic_shear[k] = p.state[k].plastic_shear_strain;
     plastic_volumetric[k] = p.state[k].plastic_volumetric_strain;
   }
-  const fs::path file = folder_ / fmt::format("mpm_{:06d}.vtu", solver.clock().step);
+  const Ranks& ranks = solver.ranks();
+  const std::string name = fmt::format("mpm_{:06d}", solver.clock().step);
+  // On several ranks each writes its piece and the root the .pvtu that joins them.
+  const fs::path file =
+      folder_ /
+      (ranks.distributed() ? fmt::format("{}_r{}.vtu", name, ranks.rank()) : name + ".vtu");
   std::vector<VtkField> fields{vtk_field("displacement", p.displacement),
                                vtk_field("velocity", p.velocity),
                                vtk_field("stress", p.stress),
@@ -243,7 +257,17 @@ void VtkWriter::write(const MpmSolver& solver) {
                                VtkLayout::matrix));
   }
   write_vtk_points(file, solver.clock().time, p.coordinates, fields);
-  collection_.add(solver.clock().time, fs::path("vtk") / file.filename());
+  if (!ranks.distributed()) {
+    collection_.add(solver.clock().time, fs::path("vtk") / file.filename());
+    return;
+  }
+  ranks.barrier();  // every piece is in place before the collection names it
+  if (!ranks.root()) return;
+  std::vector<std::string> pieces;
+  for (int r = 0; r < ranks.size(); ++r) pieces.push_back(fmt::format("{}_r{}.vtu", name, r));
+  const fs::path joined = folder_ / (name + ".pvtu");
+  write_vtk_points_collection(joined, pieces, fields);
+  collection_.add(solver.clock().time, fs::path("vtk") / joined.filename());
 }
 
 }  // namespace slide::mpm

@@ -112,6 +112,12 @@ Start start_pure_mpm(const Case& c, const MpmSettings& settings, const Logger& l
   return start;
 }
 
+/// Particles on every rank together (collective).
+std::size_t total_particles(const MpmSolver& solver) {
+  return static_cast<std::size_t>(
+      solver.ranks().sum(static_cast<double>(solver.particles().count())));
+}
+
 /// The initial stresses of pure MPM (docs/method.md §5): K0 of level ground (set on the
 /// particles already), or an elastic gravity stage with damping to equilibrium; then the
 /// switch to the plastic model.
@@ -127,16 +133,18 @@ void initialise_pure_mpm(const Case& c, MpmSolver& solver, double dt, const Logg
         c.mpm.gravity_stage_duration, settling.steps, c.mpm.gravity_stage_damping,
         settling.kinetic_energy);
   }
-  const std::size_t returned = solver.return_to_yield_surface();
+  const auto returned = static_cast<std::size_t>(
+      solver.ranks().sum(static_cast<double>(solver.return_to_yield_surface())));
   log.info(
       "pure MPM: switch to the plastic model: {} of {} particles returned to the yield surface",
-      returned, solver.particles().count());
+      returned, total_particles(solver));
 }
 
-/// Fixes the guard's references at the start of a fresh run.
+/// Fixes the guard's references at the start of a fresh run (collective).
 void set_references(const Case& c, const MpmSolver& solver, RunReferences& r, bool pure_mpm,
                     const Logger& log) {
   const Particles& p = solver.particles();
+  const Ranks& ranks = solver.ranks();
   const Energies e = solver.energies();
   const double g = solver.settings().gravity.norm();
   double y_min = std::numeric_limits<double>::infinity(), y_max = -y_min;
@@ -144,6 +152,8 @@ void set_references(const Case& c, const MpmSolver& solver, RunReferences& r, bo
     y_min = std::min(y_min, x.y());
     y_max = std::max(y_max, x.y());
   }
+  y_min = ranks.min(y_min);
+  y_max = ranks.max(y_max);
   if (pure_mpm || !(r.pe0 != 0.0)) {
     if (!pure_mpm)
       log.warning("the particle file has pe0 = 0; PE0 = Σ m g y of its particles is used");
@@ -154,15 +164,15 @@ void set_references(const Case& c, const MpmSolver& solver, RunReferences& r, bo
   double releasable = 0.0;
   for (std::size_t k = 0; k < p.count(); ++k)
     releasable += p.mass[k] * g * (p.coordinates[k].y() - y_min);
+  releasable = ranks.sum(releasable);
   r.energy.energy_scale = releasable + e.kinetic + e.elastic;
   r.rest_timer = 0.0;
 }
 
-/// The instability guard (docs/method.md §5; the checks and the tolerance are shared,
-/// common/run/stability_guard.hpp): finite particle fields, particle and node speeds
-/// below the bound, the total energy within the shared tolerance.
-std::optional<std::string> check_stability(const MpmSolver& solver, const RunReferences& r,
-                                           double speed_limit_factor) {
+/// The guard's checks of this rank's particles and nodes: finite fields, speeds below
+/// the bound (the energy is the whole body's: check_stability).
+std::optional<std::string> check_own_stability(const MpmSolver& solver, const RunReferences& r,
+                                               double speed_limit_factor) {
   const Particles& p = solver.particles();
   for (std::size_t k = 0; k < p.count(); ++k) {
     if (!p.velocity[k].allFinite() || !p.stress[k].allFinite() || !std::isfinite(p.volume[k])) {
@@ -188,11 +198,21 @@ std::optional<std::string> check_stability(const MpmSolver& solver, const RunRef
         speeds.node_position.x(), speeds.node_position.y(), speeds.node, speed_limit_factor, limit,
         r.reference_height);
   }
+  return std::nullopt;
+}
+
+/// The instability guard (docs/method.md §5; the checks and the tolerance are shared,
+/// common/run/stability_guard.hpp): finite particle fields, particle and node speeds
+/// below the bound, the total energy within the shared tolerance. Collective: every
+/// rank checks its particles and nodes, and all take the first rank's finding.
+std::optional<std::string> check_stability(const MpmSolver& solver, const RunReferences& r,
+                                           double speed_limit_factor) {
+  const auto local = check_own_stability(solver, r, speed_limit_factor);
+  if (auto problem = solver.ranks().first_problem(local)) return problem;
   const Energies e = solver.energies();
   return run::energy_growth(
       e.total() - solver.clock().boundary_work, r.energy,
       fmt::format("kinetic {:.4g} + potential + elastic {:.4g} J/m", e.kinetic, e.elastic));
-  return std::nullopt;
 }
 
 /// Warnings about particles leaving the grid, rate-limited: the first exit at once, then
@@ -398,9 +418,10 @@ void log_settings(const Logger& log, const MpmSettings& settings, const MpmSpec&
 void prepare_start(const Case& c, Start& start, MpmSolver& solver, double dt, const Logger& log) {
   if (start.pure_mpm) initialise_pure_mpm(c, solver, dt, log);
   if (start.fresh && !start.pure_mpm) {
-    const std::size_t returned = solver.return_to_yield_surface();
+    const auto returned = static_cast<std::size_t>(
+        solver.ranks().sum(static_cast<double>(solver.return_to_yield_surface())));
     log.info("switch to the MPM models: {} of {} particles returned to the yield surface", returned,
-             solver.particles().count());
+             total_particles(solver));
   }
   if (start.fresh) set_references(c, solver, start.references, start.pure_mpm, log);
 }
@@ -421,6 +442,35 @@ void check_run_length(const Case& c, const Start& start, double duration, double
                         c.mpm.courant * cell_size / dt));
 }
 
+/// The slabs of a run on several ranks: cell columns and particles of each.
+void log_slabs(const Logger& log, const Subdomain& domain, const MpmSolver& solver) {
+  const Ranks& ranks = domain.ranks();
+  std::vector<std::int64_t> counts(static_cast<std::size_t>(ranks.size()), 0);
+  counts[static_cast<std::size_t>(ranks.rank())] = static_cast<std::int64_t>(solver.active_count());
+  ranks.sum(std::span<std::int64_t>(counts));
+  std::string slabs;
+  for (int r = 0; r < ranks.size(); ++r) {
+    const auto k = static_cast<std::size_t>(r);
+    slabs += fmt::format("{}rank {}: cells {}–{}, {} particles", r == 0 ? "" : "; ", r,
+                         domain.cuts().begin[k], domain.cuts().begin[k + 1] - 1, counts[k]);
+  }
+  log.info(
+      "MPI: {} ranks, the grid cut into slabs of cell columns ({}); re-cut when a rank has "
+      "{:.0f} % more particles than the mean",
+      ranks.size(), slabs, 100.0 * domain.rebalance_share);
+}
+
+/// What the ranks exchanged over the run (the scaling benchmark reads this line).
+void log_exchanges(const Logger& log, const Subdomain& domain, std::int64_t steps) {
+  const Ranks& ranks = domain.ranks();
+  const double sent = ranks.sum(static_cast<double>(domain.bytes_sent));
+  log.info(
+      "MPI: {} re-cuts; {:.3g} MB sent between ranks in {} steps ({:.3g} kB per step per "
+      "rank)",
+      domain.recuts, sent / 1e6, steps,
+      steps > 0 ? sent / 1e3 / static_cast<double>(steps) / ranks.size() : 0.0);
+}
+
 void log_memory(const Logger& log, const MpmSolver& solver) {
   const auto memory = solver.memory();
   const auto per_particle = [&](std::size_t bytes) {
@@ -437,7 +487,8 @@ void log_memory(const Logger& log, const MpmSolver& solver) {
 
 }  // namespace
 
-RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) {
+RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log,
+                   const Ranks& ranks) {
   // ---- settings and particles: restart, particle file, or the case geometry
   const MpmSettings settings = settings_for(c, options);
   Start start = options.restart_file || options.particles_file ? start_from_file(c, options, log)
@@ -476,6 +527,9 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
         start.motion->base == "compliant" ? fmt::format(", {} input", start.motion->input) : "",
         m.start_time(), m.end_time(), peaks.acceleration.x(), peaks.velocity.x());
   }
+  // On several ranks, each keeps its slab's share of the particles from here on.
+  solver.distribute(ranks);
+  if (const Subdomain* domain = solver.subdomain()) log_slabs(log, *domain, solver);
   if (start.stored_settings) {
     for (const auto& change :
          changed_settings(*start.stored_settings, settings, c.mpm.time_step, c.mpm.courant)) {
@@ -510,7 +564,8 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   const run::OutputSchedule schedule(end_time, c.mpm.output_every, {c.mpm.checkpoint_every},
                                      c.mpm.checkpoint_times);
   fs::create_directories(options.output_dir);
-  run::remove_temporaries_of_killed_runs(options.output_dir, log);
+  if (ranks.root()) run::remove_temporaries_of_killed_runs(options.output_dir, log);
+  ranks.barrier();  // no rank writes before the root has cleared the folder
   MpmHistory history(options.output_dir / "mpm_history.csv", c.metrics);
   if (!start.fresh) history.resume(solver.clock().time, log);
   std::optional<VtkWriter> vtk;
@@ -535,17 +590,19 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log) 
   run::drive(stage, schedule, false);
   progress.finish();
   exits.finish(solver.clock().time);
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  const double wall = ranks.max(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
   stage.write_last_output();
   write_mpm_checkpoint(options.output_dir / "mpm_final.h5", solver, refs, c.name, start.transfer,
                        start.motion);
 
   RunSummary summary;
   summary.steps = stage.steps();
-  summary.particles = solver.particles().count();
+  summary.particles = total_particles(solver);
   summary.wall_seconds = wall;
-  summary.particle_steps_per_second = wall > 0.0 ? stage.particle_steps() / wall : 0.0;
+  const double particle_steps = ranks.sum(stage.particle_steps());
+  summary.particle_steps_per_second = wall > 0.0 ? particle_steps / wall : 0.0;
+  if (const Subdomain* domain = solver.subdomain()) log_exchanges(log, *domain, stage.steps());
   summary.end_time = solver.clock().time;
   log_memory(log, solver);
   return summary;

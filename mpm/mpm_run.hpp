@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common/base/log.hpp"
+#include "common/base/ranks.hpp"
 #include "common/input/case_file.hpp"
 
 namespace slide::mpm {
@@ -41,6 +42,9 @@ struct RunSummary {
 };
 
 /// Runs the MPM phase of `c`; throws Error (one line) on bad input or an instability.
-RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log);
+/// On several ranks (collective; docs/parallel.md) every rank reads the inputs and keeps
+/// its slab's particles; the files are written together, the log by the root.
+RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log,
+                   const Ranks& ranks = Ranks::world());
 
 }  // namespace slide::mpm

@@ -1,6 +1,7 @@
 #include "mpm/mpm_solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -156,18 +157,31 @@ StepReport MpmSolver::step(double dt) {
   size_affine_velocity();  // the settings may have switched to APIC since the start
   if (base_motion_) follow_base(dt);
 
+  const bool sorting = !clock_.sorted_once || clock_.steps_since_sort >= s.sort_interval;
+  if (subdomain_) exchange_particles(sorting);
   locate();
-  if (!clock_.sorted_once || clock_.steps_since_sort >= s.sort_interval) sort();
+  if (sorting) sort();
 
   particles_to_grid(particles_, s.grid, s.shape_function, s.velocity_transfer, s.gravity, blocks_,
                     grid_state_);
-  const double power = update_grid(s.grid, s.boundaries, s.damping, lengths.dt_velocity,
-                                   mass_floor_, blocks_, grid_state_);
+  sum_node_windows(s.grid, blocks_, grid_state_);
+  if (subdomain_) {
+    subdomain_->check_reach(s.grid, grid_state_.active_begin, grid_state_.active_end);
+    subdomain_->sum_shared(s.grid, grid_state_.active_begin, grid_state_.active_end,
+                           grid_state_.sums);
+  }
+  double power =
+      update_nodes(s.grid, s.boundaries, s.damping, lengths.dt_velocity, mass_floor_, grid_state_);
+  if (subdomain_ && s.boundaries.moving) power = subdomain_->ranks().sum(power);
   clock_.boundary_work += power * dt;
   if (s.update_scheme == UpdateScheme::musl) {
-    update_particle_velocities_and_remap(particles_, s.grid, s.boundaries, s.shape_function,
-                                         s.velocity_transfer, lengths, s.pic_fraction, mass_floor_,
-                                         blocks_, grid_state_);
+    remap_momenta(particles_, s.grid, s.shape_function, s.velocity_transfer, lengths,
+                  s.pic_fraction, blocks_, grid_state_);
+    if (subdomain_) {
+      subdomain_->sum_shared(s.grid, grid_state_.active_begin, grid_state_.active_end,
+                             grid_state_.remapped_velocity);
+    }
+    finish_remapped_velocities(s.grid, s.boundaries, mass_floor_, grid_state_);
   }
   pending_ = grid_to_particles(particles_, s.grid, s.shape_function, s.update_scheme,
                                s.velocity_transfer, lengths, s.pic_fraction, s.volumetric_smoothing,
@@ -180,7 +194,46 @@ StepReport MpmSolver::step(double dt) {
   clock_.steps_since_sort += 1;
   last_kinetic_energy_ = 0.0;
   for (double e : blocks_.kinetic_energy) last_kinetic_energy_ += e;
+  if (subdomain_) {
+    std::array<double, 2> totals{last_kinetic_energy_, static_cast<double>(exited_this_step_)};
+    subdomain_->ranks().sum(totals);
+    last_kinetic_energy_ = totals[0];
+    exited_this_step_ = static_cast<std::size_t>(totals[1]);
+  }
   return {exited_this_step_};
+}
+
+void MpmSolver::distribute(const Ranks& ranks) {
+  if (!ranks.distributed()) return;
+  const std::size_t active = active_count();
+  subdomain_.emplace(
+      ranks,
+      SlabCuts::balanced(particles_per_column(particles_, active, settings_.grid), ranks.size()));
+  const std::size_t kept = subdomain_->keep_own(particles_, clock_.frozen, settings_.grid);
+  clock_.frozen = particles_.count() - kept;
+  if (!particles_.affine_velocity.empty() &&
+      particles_.affine_velocity.size() != particles_.count())
+    particles_.affine_velocity.resize(particles_.count());
+  located_ = false;
+  set_own_columns();
+}
+
+void MpmSolver::set_own_columns() {
+  const auto [begin, end] = subdomain_->own_node_columns(settings_.grid);
+  grid_state_.own_begin = begin;
+  grid_state_.own_end = end;
+}
+
+void MpmSolver::exchange_particles(bool sorting) {
+  bool changed = false;
+  std::size_t active = subdomain_->migrate(particles_, active_count(), settings_.grid, changed);
+  if (sorting && subdomain_->rebalance(particles_, active, settings_.grid)) {
+    changed = true;
+    set_own_columns();
+  }
+  if (!changed) return;
+  clock_.frozen = particles_.count() - active;
+  located_ = false;
 }
 
 void MpmSolver::set_base_motion(GroundMotion motion, const CheckpointMotion& record) {
@@ -216,6 +269,11 @@ Energies MpmSolver::energies() const {
     e.potential -= m * settings_.gravity.dot(particles_.coordinates[p]);
     const auto& material = materials_[static_cast<std::size_t>(particles_.material_id[p])];
     e.elastic += particles_.volume[p] * elastic_energy_density(material, particles_.stress[p]);
+  }
+  if (subdomain_) {
+    std::array<double, 3> totals{e.kinetic, e.potential, e.elastic};
+    subdomain_->ranks().sum(totals);
+    e = {totals[0], totals[1], totals[2]};
   }
   return e;
 }
@@ -282,7 +340,15 @@ double MpmSolver::courant_time_step(double courant) const {
     }
     fastest_squared = std::max(fastest_squared, c2);
   }
-  if (active_count() == 0) {
+  if (subdomain_) {
+    // The body's fastest particle sets every rank's step; a rank without active
+    // particles has none to offer.
+    fastest_squared = subdomain_->ranks().max(fastest_squared);
+    if (fastest_squared == 0.0) {
+      for (const Material& m : materials_)
+        fastest_squared = std::max(fastest_squared, std::pow(m.p_wave_speed(), 2));
+    }
+  } else if (active_count() == 0) {
     for (auto id : particles_.material_id)
       fastest_squared = std::max(
           fastest_squared, std::pow(materials_[static_cast<std::size_t>(id)].p_wave_speed(), 2));

@@ -26,6 +26,7 @@
 #include "common/physics/ground_motion.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/particles.hpp"
+#include "mpm/domain.hpp"
 #include "mpm/grid.hpp"
 #include "mpm/kernels.hpp"
 
@@ -73,7 +74,7 @@ struct SolverClock {
 
 /// What one step did that the driver reports.
 struct StepReport {
-  std::size_t exited = 0;  ///< particles that left the grid in this step
+  std::size_t exited = 0;  ///< particles that left the grid in this step (all ranks)
 };
 
 /// Energies of the particle body, J/m.
@@ -91,6 +92,16 @@ class MpmSolver {
   /// (a particle file, pure MPM) start with B_p = 0; a FLIP/PIC run drops any it finds.
   MpmSolver(MpmSettings settings, MaterialTable materials, Particles particles,
             SolverClock clock = {});
+
+  /// Runs on several ranks from now on (docs/parallel.md, mpm/domain.hpp): the grid is cut
+  /// into slabs balanced on the particles, which every rank holds whole until this call
+  /// and only its share of after. From then on step, courant_time_step, energies and
+  /// last_kinetic_energy are collective and give the values of the whole body; the
+  /// particles, active_count and max_speeds are this rank's. On one rank it does nothing.
+  void distribute(const Ranks& ranks);
+  const Subdomain* subdomain() const { return subdomain_ ? &*subdomain_ : nullptr; }
+  /// The ranks the solver runs on (one, until distribute).
+  const Ranks& ranks() const { return subdomain_ ? subdomain_->ranks() : Ranks::single(); }
 
   /// One explicit step of length dt > 0 (see the header comment).
   StepReport step(double dt);
@@ -194,6 +205,11 @@ class MpmSolver {
   CheckpointMotion motion_record_;
 
   void follow_base(double dt);
+  /// On several ranks: particles to their owners (and re-cut slabs at sorting time).
+  void exchange_particles(bool sorting);
+  void set_own_columns();
+
+  std::optional<Subdomain> subdomain_;
 };
 
 /// Checks particles before a run; throws Error naming `source` and the first bad

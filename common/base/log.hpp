@@ -1,5 +1,6 @@
 // Console output of the programs. Messages go to stdout as "program: text"; warnings
-// go to stderr and are never silenced. `--quiet` silences info and progress only.
+// go to stderr and are never silenced. `--quiet` silences info and progress only; a
+// muted logger (the non-root ranks of an MPI run) prints nothing.
 // The logger is an object owned by main and passed down: no global state.
 #pragma once
 
@@ -14,8 +15,10 @@ namespace slide {
 
 class Logger {
  public:
-  explicit Logger(std::string program, bool quiet = false)
-      : program_(std::move(program)), quiet_(quiet) {}
+  /// `muted`: prints nothing at all, warnings and results included (the ranks other
+  /// than the root of a run on several, whose lines the root prints once).
+  explicit Logger(std::string program, bool quiet = false, bool muted = false)
+      : program_(std::move(program)), quiet_(quiet || muted), muted_(muted) {}
 
   bool quiet() const { return quiet_; }
   const std::string& program() const { return program_; }
@@ -30,6 +33,7 @@ class Logger {
 
   template <typename... Args>
   void warning(fmt::format_string<Args...> format, Args&&... args) const {
+    if (muted_) return;
     close_progress_line();
     fmt::print(stderr, "{}: warning: {}\n", program_,
                fmt::format(format, std::forward<Args>(args)...));
@@ -38,6 +42,7 @@ class Logger {
   /// Always printed (docs/contract.md: the summary line must reach scripts even with --quiet).
   template <typename... Args>
   void result(fmt::format_string<Args...> format, Args&&... args) const {
+    if (muted_) return;
     close_progress_line();
     fmt::print(stdout, "{}\n", fmt::format(format, std::forward<Args>(args)...));
     std::fflush(stdout);
@@ -57,6 +62,7 @@ class Logger {
 
   std::string program_;
   bool quiet_;
+  bool muted_ = false;
   mutable bool progress_line_open_ = false;
 };
 

@@ -40,6 +40,49 @@ void write_atomically(const std::filesystem::path& target,
   }
 }
 
+void write_atomically_on_ranks(const std::filesystem::path& target, const Ranks& ranks,
+                               const std::function<void(const std::filesystem::path&)>& write) {
+  if (!ranks.distributed()) return write_atomically(target, write);
+  namespace fs = std::filesystem;
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::string problem;
+  if (ranks.root()) {
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec)
+      problem = fmt::format("{}: cannot create folder {}: {}", target.string(), folder.string(),
+                            ec.message());
+  }
+  if (const auto agreed =
+          ranks.first_problem(problem.empty() ? std::nullopt : std::optional(problem))) {
+    throw Error("{}", *agreed);
+  }
+  const fs::path temporary = ranks.broadcast(
+      (folder / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid())).string());
+  try {
+    write(temporary);
+  } catch (...) {
+    std::error_code ignored;
+    if (ranks.root()) fs::remove(temporary, ignored);
+    throw;
+  }
+  ranks.barrier();  // every rank has closed the file
+  if (ranks.root()) {
+    std::error_code ec;
+    fs::rename(temporary, target, ec);
+    if (ec) {
+      std::error_code ignored;
+      fs::remove(temporary, ignored);
+      problem = fmt::format("{}: cannot rename the temporary file into place: {}", target.string(),
+                            ec.message());
+    }
+  }
+  if (const auto agreed =
+          ranks.first_problem(problem.empty() ? std::nullopt : std::optional(problem))) {
+    throw Error("{}", *agreed);
+  }
+}
+
 void write_pair_atomically(const std::filesystem::path& companion,
                            const std::function<void(const std::filesystem::path&)>& write_companion,
                            const std::filesystem::path& main,

@@ -8,6 +8,8 @@
 #include <functional>
 #include <string_view>
 
+#include "common/base/ranks.hpp"
+
 namespace slide {
 
 /// Calls `write(temporary_path)` and renames the result onto `target`. Creates the
@@ -15,6 +17,12 @@ namespace slide {
 /// exception propagates; `target` is untouched.
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write);
+
+/// write_atomically for a file every rank writes together (collective): one temporary
+/// name for all (the root's), renamed by the root once every rank is done; every rank
+/// throws the same Error when the rename fails. On one rank: write_atomically.
+void write_atomically_on_ranks(const std::filesystem::path& target, const Ranks& ranks,
+                               const std::function<void(const std::filesystem::path&)>& write);
 
 /// Writes two files that belong together (a particle file and its report) so that
 /// `main` never stands beside a `companion` of another run: both are written under

@@ -57,6 +57,8 @@ struct Rows {
   const char* noun;
   const char* symbol;
   std::size_t count = 0;
+  /// In a checkpoint several ranks write together: where this rank's rows go.
+  const hdf5::RowShare* share = nullptr;
 };
 
 constexpr const char* units_attribute = "units";
@@ -265,7 +267,7 @@ class Writer {
     const std::string at = where(group, name);
     require_count(at, values.size(), width, rows);
     require_admissible(at, name, values, std::max<std::size_t>(width, 1), rows);
-    group.write_dataset(name, values, shape(width, rows))
+    group.write_dataset(name, values, shape(width, rows), rows.share)
         .write_string_attribute(units_attribute, units);
   }
 
@@ -283,7 +285,7 @@ class Writer {
     const std::string at = where(group, name);
     require_count(at, values.size(), width, rows);
     if (range) require_in_range(at, values, std::max<std::size_t>(width, 1), rows, *range);
-    hdf5::Dataset dataset = group.write_dataset(name, values, shape(width, rows));
+    hdf5::Dataset dataset = group.write_dataset(name, values, shape(width, rows), rows.share);
     dataset.write_string_attribute(units_attribute, "1");
     return dataset;
   }
@@ -294,7 +296,7 @@ class Writer {
     require_count(at, ids.size(), 0, rows);
     const std::vector<std::int64_t> wide(ids.begin(), ids.end());
     require_in_range(at, wide, 1, rows, below(material_count, "materials in /materials"));
-    group.write_dataset("material_id", ids, shape(0, rows))
+    group.write_dataset("material_id", ids, shape(0, rows), rows.share)
         .write_string_attribute(units_attribute, "1");
   }
 
@@ -528,13 +530,16 @@ bool is_default(const TransferSettings& t) {
          t.rbf_shape == d.rbf_shape && t.rbf_neighbours == d.rbf_neighbours;
 }
 
-void write_particles(Writer& writer, const ParticleCheckpoint& c) {
+/// `share`: this rank's rows when several write the file together; `affine`: whether
+/// the particles carry C_p (on every rank, also one without particles).
+void write_particles(Writer& writer, const ParticleCheckpoint& c,
+                     const hdf5::RowShare* share = nullptr, std::optional<bool> affine = {}) {
   hdf5::File& file = writer.file();
   write_header(file, c.header, c.header.kind);
   write_materials(writer, c.materials);
 
   const Particles& p = c.particles;
-  const Rows particles{"particle", "n_p", p.coordinates.size()};
+  const Rows particles{"particle", "n_p", p.coordinates.size(), share};
   hdf5::Group g = file.create_group("particles");
   writer.vectors<2>(g, "coordinates", p.coordinates, particles, "m");
   writer.vectors<2>(g, "displacement", p.displacement, particles, "m");
@@ -555,7 +560,7 @@ void write_particles(Writer& writer, const ParticleCheckpoint& c) {
   writer.indices(g, "id", p.id, 0, particles, std::nullopt);
   writer.state(g, p.state, p.surface_stress, particles);
   // APIC's affine velocity C_p: only particles that carry it (an APIC run) write it.
-  if (!p.affine_velocity.empty()) {
+  if (affine.value_or(!p.affine_velocity.empty())) {
     writer.vectors<4>(g, "affine_velocity_gradient", p.affine_velocity, particles, "1/s");
   }
 
@@ -952,6 +957,38 @@ void write_checkpoint(const fs::path& path, const ParticleCheckpoint& checkpoint
     hdf5::File file = hdf5::File::create(temporary, target);
     Writer writer(file, target);
     write_particles(writer, checkpoint);
+    file.close();
+  });
+}
+
+void write_checkpoint_on_ranks(const fs::path& path, const ParticleCheckpoint& checkpoint,
+                               std::size_t frozen, const Ranks& ranks) {
+  if (!ranks.distributed()) return write_checkpoint(path, checkpoint);
+  const std::string target = path.string();
+  if (checkpoint.header.kind == CheckpointKind::fem) {
+    throw Error("{}: cannot write: a particle checkpoint needs header kind particles or mpm",
+                target);
+  }
+  check_header(target, checkpoint.header);
+  // Rows: every rank's active particles in rank order, then every rank's frozen ones.
+  const auto count = static_cast<std::int64_t>(checkpoint.particles.count());
+  const auto own_frozen = static_cast<std::int64_t>(frozen);
+  const std::int64_t own_active = count - own_frozen;
+  std::array<std::int64_t, 3> totals{own_active, own_frozen,
+                                     checkpoint.particles.affine_velocity.empty() ? 0 : 1};
+  ranks.sum(totals);
+  const std::int64_t active_before = ranks.exclusive_prefix_sum(own_active);
+  const std::int64_t frozen_before = ranks.exclusive_prefix_sum(own_frozen);
+  hdf5::RowShare share;
+  share.total = static_cast<std::uint64_t>(totals[0] + totals[1]);
+  share.ranges = {
+      {static_cast<std::uint64_t>(active_before), static_cast<std::uint64_t>(own_active)},
+      {static_cast<std::uint64_t>(totals[0] + frozen_before),
+       static_cast<std::uint64_t>(own_frozen)}};
+  write_atomically_on_ranks(path, ranks, [&](const fs::path& temporary) {
+    hdf5::File file = hdf5::File::create_collective(temporary, target, ranks);
+    Writer writer(file, target);
+    write_particles(writer, checkpoint, &share, totals[2] > 0);
     file.close();
   });
 }

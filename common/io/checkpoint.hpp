@@ -16,6 +16,7 @@
 #include <variant>
 #include <vector>
 
+#include "common/base/ranks.hpp"
 #include "common/base/types.hpp"
 #include "common/geometry/mesh.hpp"
 #include "common/physics/constitutive.hpp"
@@ -146,6 +147,15 @@ struct ParticleCheckpoint {
 /// is then untouched.
 void write_checkpoint(const std::filesystem::path& path, const FemCheckpoint& checkpoint);
 void write_checkpoint(const std::filesystem::path& path, const ParticleCheckpoint& checkpoint);
+/// A particle checkpoint that every rank writes together (collective; parallel HDF5,
+/// docs/parallel.md): each rank's `checkpoint` holds its own particles, the last `frozen`
+/// of them frozen, and the same header, materials and settings. The file is a serial
+/// one in every respect: its rows are every rank's active particles in rank order, then
+/// every rank's frozen ones, so that a serial run reads it as its own. On one rank the
+/// same as write_checkpoint.
+void write_checkpoint_on_ranks(const std::filesystem::path& path,
+                               const ParticleCheckpoint& checkpoint, std::size_t frozen,
+                               const Ranks& ranks);
 
 /// Reads and validates a kind "fem" file.
 FemCheckpoint read_fem_checkpoint(const std::filesystem::path& path);

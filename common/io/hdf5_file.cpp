@@ -473,7 +473,7 @@ Group Group::create_group(std::string_view name) {
   Handle group = checked(
       H5Gcreate2(handle_.id(), c_string(name).c_str(), H5P_DEFAULT, properties.id(), H5P_DEFAULT),
       &H5Gclose, fmt::format("{}: {}", file_label_, path), "cannot create group");
-  return Group(std::move(group), file_label_, path);
+  return Group(std::move(group), file_label_, path, ranks_);
 }
 
 namespace {
@@ -494,42 +494,105 @@ Group Group::open_group(std::string_view name) const {
   const std::string path = child_path(name);
   Handle group = open_object(handle_.id(), name, H5I_GROUP, contains(name),
                              fmt::format("{}: {}", file_label_, path), "group");
-  return Group(std::move(group), file_label_, path);
+  return Group(std::move(group), file_label_, path, ranks_);
 }
 
 Dataset Group::open_dataset(std::string_view name) const {
   const std::string path = child_path(name);
   Handle dataset = open_object(handle_.id(), name, H5I_DATASET, contains(name),
                                fmt::format("{}: {}", file_label_, path), "dataset");
-  return Dataset(std::move(dataset), file_label_, path);
+  return Dataset(std::move(dataset), file_label_, path, ranks_);
 }
 
+namespace {
+
+/// The data of a dataset in a collective file, written by every rank at once: its
+/// rows (`share`) or, without, the root's copy of values every rank holds.
+void write_collectively(hid_t dataset, hid_t file_space, const void* values, std::size_t count,
+                        const Shape& shape, hid_t memory_type, const RowShare* share,
+                        const std::string& at, const Ranks& ranks) {
+#if SLIDE_MPI
+  const Handle transfer(H5Pcreate(H5P_DATASET_XFER), &H5Pclose);
+  check(H5Pset_dxpl_mpio(transfer.id(), H5FD_MPIO_COLLECTIVE), at, "cannot select collective I/O");
+  const std::vector<hsize_t> local(shape.begin(), shape.end());
+  Handle memory =
+      local.empty()
+          ? scalar_space()
+          : Handle(H5Screate_simple(static_cast<int>(local.size()), local.data(), nullptr),
+                   &H5Sclose);
+  if (share != nullptr) {
+    std::vector<hsize_t> start(local.size(), 0), block(local.begin(), local.end());
+    bool first = true;
+    std::uint64_t rows = 0;
+    for (const auto& [row, row_count] : share->ranges) {
+      if (row_count == 0) continue;
+      start[0] = row;
+      block[0] = row_count;
+      check(H5Sselect_hyperslab(file_space, first ? H5S_SELECT_SET : H5S_SELECT_OR, start.data(),
+                                nullptr, block.data(), nullptr),
+            at, "cannot select this rank's rows");
+      first = false;
+      rows += row_count;
+    }
+    if (rows != local[0])
+      throw Error("{}: this rank holds {} rows but its share names {}", at, local[0], rows);
+    if (first) {
+      check(H5Sselect_none(file_space), at, "cannot select no rows");
+      check(H5Sselect_none(memory.id()), at, "cannot select no rows");
+    }
+  } else if (!ranks.root()) {
+    check(H5Sselect_none(file_space), at, "cannot select no rows");
+    check(H5Sselect_none(memory.id()), at, "cannot select no rows");
+  }
+  static const double nothing = 0.0;  // HDF5 wants a buffer even for no values
+  check(H5Dwrite(dataset, memory_type, memory.id(), file_space, transfer.id(),
+                 count > 0 ? values : &nothing),
+        at, "cannot write dataset");
+#else
+  (void)dataset, (void)file_space, (void)values, (void)count, (void)shape, (void)memory_type,
+      (void)share, (void)ranks;
+  throw Error("{}: a collective write needs the MPI build", at);
+#endif
+}
+
+}  // namespace
+
 Dataset Group::write_dataset(std::string_view name, std::span<const double> values,
-                             const Shape& shape) {
-  return write_dataset(name, values.data(), values.size(), shape, H5T_IEEE_F64LE,
-                       H5T_NATIVE_DOUBLE);
+                             const Shape& shape, const RowShare* share) {
+  return write_dataset(name, values.data(), values.size(), shape, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                       share);
 }
 
 Dataset Group::write_dataset(std::string_view name, std::span<const std::int64_t> values,
-                             const Shape& shape) {
-  return write_dataset(name, values.data(), values.size(), shape, H5T_STD_I64LE, H5T_NATIVE_INT64);
+                             const Shape& shape, const RowShare* share) {
+  return write_dataset(name, values.data(), values.size(), shape, H5T_STD_I64LE, H5T_NATIVE_INT64,
+                       share);
 }
 
 Dataset Group::write_dataset(std::string_view name, std::span<const std::int32_t> values,
-                             const Shape& shape) {
-  return write_dataset(name, values.data(), values.size(), shape, H5T_STD_I32LE, H5T_NATIVE_INT32);
+                             const Shape& shape, const RowShare* share) {
+  return write_dataset(name, values.data(), values.size(), shape, H5T_STD_I32LE, H5T_NATIVE_INT32,
+                       share);
 }
 
 Dataset Group::write_dataset(std::string_view name, const void* values, std::size_t count,
-                             const Shape& shape, std::int64_t file_type, std::int64_t memory_type) {
+                             const Shape& shape, std::int64_t file_type, std::int64_t memory_type,
+                             const RowShare* share) {
   const std::string path = child_path(name);
   const std::string at = fmt::format("{}: {}", file_label_, path);
   if (count != element_count(shape)) {
     throw Error("{}: {} values do not fill shape {}", at, count, format_shape(shape));
   }
-  const std::vector<hsize_t> extents(shape.begin(), shape.end());
+  if (share != nullptr && (ranks_ == nullptr || shape.empty())) {
+    throw Error("{}: shared rows need a collective file and a dataset of rows", at);
+  }
+  // The file's extents: this process's rows, or all processes' rows.
+  std::vector<hsize_t> extents;
+  extents.reserve(shape.size());
+  for (std::size_t i = 0; i < shape.size(); ++i)
+    extents.push_back(i == 0 && share != nullptr ? share->total : shape[i]);
   const Handle space =
-      shape.empty()
+      extents.empty()
           ? scalar_space()
           : Handle(H5Screate_simple(static_cast<int>(extents.size()), extents.data(), nullptr),
                    &H5Sclose);
@@ -538,11 +601,18 @@ Dataset Group::write_dataset(std::string_view name, const void* values, std::siz
   Handle dataset = checked(H5Dcreate2(handle_.id(), c_string(name).c_str(), file_type, space.id(),
                                       H5P_DEFAULT, properties.id(), H5P_DEFAULT),
                            &H5Dclose, at, "cannot create dataset");
-  if (count > 0) {
-    check(H5Dwrite(dataset.id(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), at,
-          "cannot write dataset");
+  if (ranks_ == nullptr) {
+    if (count > 0) {
+      check(H5Dwrite(dataset.id(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), at,
+            "cannot write dataset");
+    }
+    return Dataset(std::move(dataset), file_label_, path, ranks_);
   }
-  return Dataset(std::move(dataset), file_label_, path);
+  const bool empty = std::find(extents.begin(), extents.end(), hsize_t{0}) != extents.end();
+  if (!empty)
+    write_collectively(dataset.id(), space.id(), values, count, shape, memory_type, share, at,
+                       *ranks_);
+  return Dataset(std::move(dataset), file_label_, path, ranks_);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -563,6 +633,26 @@ File File::create(const std::filesystem::path& path, std::string label) {
   Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, creation.id(), access.id()),
                         &H5Fclose, label, "cannot create HDF5 file");
   return File(std::move(file), std::move(label), "/");
+}
+
+File File::create_collective(const std::filesystem::path& path, std::string label,
+                             const Ranks& ranks) {
+  if (!ranks.distributed()) return create(path, std::move(label));
+#if SLIDE_MPI
+  silence_hdf5_errors();
+  if (label.empty()) label = path.string();
+  const Handle access(H5Pcreate(H5P_FILE_ACCESS), &H5Pclose);
+  check(H5Pset_fapl_mpio(access.id(), ranks.communicator(), MPI_INFO_NULL), label,
+        "cannot select parallel HDF5");
+  check(H5Pset_libver_bounds(access.id(), H5F_LIBVER_V18, H5F_LIBVER_V18), label,
+        "cannot select the file format");
+  const Handle creation = untimed_creation_properties(H5P_FILE_CREATE);
+  Handle file = checked(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, creation.id(), access.id()),
+                        &H5Fclose, label, "cannot create HDF5 file");
+  return File(std::move(file), std::move(label), "/", &ranks);
+#else
+  throw Error("{}: a collective file needs the MPI build", label.empty() ? path.string() : label);
+#endif
 }
 
 File File::open(const std::filesystem::path& path) {

@@ -21,6 +21,8 @@
 #include <string_view>
 #include <vector>
 
+#include "common/base/ranks.hpp"
+
 namespace slide::hdf5 {
 
 /// Extent of each dimension of a dataset; rank = size().
@@ -31,6 +33,15 @@ std::string format_shape(const Shape& shape);
 /// The HDF5 type class of stored data, as far as a reader cares.
 enum class TypeClass { integer, floating_point, string, other };
 std::string_view to_string(TypeClass type_class);
+
+/// The rows of a dataset one process writes in a file several write together (a
+/// collective file, File::create_collective): the dataset has `total` rows, and this
+/// process's values go, in order, to the row ranges (first row, row count), which
+/// ascend.
+struct RowShare {
+  std::uint64_t total = 0;
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges;
+};
 
 /// Owns one hid_t and closes it with the matching H5*close on destruction. Move-only.
 class Handle {
@@ -84,13 +95,17 @@ class Object {
 
  protected:
   Object() = default;
-  Object(Handle handle, std::string file_label, std::string path)
-      : handle_(std::move(handle)), file_label_(std::move(file_label)), path_(std::move(path)) {}
+  Object(Handle handle, std::string file_label, std::string path, const Ranks* ranks = nullptr)
+      : handle_(std::move(handle)),
+        file_label_(std::move(file_label)),
+        path_(std::move(path)),
+        ranks_(ranks) {}
   std::string child_path(std::string_view name) const;
 
   Handle handle_;
   std::string file_label_;
   std::string path_;
+  const Ranks* ranks_ = nullptr;  ///< the ranks writing a collective file together
 
  private:
   Handle open_attribute(std::string_view name) const;
@@ -125,25 +140,35 @@ class Group : public Object {
   /// Throws Error "…: dataset missing" or "…: not a dataset".
   Dataset open_dataset(std::string_view name) const;
 
-  /// New dataset `name` of the given shape (product of extents = values.size()).
-  Dataset write_dataset(std::string_view name, std::span<const double> values, const Shape& shape);
+  /// New dataset `name` of the given shape (product of extents = values.size()). In a
+  /// collective file (collective call): with a `share`, `shape` is this process's rows
+  /// and the dataset has share->total of them; without, every process passes the same
+  /// values and the root writes them.
+  Dataset write_dataset(std::string_view name, std::span<const double> values, const Shape& shape,
+                        const RowShare* share = nullptr);
   Dataset write_dataset(std::string_view name, std::span<const std::int64_t> values,
-                        const Shape& shape);
+                        const Shape& shape, const RowShare* share = nullptr);
   Dataset write_dataset(std::string_view name, std::span<const std::int32_t> values,
-                        const Shape& shape);
+                        const Shape& shape, const RowShare* share = nullptr);
 
  protected:
   using Object::Object;
 
  private:
   Dataset write_dataset(std::string_view name, const void* values, std::size_t count,
-                        const Shape& shape, std::int64_t file_type, std::int64_t memory_type);
+                        const Shape& shape, std::int64_t file_type, std::int64_t memory_type,
+                        const RowShare* share);
 };
 
 class File : public Group {
  public:
   /// Creates (truncates) `path`. Messages name `label` (default: the path).
   static File create(const std::filesystem::path& path, std::string label = {});
+  /// Creates `path` for every rank to write together with parallel HDF5 (collective;
+  /// MPI build: create on one rank otherwise): every call on the file, its groups and
+  /// datasets is then collective, attributes included (same values on every rank).
+  static File create_collective(const std::filesystem::path& path, std::string label,
+                                const Ranks& ranks);
   /// Opens `path` read-only; throws Error when it is missing, not HDF5 or unreadable.
   static File open(const std::filesystem::path& path);
 

@@ -308,6 +308,59 @@ void write_vtk_points(const std::filesystem::path& path, double time, std::span<
   write_grid(path, grid);
 }
 
+namespace {
+
+/// The XML name of an array's value type (VTK's own words: Float64, Int32, ...).
+std::string_view xml_type_name(vtkAbstractArray& array) {
+  switch (array.GetDataType()) {
+    case VTK_DOUBLE:
+      return "Float64";
+    case VTK_FLOAT:
+      return "Float32";
+    case VTK_INT:
+      return "Int32";
+    case VTK_LONG:
+    case VTK_LONG_LONG:
+    case VTK_ID_TYPE:
+      return array.GetDataTypeSize() == 8 ? "Int64" : "Int32";
+    case VTK_UNSIGNED_CHAR:
+      return "UInt8";
+    default:
+      throw Error("VTK array {}: no XML type name for VTK type {}", array.GetName(),
+                  array.GetDataType());
+  }
+}
+
+}  // namespace
+
+void write_vtk_points_collection(const std::filesystem::path& path,
+                                 std::span<const std::string> pieces,
+                                 const std::vector<VtkField>& point_fields) {
+  std::string text =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n"
+      "  <PUnstructuredGrid GhostLevel=\"0\">\n"
+      "    <PPointData>\n";
+  for (const auto& field : point_fields) {
+    // The arrays of an empty field: the names, types and components of the pieces'.
+    VtkField empty{field.name, field.layout, {}};
+    std::visit([&](auto span) { empty.values = decltype(span){}; }, field.values);
+    for (const auto& array : make_arrays(empty, 0, path)) {
+      text += fmt::format("      <PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
+                          xml_type_name(*array), array->GetName(), array->GetNumberOfComponents());
+    }
+  }
+  text +=
+      "    </PPointData>\n"
+      "    <PPoints>\n"
+      "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+      "    </PPoints>\n";
+  for (const auto& piece : pieces) text += fmt::format("    <Piece Source=\"{}\"/>\n", piece);
+  text += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_text_atomically(path, text);
+}
+
 void PvdCollection::add(double time, const std::filesystem::path& file) {
   const auto folder = path_.parent_path();
   const std::string relative =

@@ -67,6 +67,13 @@ void write_vtk_mesh(const std::filesystem::path& path, double time, std::span<co
 void write_vtk_points(const std::filesystem::path& path, double time, std::span<const Vec2> points,
                       const std::vector<VtkField>& point_fields);
 
+/// A parallel collection of point clouds (.pvtu): the pieces (file names relative to
+/// the .pvtu's folder) written by write_vtk_points with these fields, one per rank, which
+/// ParaView opens as one cloud.
+void write_vtk_points_collection(const std::filesystem::path& path,
+                                 std::span<const std::string> pieces,
+                                 const std::vector<VtkField>& point_fields);
+
 /// The text of every file's `conventions` field data.
 extern const char* const vtk_conventions;
 

@@ -1,0 +1,118 @@
+// The processes of one run: MPI ranks in the MPI build (cmake -DSLIDE_MPI=ON), one
+// process otherwise. Code that may run on several processes (mpm-solve, the collective
+// checkpoint) talks to its peers through this class only, so that the serial build has
+// the same code path with every operation a no-op on one process.
+//
+// Every operation named collective must be called by every rank, in the same order.
+// Byte buffers are the exchange unit: the callers pack trivially copyable rows.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#if SLIDE_MPI
+#include <mpi.h>
+#endif
+
+namespace slide {
+
+class Ranks {
+ public:
+  /// All processes of this program (MPI_COMM_WORLD; one process in the serial build).
+  /// RankSession must be alive.
+  static Ranks& world();
+  /// One process alone (what world() is without a session, and in the serial build).
+  static Ranks& single();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool root() const { return rank_ == 0; }
+  bool distributed() const { return size_ > 1; }
+
+  // Reductions (collective): every rank gets the result.
+  double sum(double value) const;
+  void sum(std::span<double> values) const;
+  void sum(std::span<std::int64_t> values) const;
+  double min(double value) const;
+  double max(double value) const;
+  std::int64_t max(std::int64_t value) const;
+  /// Σ of `value` over the ranks below this one (0 on rank 0).
+  std::int64_t exclusive_prefix_sum(std::int64_t value) const;
+
+  /// Sends `bytes` to rank `to` and receives from rank `from` (either −1: none) in one
+  /// step; returns what was received. Collective between the pairs only.
+  std::vector<std::byte> exchange(int to, std::span<const std::byte> bytes, int from) const;
+  /// Rank r sends outgoing[r] to each r (outgoing.size() = size()); returns what every
+  /// rank sent to this one, in rank order. Collective.
+  std::vector<std::vector<std::byte>> all_to_all(
+      const std::vector<std::vector<std::byte>>& outgoing) const;
+  /// The buffers of every rank, concatenated in rank order, on the root; empty on the
+  /// others. Collective.
+  std::vector<std::byte> gather_to_root(std::span<const std::byte> bytes) const;
+  /// The root's string on every rank. Collective.
+  std::string broadcast(std::string text) const;
+  void barrier() const;
+
+  /// The problem of the lowest rank that has one, on every rank (nothing when no rank
+  /// has one): a check made on each rank's share becomes one decision. Collective.
+  std::optional<std::string> first_problem(const std::optional<std::string>& local) const;
+
+  /// Typed views of the byte exchanges, for trivially copyable rows.
+  template <class T>
+  static std::span<const std::byte> bytes_of(std::span<const T> values) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    return std::as_bytes(values);
+  }
+  template <class T>
+  static std::vector<T> values_of(std::span<const std::byte> bytes) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::vector<T> values(bytes.size() / sizeof(T));
+    if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+    return values;
+  }
+
+#if SLIDE_MPI
+  MPI_Comm communicator() const {
+    return communicator_;
+  }
+#endif
+
+ private:
+  friend class RankSession;
+  Ranks() = default;
+  int rank_ = 0;
+  int size_ = 1;
+#if SLIDE_MPI
+  MPI_Comm communicator_ = MPI_COMM_NULL;
+  MPI_Comm failure_communicator_ = MPI_COMM_NULL;  ///< Ranks::fail's own, apart from the run's
+#endif
+  friend int run_main_on_ranks(const std::string&, const std::function<void()>&);
+  /// The error path of run_main_on_ranks (see there).
+  int fail(const std::string& program, const std::string& message) const;
+};
+
+/// MPI_Init_thread … MPI_Finalize for the lifetime of main (nothing in the serial build).
+class RankSession {
+ public:
+  RankSession(int& argc, char**& argv);
+  ~RankSession();
+  RankSession(const RankSession&) = delete;
+  RankSession& operator=(const RankSession&) = delete;
+};
+
+/// run_main (common/base/program.hpp) for a program that runs on several ranks. An
+/// exception becomes the one-line error and status 1 without a deadlock: when every
+/// rank fails (bad input, an instability the ranks agreed on), only the root prints
+/// and all return 1; when one rank fails alone (its peers wait for it inside a step),
+/// it prints its line and ends every rank (MPI_Abort, after which mpirun adds its own
+/// notice). Needs a RankSession.
+int run_main_on_ranks(const std::string& program, const std::function<void()>& body);
+
+}  // namespace slide

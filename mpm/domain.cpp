@@ -1,0 +1,415 @@
+#include "mpm/domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/base/error.hpp"
+#include "mpm/kernels.hpp"
+
+namespace slide::mpm {
+
+// ----------------------------------------------------------------------------- cuts
+
+int SlabCuts::owner_of_column(int cell_column) const {
+  const auto after = std::upper_bound(begin.begin(), begin.end(), cell_column);
+  const auto rank = static_cast<int>(after - begin.begin()) - 1;
+  return std::clamp(rank, 0, ranks() - 1);
+}
+
+SlabCuts SlabCuts::balanced(std::span<const std::int64_t> particles_per_column, int ranks) {
+  const auto columns = static_cast<int>(particles_per_column.size());
+  if (ranks < 1) throw Error("mpm: {} ranks", ranks);
+  if (ranks * min_slab_cells > columns) {
+    throw Error(
+        "mpm: the grid's {} cell columns cannot be cut into {} slabs of at least {} cells "
+        "(run on at most {} ranks, or use smaller cells)",
+        columns, ranks, min_slab_cells, columns / min_slab_cells);
+  }
+  std::int64_t total = 0;
+  for (auto n : particles_per_column) total += n;
+  SlabCuts cuts;
+  cuts.begin.assign(static_cast<std::size_t>(ranks) + 1, 0);
+  cuts.begin.back() = columns;
+  // Cut k where the particles to its left first reach k/N of all (exact integer test).
+  std::int64_t below = 0;
+  int k = 1;
+  for (int c = 0; c < columns && k < ranks; ++c) {
+    while (k < ranks && below * ranks >= static_cast<std::int64_t>(k) * total) {
+      cuts.begin[static_cast<std::size_t>(k++)] = c;
+    }
+    below += particles_per_column[static_cast<std::size_t>(c)];
+  }
+  for (; k < ranks; ++k) cuts.begin[static_cast<std::size_t>(k)] = columns;
+  // Every slab at least min_slab_cells wide: push cuts right, then pull them back left
+  // from the grid's end (feasible since ranks · min_slab_cells ≤ columns).
+  for (std::size_t r = 1; r < cuts.begin.size() - 1; ++r)
+    cuts.begin[r] = std::max(cuts.begin[r], cuts.begin[r - 1] + min_slab_cells);
+  for (std::size_t r = cuts.begin.size() - 2; r >= 1; --r)
+    cuts.begin[r] = std::min(cuts.begin[r], cuts.begin[r + 1] - min_slab_cells);
+  return cuts;
+}
+
+int cell_column_of(const GridGeometry& grid, const Vec2& x) {
+  const double xi = std::floor((x.x() - grid.origin.x()) / grid.cell_size);
+  if (!std::isfinite(xi)) return 0;
+  return static_cast<int>(std::clamp(xi, 0.0, static_cast<double>(grid.cells_x - 1)));
+}
+
+std::vector<std::int64_t> particles_per_column(const Particles& particles, std::size_t count,
+                                               const GridGeometry& grid) {
+  std::vector<std::int64_t> histogram(static_cast<std::size_t>(grid.cells_x), 0);
+  for (std::size_t p = 0; p < count; ++p)
+    ++histogram[static_cast<std::size_t>(cell_column_of(grid, particles.coordinates[p]))];
+  return histogram;
+}
+
+// ----------------------------------------------------------------------------- packing
+
+namespace {
+
+class ByteWriter {
+ public:
+  explicit ByteWriter(std::vector<std::byte>& bytes) : bytes_(bytes) {}
+  template <class T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* first = reinterpret_cast<const std::byte*>(&value);
+    bytes_.insert(bytes_.end(), first, first + sizeof(T));
+  }
+  template <int K>
+  void put(const Eigen::Matrix<double, K, 1>& v) {
+    for (int i = 0; i < K; ++i) put(v[i]);
+  }
+
+ private:
+  std::vector<std::byte>& bytes_;
+};
+
+class ByteReader {
+ public:
+  explicit ByteReader(std::span<const std::byte> bytes) : bytes_(bytes) {}
+  template <class T>
+  void get(T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (at_ + sizeof(T) > bytes_.size()) throw Error("mpm: a particle message ends early");
+    std::memcpy(&value, bytes_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+  }
+  template <int K>
+  void get(Eigen::Matrix<double, K, 1>& v) {
+    for (int i = 0; i < K; ++i) get(v[i]);
+  }
+  bool done() const { return at_ == bytes_.size(); }
+
+ private:
+  std::span<const std::byte> bytes_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+std::size_t packed_particle_bytes(const Particles& p) {
+  return sizeof(double) *
+             (20 + 3 + 4 * p.surface_stress.per_point + (p.affine_velocity.empty() ? 0 : 4)) +
+         sizeof(std::int32_t) + 2 * sizeof(std::int64_t);
+}
+
+void pack_particles(const Particles& p, std::span<const std::size_t> indices,
+                    std::vector<std::byte>& bytes) {
+  bytes.reserve(bytes.size() + indices.size() * packed_particle_bytes(p));
+  ByteWriter out(bytes);
+  for (const std::size_t k : indices) {
+    out.put(p.coordinates[k]);
+    out.put(p.displacement[k]);
+    out.put(p.velocity[k]);
+    out.put(p.stress[k]);
+    out.put(p.strain[k]);
+    out.put(p.eps_q[k]);
+    out.put(p.pore_pressure[k]);
+    out.put(p.volume[k]);
+    out.put(p.mass[k]);
+    out.put(p.size[k]);
+    out.put(p.material_id[k]);
+    out.put(p.element[k]);
+    out.put(p.id[k]);
+    out.put(p.state[k].plastic_shear_strain);
+    out.put(p.state[k].plastic_volumetric_strain);
+    out.put(p.state[k].peak_strength);
+    for (const Vec4& s : p.surface_stress.of(k)) out.put(s);
+    if (!p.affine_velocity.empty()) out.put(p.affine_velocity[k]);
+  }
+}
+
+std::size_t unpack_particles(std::span<const std::byte> bytes, Particles& p) {
+  const std::size_t row = packed_particle_bytes(p);
+  if (bytes.size() % row != 0)
+    throw Error("mpm: a particle message of {} bytes is not whole rows of {}", bytes.size(), row);
+  const std::size_t first = p.count(), added = bytes.size() / row;
+  p.resize(first + added);
+  ByteReader in(bytes);
+  for (std::size_t k = first; k < first + added; ++k) {
+    in.get(p.coordinates[k]);
+    in.get(p.displacement[k]);
+    in.get(p.velocity[k]);
+    in.get(p.stress[k]);
+    in.get(p.strain[k]);
+    in.get(p.eps_q[k]);
+    in.get(p.pore_pressure[k]);
+    in.get(p.volume[k]);
+    in.get(p.mass[k]);
+    in.get(p.size[k]);
+    in.get(p.material_id[k]);
+    in.get(p.element[k]);
+    in.get(p.id[k]);
+    in.get(p.state[k].plastic_shear_strain);
+    in.get(p.state[k].plastic_volumetric_strain);
+    in.get(p.state[k].peak_strength);
+    for (Vec4& s : p.surface_stress.of(k)) in.get(s);
+    if (!p.affine_velocity.empty()) in.get(p.affine_velocity[k]);
+  }
+  return added;
+}
+
+namespace {
+
+/// Keeps the particles with keep[k] (in order) and drops the others.
+void compact(Particles& p, const std::vector<char>& keep) {
+  std::size_t to = 0;
+  for (std::size_t from = 0; from < p.count(); ++from) {
+    if (!keep[from]) continue;
+    if (to != from) move_particle(p, to, from);
+    ++to;
+  }
+  p.resize(to);
+}
+
+std::vector<std::size_t> range(std::size_t begin, std::size_t end) {
+  std::vector<std::size_t> indices(end - begin);
+  for (std::size_t k = begin; k < end; ++k) indices[k - begin] = k;
+  return indices;
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------- subdomain
+
+Subdomain::Subdomain(const Ranks& ranks, SlabCuts cuts) : ranks_(ranks), cuts_(std::move(cuts)) {
+  if (cuts_.ranks() != ranks_.size())
+    throw Error("mpm: {} slabs for {} ranks", cuts_.ranks(), ranks_.size());
+}
+
+std::pair<int, int> Subdomain::own_node_columns(const GridGeometry& grid) const {
+  const int rank = ranks_.rank();
+  const int begin = rank == 0 ? 0 : first_cell() + 1;
+  const int end = rank == ranks_.size() - 1 ? grid.node_columns() : end_cell() + 1;
+  return {begin, end};
+}
+
+namespace {
+
+struct PlainVec2 {
+  double x, y;
+};
+
+void add_into(NodeSums& to, const NodeSums& from) {
+  to.mass += from.mass;
+  to.momentum_x += from.momentum_x;
+  to.momentum_y += from.momentum_y;
+  to.force_x += from.force_x;
+  to.force_y += from.force_y;
+}
+
+void add_into(PlainVec2& to, const PlainVec2& from) {
+  to.x += from.x;
+  to.y += from.y;
+}
+
+}  // namespace
+
+template <class T>
+void Subdomain::sum_shared_columns(const GridGeometry& grid, int active_begin, int active_end,
+                                   std::span<T> values) const {
+  if (!ranks_.distributed()) return;
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const int rank = ranks_.rank();
+  const bool has_left = rank > 0, has_right = rank < ranks_.size() - 1;
+  // The three node columns around a cut at cell column c are storage columns c … c + 2.
+  constexpr int width = 3;
+  const auto band = [&](int first) {
+    std::vector<T> out(width * rows, T{});
+    for (int column = first; column < first + width; ++column) {
+      if (column < active_begin || column >= active_end) continue;
+      const auto at = static_cast<std::size_t>(column) * rows;
+      std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(at), rows,
+                  out.begin() + static_cast<std::ptrdiff_t>((column - first) * rows));
+    }
+    return out;
+  };
+  const std::vector<T> left = has_left ? band(first_cell()) : std::vector<T>{};
+  const std::vector<T> right = has_right ? band(end_cell()) : std::vector<T>{};
+  const auto as_bytes = [](const std::vector<T>& v) {
+    return std::as_bytes(std::span<const T>(v.data(), v.size()));
+  };
+  const auto from_right =
+      ranks_.exchange(has_left ? rank - 1 : -1, as_bytes(left), has_right ? rank + 1 : -1);
+  const auto from_left =
+      ranks_.exchange(has_right ? rank + 1 : -1, as_bytes(right), has_left ? rank - 1 : -1);
+  bytes_sent += static_cast<std::int64_t>((left.size() + right.size()) * sizeof(T));
+  const auto add = [&](std::span<const std::byte> received, int first) {
+    if (received.empty()) return;
+    if (received.size() != width * rows * sizeof(T))
+      throw Error("mpm: a halo message of {} bytes, expected {}", received.size(),
+                  width * rows * sizeof(T));
+    const std::vector<T> theirs = Ranks::values_of<T>(received);
+    for (int column = first; column < first + width; ++column) {
+      if (column < active_begin || column >= active_end) continue;
+      const auto at = static_cast<std::size_t>(column) * rows;
+      const auto from = static_cast<std::size_t>(column - first) * rows;
+      for (std::size_t row = 0; row < rows; ++row) add_into(values[at + row], theirs[from + row]);
+    }
+  };
+  add(from_left, first_cell());
+  add(from_right, end_cell());
+}
+
+void Subdomain::sum_shared(const GridGeometry& grid, int active_begin, int active_end,
+                           std::span<NodeSums> sums) const {
+  sum_shared_columns(grid, active_begin, active_end, sums);
+}
+
+void Subdomain::sum_shared(const GridGeometry& grid, int active_begin, int active_end,
+                           std::span<Vec2> momenta) const {
+  if (!ranks_.distributed()) return;
+  // Eigen's vectors are not trivially copyable: exchange them as plain pairs.
+  std::vector<PlainVec2> plain(momenta.size());
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
+  const auto lo = static_cast<std::size_t>(std::max(active_begin, 0)) * rows;
+  const auto hi =
+      std::min(static_cast<std::size_t>(std::max(active_end, 0)) * rows, momenta.size());
+  for (std::size_t k = lo; k < hi; ++k) plain[k] = {momenta[k].x(), momenta[k].y()};
+  sum_shared_columns(grid, active_begin, active_end, std::span<PlainVec2>(plain));
+  for (std::size_t k = lo; k < hi; ++k) momenta[k] = Vec2(plain[k].x, plain[k].y);
+}
+
+void Subdomain::check_reach(const GridGeometry& grid, int active_begin, int active_end) const {
+  if (!ranks_.distributed() || active_end <= active_begin) return;
+  const int rank = ranks_.rank();
+  const int low = rank == 0 ? 0 : first_cell();
+  const int high = rank == ranks_.size() - 1 ? grid.node_columns() : end_cell() + 3;
+  if (active_begin < low || active_end > high) {
+    throw Error(
+        "mpm: rank {}'s particles reach node columns {}–{}, beyond the columns it shares with "
+        "its neighbours ({}–{}): a particle domain larger than a cell",
+        rank, active_begin - 1, active_end - 2, low - 1, high - 2);
+  }
+}
+
+std::size_t Subdomain::migrate(Particles& particles, std::size_t active, const GridGeometry& grid,
+                               bool& changed) const {
+  changed = false;
+  if (!ranks_.distributed()) return active;
+  const int rank = ranks_.rank();
+  std::vector<std::size_t> to_left, to_right;
+  std::vector<char> keep(particles.count(), 1);
+  for (std::size_t p = 0; p < active; ++p) {
+    const Vec2& x = particles.coordinates[p];
+    if (!x.allFinite()) continue;  // stays: locating it reports the instability
+    const int owner = cuts_.owner_of_column(cell_column_of(grid, x));
+    if (owner == rank) continue;
+    if (owner == rank - 1) {
+      to_left.push_back(p);
+    } else if (owner == rank + 1) {
+      to_right.push_back(p);
+    } else {
+      throw Error(
+          "instability: particle {} (id {}) at ({:.3f}, {:.3f}) m crossed a whole slab in one "
+          "step (from rank {} to rank {})",
+          p, particles.id[p], x.x(), x.y(), rank, owner);
+    }
+    keep[p] = 0;
+  }
+  std::vector<std::byte> left_bytes, right_bytes, frozen_bytes;
+  pack_particles(particles, to_left, left_bytes);
+  pack_particles(particles, to_right, right_bytes);
+  const bool has_left = rank > 0, has_right = rank < ranks_.size() - 1;
+  const auto from_right =
+      ranks_.exchange(has_left ? rank - 1 : -1, left_bytes, has_right ? rank + 1 : -1);
+  const auto from_left =
+      ranks_.exchange(has_right ? rank + 1 : -1, right_bytes, has_left ? rank - 1 : -1);
+  bytes_sent += static_cast<std::int64_t>(left_bytes.size() + right_bytes.size());
+  if (to_left.empty() && to_right.empty() && from_left.empty() && from_right.empty()) return active;
+  changed = true;
+  // The frozen particles stay behind the active ones: set aside, put back last.
+  const std::size_t frozen = particles.count() - active;
+  if (frozen > 0) {
+    pack_particles(particles, range(active, particles.count()), frozen_bytes);
+    std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 0);
+  }
+  compact(particles, keep);
+  const std::size_t arrived =
+      unpack_particles(from_left, particles) + unpack_particles(from_right, particles);
+  const std::size_t now_active = active - to_left.size() - to_right.size() + arrived;
+  unpack_particles(frozen_bytes, particles);
+  return now_active;
+}
+
+bool Subdomain::rebalance(Particles& particles, std::size_t& active, const GridGeometry& grid) {
+  if (!ranks_.distributed()) return false;
+  const auto largest = ranks_.max(static_cast<std::int64_t>(active));
+  const double mean = ranks_.sum(static_cast<double>(active)) / ranks_.size();
+  if (!(static_cast<double>(largest) > (1.0 + rebalance_share) * mean)) return false;
+  std::vector<std::int64_t> histogram = particles_per_column(particles, active, grid);
+  ranks_.sum(std::span<std::int64_t>(histogram));
+  SlabCuts cuts = SlabCuts::balanced(histogram, ranks_.size());
+  if (cuts.begin == cuts_.begin) return false;
+  // Every particle to its new owner; the kept ones first, then the arrivals in rank order.
+  const int rank = ranks_.rank();
+  std::vector<std::vector<std::size_t>> leaving(static_cast<std::size_t>(ranks_.size()));
+  std::vector<char> keep(particles.count(), 1);
+  for (std::size_t p = 0; p < active; ++p) {
+    const int owner = cuts.owner_of_column(cell_column_of(grid, particles.coordinates[p]));
+    if (owner == rank) continue;
+    leaving[static_cast<std::size_t>(owner)].push_back(p);
+    keep[p] = 0;
+  }
+  std::vector<std::vector<std::byte>> outgoing(leaving.size());
+  std::size_t departed = 0;
+  for (std::size_t r = 0; r < leaving.size(); ++r) {
+    pack_particles(particles, leaving[r], outgoing[r]);
+    departed += leaving[r].size();
+    bytes_sent += static_cast<std::int64_t>(outgoing[r].size());
+  }
+  const auto incoming = ranks_.all_to_all(outgoing);
+  std::vector<std::byte> frozen_bytes;
+  const std::size_t frozen = particles.count() - active;
+  if (frozen > 0) {
+    pack_particles(particles, range(active, particles.count()), frozen_bytes);
+    std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 0);
+  }
+  compact(particles, keep);
+  std::size_t arrived = 0;
+  for (const auto& bytes : incoming) arrived += unpack_particles(bytes, particles);
+  unpack_particles(frozen_bytes, particles);
+  active = active - departed + arrived;
+  cuts_ = std::move(cuts);
+  ++recuts;
+  return true;
+}
+
+std::size_t Subdomain::keep_own(Particles& particles, std::size_t frozen,
+                                const GridGeometry& grid) const {
+  const std::size_t active = particles.count() - std::min(frozen, particles.count());
+  std::vector<char> keep(particles.count(), 0);
+  std::size_t kept = 0;
+  for (std::size_t p = 0; p < active; ++p) {
+    if (cuts_.owner_of_column(cell_column_of(grid, particles.coordinates[p])) == ranks_.rank()) {
+      keep[p] = 1;
+      ++kept;
+    }
+  }
+  if (ranks_.root()) std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 1);
+  compact(particles, keep);
+  return kept;
+}
+
+}  // namespace slide::mpm
