@@ -99,7 +99,6 @@ class ByteReader {
   void get(Eigen::Matrix<double, K, 1>& v) {
     for (int i = 0; i < K; ++i) get(v[i]);
   }
-  bool done() const { return at_ == bytes_.size(); }
 
  private:
   std::span<const std::byte> bytes_;
@@ -114,30 +113,38 @@ std::size_t packed_particle_bytes(const Particles& p) {
          sizeof(std::int32_t) + 2 * sizeof(std::int64_t);
 }
 
+// Every field of Particles, in the order of a packed row; the one list both directions
+// use. Like ParticleRow in kernels.cpp, a new field of Particles must be added here.
+static_assert(sizeof(Particles) == 15 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
+              "a field was added to Particles: add it to for_each_field");
+
+template <class P, class F>
+void for_each_field(P& p, std::size_t k, F&& field) {
+  field(p.coordinates[k]);
+  field(p.displacement[k]);
+  field(p.velocity[k]);
+  field(p.stress[k]);
+  field(p.strain[k]);
+  field(p.eps_q[k]);
+  field(p.pore_pressure[k]);
+  field(p.volume[k]);
+  field(p.mass[k]);
+  field(p.size[k]);
+  field(p.material_id[k]);
+  field(p.element[k]);
+  field(p.id[k]);
+  field(p.state[k].plastic_shear_strain);
+  field(p.state[k].plastic_volumetric_strain);
+  field(p.state[k].peak_strength);
+  for (auto& s : p.surface_stress.of(k)) field(s);
+  if (!p.affine_velocity.empty()) field(p.affine_velocity[k]);
+}
+
 void pack_particles(const Particles& p, std::span<const std::size_t> indices,
                     std::vector<std::byte>& bytes) {
   bytes.reserve(bytes.size() + indices.size() * packed_particle_bytes(p));
   ByteWriter out(bytes);
-  for (const std::size_t k : indices) {
-    out.put(p.coordinates[k]);
-    out.put(p.displacement[k]);
-    out.put(p.velocity[k]);
-    out.put(p.stress[k]);
-    out.put(p.strain[k]);
-    out.put(p.eps_q[k]);
-    out.put(p.pore_pressure[k]);
-    out.put(p.volume[k]);
-    out.put(p.mass[k]);
-    out.put(p.size[k]);
-    out.put(p.material_id[k]);
-    out.put(p.element[k]);
-    out.put(p.id[k]);
-    out.put(p.state[k].plastic_shear_strain);
-    out.put(p.state[k].plastic_volumetric_strain);
-    out.put(p.state[k].peak_strength);
-    for (const Vec4& s : p.surface_stress.of(k)) out.put(s);
-    if (!p.affine_velocity.empty()) out.put(p.affine_velocity[k]);
-  }
+  for (const std::size_t k : indices) for_each_field(p, k, [&](const auto& v) { out.put(v); });
 }
 
 std::size_t unpack_particles(std::span<const std::byte> bytes, Particles& p) {
@@ -147,26 +154,8 @@ std::size_t unpack_particles(std::span<const std::byte> bytes, Particles& p) {
   const std::size_t first = p.count(), added = bytes.size() / row;
   p.resize(first + added);
   ByteReader in(bytes);
-  for (std::size_t k = first; k < first + added; ++k) {
-    in.get(p.coordinates[k]);
-    in.get(p.displacement[k]);
-    in.get(p.velocity[k]);
-    in.get(p.stress[k]);
-    in.get(p.strain[k]);
-    in.get(p.eps_q[k]);
-    in.get(p.pore_pressure[k]);
-    in.get(p.volume[k]);
-    in.get(p.mass[k]);
-    in.get(p.size[k]);
-    in.get(p.material_id[k]);
-    in.get(p.element[k]);
-    in.get(p.id[k]);
-    in.get(p.state[k].plastic_shear_strain);
-    in.get(p.state[k].plastic_volumetric_strain);
-    in.get(p.state[k].peak_strength);
-    for (Vec4& s : p.surface_stress.of(k)) in.get(s);
-    if (!p.affine_velocity.empty()) in.get(p.affine_velocity[k]);
-  }
+  for (std::size_t k = first; k < first + added; ++k)
+    for_each_field(p, k, [&](auto& v) { in.get(v); });
   return added;
 }
 
@@ -187,6 +176,23 @@ std::vector<std::size_t> range(std::size_t begin, std::size_t end) {
   std::vector<std::size_t> indices(end - begin);
   for (std::size_t k = begin; k < end; ++k) indices[k - begin] = k;
   return indices;
+}
+
+/// The particles after an exchange: the active ones kept (keep[k], in order), then the
+/// arrivals (buffers in order), then the frozen ones [active, n), which stay last.
+/// Returns the new active count.
+std::size_t regroup(Particles& p, std::size_t active, std::vector<char> keep,
+                    std::span<const std::vector<std::byte>> arrivals) {
+  std::vector<std::byte> frozen;
+  if (active < p.count()) {
+    pack_particles(p, range(active, p.count()), frozen);
+    std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 0);
+  }
+  compact(p, keep);
+  for (const auto& bytes : arrivals) unpack_particles(bytes, p);
+  const std::size_t now_active = p.count();
+  unpack_particles(frozen, p);
+  return now_active;
 }
 
 }  // namespace
@@ -219,9 +225,17 @@ void add_into(NodeSums& to, const NodeSums& from) {
   to.force_y += from.force_y;
 }
 
-void add_into(PlainVec2& to, const PlainVec2& from) {
-  to.x += from.x;
-  to.y += from.y;
+void add_into(Vec2& to, const PlainVec2& from) {
+  to.x() += from.x;
+  to.y() += from.y;
+}
+
+// What goes into a halo message: trivially copyable values (Eigen's vectors are not).
+const NodeSums& plain(const NodeSums& s) {
+  return s;
+}
+PlainVec2 plain(const Vec2& v) {
+  return {v.x(), v.y()};
 }
 
 }  // namespace
@@ -235,32 +249,33 @@ void Subdomain::sum_shared_columns(const GridGeometry& grid, int active_begin, i
   const bool has_left = rank > 0, has_right = rank < ranks_.size() - 1;
   // The three node columns around a cut at cell column c are storage columns c … c + 2.
   constexpr int width = 3;
+  using Plain = std::decay_t<decltype(plain(values[0]))>;
   const auto band = [&](int first) {
-    std::vector<T> out(width * rows, T{});
+    std::vector<Plain> out(width * rows, Plain{});
     for (int column = first; column < first + width; ++column) {
       if (column < active_begin || column >= active_end) continue;
       const auto at = static_cast<std::size_t>(column) * rows;
-      std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(at), rows,
-                  out.begin() + static_cast<std::ptrdiff_t>((column - first) * rows));
+      const auto to = static_cast<std::size_t>(column - first) * rows;
+      for (std::size_t row = 0; row < rows; ++row) out[to + row] = plain(values[at + row]);
     }
     return out;
   };
-  const std::vector<T> left = has_left ? band(first_cell()) : std::vector<T>{};
-  const std::vector<T> right = has_right ? band(end_cell()) : std::vector<T>{};
-  const auto as_bytes = [](const std::vector<T>& v) {
-    return std::as_bytes(std::span<const T>(v.data(), v.size()));
+  const std::vector<Plain> left = has_left ? band(first_cell()) : std::vector<Plain>{};
+  const std::vector<Plain> right = has_right ? band(end_cell()) : std::vector<Plain>{};
+  const auto as_bytes = [](const std::vector<Plain>& v) {
+    return std::as_bytes(std::span<const Plain>(v.data(), v.size()));
   };
   const auto from_right =
       ranks_.exchange(has_left ? rank - 1 : -1, as_bytes(left), has_right ? rank + 1 : -1);
   const auto from_left =
       ranks_.exchange(has_right ? rank + 1 : -1, as_bytes(right), has_left ? rank - 1 : -1);
-  bytes_sent += static_cast<std::int64_t>((left.size() + right.size()) * sizeof(T));
+  bytes_sent += static_cast<std::int64_t>((left.size() + right.size()) * sizeof(Plain));
   const auto add = [&](std::span<const std::byte> received, int first) {
     if (received.empty()) return;
-    if (received.size() != width * rows * sizeof(T))
+    if (received.size() != width * rows * sizeof(Plain))
       throw Error("mpm: a halo message of {} bytes, expected {}", received.size(),
-                  width * rows * sizeof(T));
-    const std::vector<T> theirs = Ranks::values_of<T>(received);
+                  width * rows * sizeof(Plain));
+    const std::vector<Plain> theirs = Ranks::values_of<Plain>(received);
     for (int column = first; column < first + width; ++column) {
       if (column < active_begin || column >= active_end) continue;
       const auto at = static_cast<std::size_t>(column) * rows;
@@ -279,16 +294,7 @@ void Subdomain::sum_shared(const GridGeometry& grid, int active_begin, int activ
 
 void Subdomain::sum_shared(const GridGeometry& grid, int active_begin, int active_end,
                            std::span<Vec2> momenta) const {
-  if (!ranks_.distributed()) return;
-  // Eigen's vectors are not trivially copyable: exchange them as plain pairs.
-  std::vector<PlainVec2> plain(momenta.size());
-  const auto rows = static_cast<std::size_t>(grid.node_rows());
-  const auto lo = static_cast<std::size_t>(std::max(active_begin, 0)) * rows;
-  const auto hi =
-      std::min(static_cast<std::size_t>(std::max(active_end, 0)) * rows, momenta.size());
-  for (std::size_t k = lo; k < hi; ++k) plain[k] = {momenta[k].x(), momenta[k].y()};
-  sum_shared_columns(grid, active_begin, active_end, std::span<PlainVec2>(plain));
-  for (std::size_t k = lo; k < hi; ++k) momenta[k] = Vec2(plain[k].x, plain[k].y);
+  sum_shared_columns(grid, active_begin, active_end, momenta);
 }
 
 void Subdomain::check_reach(const GridGeometry& grid, int active_begin, int active_end) const {
@@ -328,29 +334,19 @@ std::size_t Subdomain::migrate(Particles& particles, std::size_t active, const G
     }
     keep[p] = 0;
   }
-  std::vector<std::byte> left_bytes, right_bytes, frozen_bytes;
+  std::vector<std::byte> left_bytes, right_bytes;
   pack_particles(particles, to_left, left_bytes);
   pack_particles(particles, to_right, right_bytes);
   const bool has_left = rank > 0, has_right = rank < ranks_.size() - 1;
-  const auto from_right =
+  auto from_right =
       ranks_.exchange(has_left ? rank - 1 : -1, left_bytes, has_right ? rank + 1 : -1);
-  const auto from_left =
+  auto from_left =
       ranks_.exchange(has_right ? rank + 1 : -1, right_bytes, has_left ? rank - 1 : -1);
   bytes_sent += static_cast<std::int64_t>(left_bytes.size() + right_bytes.size());
   if (to_left.empty() && to_right.empty() && from_left.empty() && from_right.empty()) return active;
   changed = true;
-  // The frozen particles stay behind the active ones: set aside, put back last.
-  const std::size_t frozen = particles.count() - active;
-  if (frozen > 0) {
-    pack_particles(particles, range(active, particles.count()), frozen_bytes);
-    std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 0);
-  }
-  compact(particles, keep);
-  const std::size_t arrived =
-      unpack_particles(from_left, particles) + unpack_particles(from_right, particles);
-  const std::size_t now_active = active - to_left.size() - to_right.size() + arrived;
-  unpack_particles(frozen_bytes, particles);
-  return now_active;
+  return regroup(particles, active, std::move(keep),
+                 std::vector<std::vector<std::byte>>{std::move(from_left), std::move(from_right)});
 }
 
 bool Subdomain::rebalance(Particles& particles, std::size_t& active, const GridGeometry& grid) {
@@ -373,24 +369,11 @@ bool Subdomain::rebalance(Particles& particles, std::size_t& active, const GridG
     keep[p] = 0;
   }
   std::vector<std::vector<std::byte>> outgoing(leaving.size());
-  std::size_t departed = 0;
   for (std::size_t r = 0; r < leaving.size(); ++r) {
     pack_particles(particles, leaving[r], outgoing[r]);
-    departed += leaving[r].size();
     bytes_sent += static_cast<std::int64_t>(outgoing[r].size());
   }
-  const auto incoming = ranks_.all_to_all(outgoing);
-  std::vector<std::byte> frozen_bytes;
-  const std::size_t frozen = particles.count() - active;
-  if (frozen > 0) {
-    pack_particles(particles, range(active, particles.count()), frozen_bytes);
-    std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 0);
-  }
-  compact(particles, keep);
-  std::size_t arrived = 0;
-  for (const auto& bytes : incoming) arrived += unpack_particles(bytes, particles);
-  unpack_particles(frozen_bytes, particles);
-  active = active - departed + arrived;
+  active = regroup(particles, active, std::move(keep), ranks_.all_to_all(outgoing));
   cuts_ = std::move(cuts);
   ++recuts;
   return true;

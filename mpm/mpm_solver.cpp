@@ -211,9 +211,6 @@ void MpmSolver::distribute(const Ranks& ranks) {
       SlabCuts::balanced(particles_per_column(particles_, active, settings_.grid), ranks.size()));
   const std::size_t kept = subdomain_->keep_own(particles_, clock_.frozen, settings_.grid);
   clock_.frozen = particles_.count() - kept;
-  if (!particles_.affine_velocity.empty() &&
-      particles_.affine_velocity.size() != particles_.count())
-    particles_.affine_velocity.resize(particles_.count());
   located_ = false;
   set_own_columns();
 }
