@@ -16,6 +16,18 @@ int SlabCuts::owner_of_column(int cell_column) const {
   return std::clamp(rank, 0, ranks() - 1);
 }
 
+void SlabCuts::check(int columns) const {
+  if (begin.size() < 2 || begin.front() != 0 || begin.back() != columns) {
+    throw Error("mpm: slab cuts must run from cell column 0 to the grid's {}", columns);
+  }
+  for (std::size_t r = 0; r + 1 < begin.size(); ++r) {
+    if (begin[r + 1] - begin[r] < min_slab_cells) {
+      throw Error("mpm: slab {} (cell columns {}–{}) is narrower than {} cells", r, begin[r],
+                  begin[r + 1] - 1, min_slab_cells);
+    }
+  }
+}
+
 SlabCuts SlabCuts::balanced(std::span<const std::int64_t> particles_per_column, int ranks) {
   const auto columns = static_cast<int>(particles_per_column.size());
   if (ranks < 1) throw Error("mpm: {} ranks", ranks);

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -40,10 +41,25 @@ struct SlabCuts {
 
   int ranks() const { return static_cast<int>(begin.size()) - 1; }
   int owner_of_column(int cell_column) const;
+  /// Throws Error unless the cuts cover `columns` cell columns in slabs of at least
+  /// min_slab_cells.
+  void check(int columns) const;
   /// Cuts that give each of `ranks` slabs about the same number of particles, from the
   /// count per cell column, with every slab at least min_slab_cells wide. Throws Error
   /// when the grid is too narrow for that many ranks.
   static SlabCuts balanced(std::span<const std::int64_t> particles_per_column, int ranks);
+};
+
+/// Share by which the largest rank's particle count may exceed the mean before a re-cut:
+/// a re-cut moves about that share of the particles once, while an imbalance of that share
+/// costs it on every step until the next re-cut, so re-cutting much earlier pays little.
+inline constexpr double default_rebalance_share = 0.1;
+
+/// How a run is cut into slabs: balanced on the particles unless `cuts` are given (tests
+/// that need particles to cross fixed cuts), re-cut at `rebalance_share` (infinity: never).
+struct Decomposition {
+  std::optional<SlabCuts> cuts;
+  double rebalance_share = default_rebalance_share;
 };
 
 /// Particles per cell column of the grid, of particles [0, count).
@@ -106,7 +122,7 @@ class Subdomain {
   std::size_t keep_own(Particles& particles, std::size_t frozen, const GridGeometry& grid) const;
 
   /// Share by which the largest rank's particle count may exceed the mean before a re-cut.
-  double rebalance_share = 0.1;
+  double rebalance_share = default_rebalance_share;
   /// Re-cuts done so far (logged at the end of the run).
   std::int64_t recuts = 0;
   /// Bytes sent to the other ranks so far (halo and migration), for the benchmarks.

@@ -203,13 +203,15 @@ StepReport MpmSolver::step(double dt) {
   return {exited_this_step_};
 }
 
-void MpmSolver::distribute(const Ranks& ranks) {
+void MpmSolver::distribute(const Ranks& ranks, const Decomposition& decomposition) {
   if (!ranks.distributed()) return;
-  const std::size_t active = active_count();
-  subdomain_.emplace(
-      ranks,
-      SlabCuts::balanced(particles_per_column(particles_, active, settings_.grid), ranks.size()));
-  const std::size_t kept = subdomain_->keep_own(particles_, clock_.frozen, settings_.grid);
+  const GridGeometry& grid = settings_.grid;
+  SlabCuts cuts = decomposition.cuts.value_or(
+      SlabCuts::balanced(particles_per_column(particles_, active_count(), grid), ranks.size()));
+  cuts.check(grid.cells_x);
+  subdomain_.emplace(ranks, std::move(cuts));
+  subdomain_->rebalance_share = decomposition.rebalance_share;
+  const std::size_t kept = subdomain_->keep_own(particles_, clock_.frozen, grid);
   clock_.frozen = particles_.count() - kept;
   located_ = false;
   set_own_columns();

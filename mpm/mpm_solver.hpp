@@ -98,7 +98,7 @@ class MpmSolver {
   /// and only its share of after. From then on step, courant_time_step, energies and
   /// last_kinetic_energy are collective and give the values of the whole body; the
   /// particles, active_count and max_speeds are this rank's. On one rank it does nothing.
-  void distribute(const Ranks& ranks);
+  void distribute(const Ranks& ranks, const Decomposition& decomposition = {});
   const Subdomain* subdomain() const { return subdomain_ ? &*subdomain_ : nullptr; }
   /// The ranks the solver runs on (one, until distribute).
   const Ranks& ranks() const { return subdomain_ ? subdomain_->ranks() : Ranks::single(); }

@@ -111,16 +111,6 @@ namespace {
 
 using namespace testing;
 
-/// A grid over [0, upper] of 1 m cells under gravity g, its base a Coulomb contact of
-/// friction coefficient μ, its other edges free: the sliding tests' floor.
-MpmSettings on_a_frictional_base(const Vec2& upper, double mu, double g) {
-  MpmSettings s = settings_on(Vec2(0, 0), upper, 1.0);
-  s.gravity = Vec2(0, -g);
-  set_edge(s, edge_base, BoundaryCondition::friction);
-  s.boundaries.friction_coefficient = mu;
-  return s;
-}
-
 // A block sliding on the frictional base at v0 decelerates at μg and stops after
 // d = v0²/(2μg). It starts from its lithostatic (K0) stresses so that it does not drop
 // onto the base. The block is Mohr–Coulomb (φ = 35° > atan μ, so it carries the base

@@ -79,4 +79,14 @@ inline FirstModeBar first_mode_bar(ShapeFunction shape, UpdateScheme scheme) {
   return bar;
 }
 
+/// A grid over [0, upper] of 1 m cells under gravity g, its base a Coulomb contact of
+/// friction coefficient μ, its other edges free: the sliding tests' floor.
+inline MpmSettings on_a_frictional_base(const Vec2& upper, double mu, double g) {
+  MpmSettings s = settings_on(Vec2(0, 0), upper, 1.0);
+  s.gravity = Vec2(0, -g);
+  set_edge(s, edge_base, BoundaryCondition::friction);
+  s.boundaries.friction_coefficient = mu;
+  return s;
+}
+
 }  // namespace slide::mpm::testing

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# mpm-solve on 1, 2 and 3 ranks from the command line (tests/mpi/README.md):
+#   - column-short from its geometry for 0.5 s (135 steps): the three checkpoints hold
+#     the same particles, mass exact, momentum, energy and every particle field within
+#     round-off (compare_by_id.py, 1e-10), in the serial build's layout;
+#   - restart across rank counts: 1 rank to 0.3 s then 2 ranks to 0.5 s, and 3 ranks to
+#     0.3 s then 1 rank to 0.5 s, each the same as the uninterrupted run;
+#   - the 3-rank VTK frame: one .pvtu naming its three pieces, all of the particles;
+#   - a bad case file on 2 ranks: one error line (from the root only) and status 1.
+# OpenMPI's mpirun (-q is its).
+# Usage: ranks_test.sh BIN_DIR SOURCE_DIR WORK_DIR PYTHON MPIEXEC
+set -euo pipefail
+bin=$1 src=$2 work=$3 python=$4 mpiexec=$5
+case_file=$src/cases/column-short/case.toml
+compare=$src/tests/mpi/compare_by_id.py
+rm -rf "$work" && mkdir -p "$work"
+
+run() {  # run N OUT [mpm-solve options...]
+  local n=$1 out=$2
+  shift 2
+  "$mpiexec" -n "$n" "$bin/mpm-solve" "$case_file" -o "$work/$out" --threads 1 -q "$@"
+}
+
+for n in 1 2 3; do run "$n" np$n --until 0.5 --vtk-every 0.5; done
+"$python" "$compare" "$work/np1/mpm_final.h5" "$work/np2/mpm_final.h5"
+"$python" "$compare" "$work/np1/mpm_final.h5" "$work/np3/mpm_final.h5"
+
+run 1 first1 --until 0.3 --no-vtk
+run 2 then2 --restart "$work/first1/mpm_final.h5" --until 0.5 --no-vtk
+"$python" "$compare" "$work/np1/mpm_final.h5" "$work/then2/mpm_final.h5"
+run 3 first3 --until 0.3 --no-vtk
+run 1 then1 --restart "$work/first3/mpm_final.h5" --until 0.5 --no-vtk
+"$python" "$compare" "$work/np1/mpm_final.h5" "$work/then1/mpm_final.h5"
+
+# The last frame of the 3-rank run: a .pvtu of three pieces, every particle once.
+"$python" - "$work/np3/vtk" <<'EOF'
+import sys, pathlib, re
+folder = pathlib.Path(sys.argv[1])
+pvtu = sorted(folder.glob("mpm_*.pvtu"))[-1]
+pieces = re.findall(r'<Piece Source="([^"]+)"', pvtu.read_text())
+assert pieces == [f"{pvtu.stem}_r{r}.vtu" for r in range(3)], pieces
+points = sum(int(re.search(rb'NumberOfPoints="(\d+)"', (folder / p).read_bytes()).group(1))
+             for p in pieces)
+assert points == 32000, points
+print(f"{pvtu.name}: pieces {pieces}, {points} points")
+EOF
+
+# A case file that does not parse: one line from the root, status 1, on 2 ranks
+# (mpirun's -q keeps its own notice about the non-zero status away).
+printf '[case\nname = "broken"\n' > "$work/broken.toml"
+set +e
+"$mpiexec" -q -n 2 "$bin/mpm-solve" "$work/broken.toml" -o "$work/broken" 2> "$work/broken.err"
+status=$?
+set -e
+lines=$(wc -l < "$work/broken.err")
+if [[ $status -ne 1 || $lines -ne 1 ]] || ! grep -q '^mpm-solve: error: ' "$work/broken.err"; then
+  echo "bad case on 2 ranks: status $status, $lines stderr lines:" >&2
+  cat "$work/broken.err" >&2
+  exit 1
+fi
+echo "bad case on 2 ranks: status 1, one line: $(cat "$work/broken.err")"
