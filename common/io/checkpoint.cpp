@@ -59,6 +59,10 @@ struct Rows {
   std::size_t count = 0;
   /// In a checkpoint several ranks write together: where this rank's rows go.
   const hdf5::RowShare* share = nullptr;
+  /// Reading part of a file (each rank its own rows): the rows read, of `count`.
+  std::optional<hdf5::RowRange> held = std::nullopt;
+  /// The file row of the i-th row held (for messages).
+  std::size_t row(std::size_t i) const { return held ? held->first + i : i; }
 };
 
 constexpr const char* units_attribute = "units";
@@ -71,7 +75,7 @@ void require_finite(std::string_view where, std::span<const double> values, std:
                     const Rows& rows) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
-      throw Error("{}: {} {} is not finite ({})", where, rows.noun, i / width, values[i]);
+      throw Error("{}: {} {} is not finite ({})", where, rows.noun, rows.row(i / width), values[i]);
     }
   }
 }
@@ -118,11 +122,12 @@ void require_admissible(std::string_view where, std::string_view dataset,
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (std::abs(values[i]) > rule->limit) {
       throw Error("{}: {} {} has {}{}{}, beyond ±{:g}{}{} (no landslide reaches it: damaged data?)",
-                  where, rows.noun, i / width, values[i], rule->unit.empty() ? "" : " ", rule->unit,
-                  rule->limit, rule->unit.empty() ? "" : " ", rule->unit);
+                  where, rows.noun, rows.row(i / width), values[i], rule->unit.empty() ? "" : " ",
+                  rule->unit, rule->limit, rule->unit.empty() ? "" : " ", rule->unit);
     }
     if (rule->non_negative && values[i] < 0.0) {
-      throw Error("{}: {} {} has {}, expected ≥ 0", where, rows.noun, i / width, values[i]);
+      throw Error("{}: {} {} has {}, expected ≥ 0", where, rows.noun, rows.row(i / width),
+                  values[i]);
     }
   }
 }
@@ -140,10 +145,11 @@ void require_unique_ids(std::string_view where, std::span<const std::int64_t> id
   std::sort(sorted.begin(), sorted.end());
   for (std::size_t k = 0; k < sorted.size(); ++k) {
     const auto [id, row] = sorted[k];
-    if (id < 0) throw Error("{}: {} {} has id {}, expected ≥ 0", where, rows.noun, row, id);
+    if (id < 0)
+      throw Error("{}: {} {} has id {}, expected ≥ 0", where, rows.noun, rows.row(row), id);
     if (k > 0 && sorted[k - 1].first == id) {
       throw Error("{}: {}s {} and {} share id {}, expected unique ids", where, rows.noun,
-                  sorted[k - 1].second, row, id);
+                  rows.row(sorted[k - 1].second), rows.row(row), id);
     }
   }
 }
@@ -166,11 +172,11 @@ void require_in_range(std::string_view where, std::span<const std::int64_t> valu
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (values[i] >= range.low && values[i] < range.high) continue;
     if (range.high == IndexRange::unbounded) {
-      throw Error("{}: {} {} has index {}, expected ≥ {} ({})", where, rows.noun, i / width,
-                  values[i], range.low, range.bound);
+      throw Error("{}: {} {} has index {}, expected ≥ {} ({})", where, rows.noun,
+                  rows.row(i / width), values[i], range.low, range.bound);
     }
     throw Error("{}: {} {} has index {}, expected {} ≤ index < {} ({})", where, rows.noun,
-                i / width, values[i], range.low, range.high, range.bound);
+                rows.row(i / width), values[i], range.low, range.high, range.bound);
   }
 }
 
@@ -182,7 +188,8 @@ void require_positive(std::string_view where, std::span<const double> values, co
                       std::string_view quantity) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!(values[i] > 0.0)) {
-      throw Error("{}: {} {} has {} {}, expected > 0", where, rows.noun, i, quantity, values[i]);
+      throw Error("{}: {} {} has {} {}, expected > 0", where, rows.noun, rows.row(i), quantity,
+                  values[i]);
     }
   }
 }
@@ -191,7 +198,7 @@ void require_positive(std::string_view where, std::span<const double> values, co
 void require_positive_sizes(std::string_view where, std::span<const Vec2> sizes, const Rows& rows) {
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     if (!(sizes[i].x() > 0.0 && sizes[i].y() > 0.0)) {
-      throw Error("{}: {} {} has size ({}, {}), expected both > 0", where, rows.noun, i,
+      throw Error("{}: {} {} has size ({}, {}), expected both > 0", where, rows.noun, rows.row(i),
                   sizes[i].x(), sizes[i].y());
     }
   }
@@ -599,7 +606,7 @@ class Reader {
   /// n×width floats (width 0: 1-D), checked for shape and finite values.
   std::vector<double> doubles(std::string_view path, std::size_t width, const Rows& rows) const {
     const hdf5::Dataset dataset = open(path, TypeClass::floating_point, width, rows);
-    std::vector<double> values = dataset.read_doubles();
+    std::vector<double> values = dataset.read_doubles(rows.held);
     require_admissible(where(path), dataset_name(path), values, std::max<std::size_t>(width, 1),
                        rows);
     return values;
@@ -614,7 +621,7 @@ class Reader {
   std::vector<std::int64_t> indices(std::string_view path, std::size_t width, const Rows& rows,
                                     const std::optional<IndexRange>& range) const {
     const hdf5::Dataset dataset = open(path, TypeClass::integer, width, rows);
-    std::vector<std::int64_t> values = dataset.read_int64();
+    std::vector<std::int64_t> values = dataset.read_int64(rows.held);
     if (range) require_in_range(where(path), values, std::max<std::size_t>(width, 1), rows, *range);
     return values;
   }
@@ -1065,7 +1072,9 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   return c;
 }
 
-ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
+ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const ParticleRows& part) {
+  if (part.parts < 1 || part.part < 0 || part.part >= part.parts)
+    throw Error("{}: part {} of {} asked", path.string(), part.part, part.parts);
   const Reader reader(path);
   ParticleCheckpoint c;
   c.header = read_header(reader.file());
@@ -1073,8 +1082,18 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path) {
                "particles or mpm");
   c.materials = read_materials(reader);
 
-  const Rows particles =
+  Rows particles =
       reader.define_rows("/particles/coordinates", TypeClass::floating_point, 2, "particle", "n_p");
+  c.file_rows = particles.count;
+  if (part.parts > 1) {
+    // Part k of N: rows [⌊k n/N⌋, ⌊(k + 1) n/N⌋), contiguous, in file order.
+    const auto n = static_cast<std::uint64_t>(particles.count);
+    const auto k = static_cast<std::uint64_t>(part.part),
+               parts = static_cast<std::uint64_t>(part.parts);
+    const std::uint64_t first = k * n / parts, end = (k + 1) * n / parts;
+    particles.held = hdf5::RowRange{first, end - first};
+    c.first_row = first;
+  }
   Particles& p = c.particles;
   p.coordinates = reader.vectors<2>("/particles/coordinates", particles);
   p.displacement = reader.vectors<2>("/particles/displacement", particles);

@@ -133,6 +133,13 @@ struct TransferSettings {
   std::int64_t rbf_neighbours = 0;    ///< k of rbf-local (0: unused)
 };
 
+/// Which particle rows a reader takes: part `part` of `parts` contiguous, equal runs of
+/// the file's rows (each rank its own, docs/parallel.md); by default all of them.
+struct ParticleRows {
+  int part = 0;
+  int parts = 1;
+};
+
 /// Kinds "particles" (fem2mpm output) and "mpm" (mpm-solve checkpoints).
 struct ParticleCheckpoint {
   CheckpointHeader header;
@@ -141,6 +148,8 @@ struct ParticleCheckpoint {
   TransferSettings transfer;  ///< kind "particles"; also kept in "mpm" files when known
   SolverSettings solver;      ///< kind "mpm": grid and solver settings for a restart
   std::optional<CheckpointMotion> motion;  ///< the base motion the run continues
+  std::size_t file_rows = 0;               ///< particle rows in the file
+  std::size_t first_row = 0;               ///< the file row of particles[0] (read in parts: not 0)
 };
 
 /// Writes atomically (temporary file + rename). Throws Error on any failure; the target
@@ -159,8 +168,10 @@ void write_checkpoint_on_ranks(const std::filesystem::path& path,
 
 /// Reads and validates a kind "fem" file.
 FemCheckpoint read_fem_checkpoint(const std::filesystem::path& path);
-/// Reads and validates a kind "particles" or "mpm" file.
-ParticleCheckpoint read_particle_checkpoint(const std::filesystem::path& path);
+/// Reads and validates a kind "particles" or "mpm" file, or of it only the particle rows
+/// of `part` (whose ids are then checked unique among themselves only).
+ParticleCheckpoint read_particle_checkpoint(const std::filesystem::path& path,
+                                            const ParticleRows& part = {});
 /// Reads and validates only the file attributes.
 CheckpointHeader read_checkpoint_header(const std::filesystem::path& path);
 

@@ -1,6 +1,7 @@
 #include "common/io/hdf5_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <type_traits>
 #include <utility>
@@ -384,13 +385,41 @@ std::vector<T> read_all(hid_t dataset, hid_t memory_type, const Shape& shape,
   return values;
 }
 
+/// Rows [first, first + count) of the dataset, every column.
+template <typename T>
+std::vector<T> read_rows(hid_t dataset, hid_t memory_type, const Shape& shape, const RowRange& rows,
+                         std::string_view where) {
+  // Rows of the 1-D and 2-D datasets the checkpoints hold.
+  if (shape.empty() || shape.size() > 2 || rows.first > shape[0] ||
+      rows.count > shape[0] - rows.first) {
+    throw Error("{}: rows {}–{} asked of a dataset of shape {}", where, rows.first,
+                rows.first + rows.count, format_shape(shape));
+  }
+  const hsize_t columns = shape.size() == 2 ? shape[1] : 1;
+  const std::array<hsize_t, 2> start{rows.first, 0}, block{rows.count, columns};
+  std::vector<T> values(rows.count * columns);
+  if (values.empty()) return values;
+  const Handle file_space = checked(H5Dget_space(dataset), &H5Sclose, where, "cannot read shape");
+  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start.data(), nullptr, block.data(),
+                            nullptr),
+        where, "cannot select rows");
+  const Handle memory =
+      checked(H5Screate_simple(static_cast<int>(shape.size()), block.data(), nullptr), &H5Sclose,
+              where, "cannot make a memory space");
+  check(H5Dread(dataset, memory_type, memory.id(), file_space.id(), H5P_DEFAULT, values.data()),
+        where, "cannot read");
+  return values;
+}
+
 }  // namespace
 
-std::vector<double> Dataset::read_doubles() const {
+std::vector<double> Dataset::read_doubles(const std::optional<RowRange>& rows) const {
+  if (rows) return read_rows<double>(handle_.id(), H5T_NATIVE_DOUBLE, shape(), *rows, where());
   return read_all<double>(handle_.id(), H5T_NATIVE_DOUBLE, shape(), where());
 }
 
-std::vector<std::int64_t> Dataset::read_int64() const {
+std::vector<std::int64_t> Dataset::read_int64(const std::optional<RowRange>& rows) const {
+  if (rows) return read_rows<std::int64_t>(handle_.id(), H5T_NATIVE_INT64, shape(), *rows, where());
   return read_all<std::int64_t>(handle_.id(), H5T_NATIVE_INT64, shape(), where());
 }
 

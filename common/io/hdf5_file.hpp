@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -41,6 +42,13 @@ std::string_view to_string(TypeClass type_class);
 struct RowShare {
   std::uint64_t total = 0;
   std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges;
+};
+
+/// Rows [first, first + count) of a dataset: the part one process reads of a file that
+/// several read, each its own rows.
+struct RowRange {
+  std::uint64_t first = 0;
+  std::uint64_t count = 0;
 };
 
 /// Owns one hid_t and closes it with the matching H5*close on destruction. Move-only.
@@ -116,10 +124,10 @@ class Dataset : public Object {
   Shape shape() const;
   TypeClass type_class() const;
 
-  /// The whole dataset, converted to the requested type by HDF5. read_int32 throws when
-  /// a stored value does not fit.
-  std::vector<double> read_doubles() const;
-  std::vector<std::int64_t> read_int64() const;
+  /// The whole dataset, or the rows `rows` of it, converted to the requested type by
+  /// HDF5. read_int32 throws when a stored value does not fit.
+  std::vector<double> read_doubles(const std::optional<RowRange>& rows = std::nullopt) const;
+  std::vector<std::int64_t> read_int64(const std::optional<RowRange>& rows = std::nullopt) const;
   std::vector<std::int32_t> read_int32() const;
 
  private:

@@ -13,6 +13,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -613,6 +614,51 @@ TEST_F(Checkpoint, AffineVelocityIsOptionalAndRoundTripsExactly) {
   EXPECT_EQ(particle_error(file("mpm_apic.h5")),
             file("mpm_apic.h5").string() +
                 ": /particles/affine_velocity_gradient: shape 7×2, expected 7×4");
+}
+
+// Read in parts (each MPI rank its own rows): the parts are contiguous runs of rows,
+// [⌊k n/N⌋, ⌊(k + 1) n/N⌋), which put together are the whole file bit for bit; each is
+// validated, and a bad value is named by its row in the file.
+TEST_F(Checkpoint, ParticleRowsAreReadInParts) {
+  ParticleCheckpoint written = sample_particles(CheckpointKind::mpm, 11);
+  Filler f;
+  written.particles.affine_velocity = f.vec4s(written.particles.count());
+  write_checkpoint(file("mpm.h5"), written);
+  // Rows [first, first + count) of every field of the written particles.
+  auto rows_of = [&](std::size_t first, std::size_t count) {
+    ParticleCheckpoint expected = written;
+    Particles& p = expected.particles;
+    auto slice = [&](auto& field) {
+      using Field = std::remove_reference_t<decltype(field)>;
+      field = Field(field.begin() + static_cast<std::ptrdiff_t>(first),
+                    field.begin() + static_cast<std::ptrdiff_t>(first + count));
+    };
+    slice(p.coordinates), slice(p.displacement), slice(p.velocity), slice(p.stress);
+    slice(p.strain), slice(p.eps_q), slice(p.pore_pressure), slice(p.volume), slice(p.mass);
+    slice(p.size), slice(p.material_id), slice(p.element), slice(p.id), slice(p.state);
+    slice(p.affine_velocity);
+    return expected;
+  };
+  for (int parts : {1, 2, 3, 5, 11, 13}) {
+    std::size_t next = 0;
+    for (int k = 0; k < parts; ++k) {
+      const ParticleCheckpoint part = read_particle_checkpoint(file("mpm.h5"), {k, parts});
+      EXPECT_EQ(part.file_rows, 11u);
+      EXPECT_EQ(part.first_row, next) << "part " << k << " of " << parts;
+      EXPECT_EQ(part.first_row, static_cast<std::size_t>(k) * 11 / static_cast<std::size_t>(parts));
+      expect_identical(rows_of(part.first_row, part.particles.count()), part);
+      next = part.first_row + part.particles.count();
+    }
+    EXPECT_EQ(next, 11u) << parts << " parts";
+  }
+  Damage(file("mpm.h5")).set_double("/particles/volume", 8, -1.0);
+  EXPECT_NO_THROW(read_particle_checkpoint(file("mpm.h5"), {0, 2}));  // rows 0–4
+  EXPECT_EQ(
+      error_of([&] {
+        read_particle_checkpoint(file("mpm.h5"), {1, 2});
+      }),
+      file("mpm.h5").string() + ": /particles/volume: particle 8 has volume -1, expected > 0");
+  EXPECT_THROW(read_particle_checkpoint(file("mpm.h5"), {2, 2}), Error);
 }
 
 TEST_F(Checkpoint, EmptyParticleSetRoundTrips) {
