@@ -1,7 +1,9 @@
 #include "mpm/domain.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "common/base/error.hpp"
 #include "mpm/kernels.hpp"
@@ -119,10 +121,9 @@ class ByteReader {
 
 }  // namespace
 
-std::size_t packed_particle_bytes(const Particles& p) {
-  return sizeof(double) *
-             (20 + 3 + 4 * p.surface_stress.per_point + (p.affine_velocity.empty() ? 0 : 4)) +
-         sizeof(std::int32_t) + 2 * sizeof(std::int64_t);
+std::size_t PackedLayout::bytes() const {
+  return sizeof(double) * (20 + 3 + 4 * surfaces + (affine ? 4 : 0)) + sizeof(std::int32_t) +
+         2 * sizeof(std::int64_t);
 }
 
 // Every field of Particles, in the order of a packed row; the one list both directions
@@ -131,7 +132,7 @@ static_assert(sizeof(Particles) == 15 * sizeof(std::vector<double>) + sizeof(Sur
               "a field was added to Particles: add it to for_each_field");
 
 template <class P, class F>
-void for_each_field(P& p, std::size_t k, F&& field) {
+void for_each_field(P& p, std::size_t k, bool affine, F&& field) {
   field(p.coordinates[k]);
   field(p.displacement[k]);
   field(p.velocity[k]);
@@ -149,25 +150,43 @@ void for_each_field(P& p, std::size_t k, F&& field) {
   field(p.state[k].plastic_volumetric_strain);
   field(p.state[k].peak_strength);
   for (auto& s : p.surface_stress.of(k)) field(s);
-  if (!p.affine_velocity.empty()) field(p.affine_velocity[k]);
+  if (affine) field(p.affine_velocity[k]);
+}
+
+static void require_layout(const Particles& p, const PackedLayout& layout) {
+  if (p.surface_stress.per_point != layout.surfaces ||
+      (layout.affine && p.affine_velocity.size() != p.count())) {
+    throw Error(
+        "mpm: particles with {} surfaces and {} affine velocities for {} do not match the "
+        "packed layout ({} surfaces{})",
+        p.surface_stress.per_point, p.affine_velocity.size(), p.count(), layout.surfaces,
+        layout.affine ? ", affine" : "");
+  }
 }
 
 void pack_particles(const Particles& p, std::span<const std::size_t> indices,
-                    std::vector<std::byte>& bytes) {
-  bytes.reserve(bytes.size() + indices.size() * packed_particle_bytes(p));
+                    const PackedLayout& layout, std::vector<std::byte>& bytes) {
+  require_layout(p, layout);
+  bytes.reserve(bytes.size() + indices.size() * layout.bytes());
   ByteWriter out(bytes);
-  for (const std::size_t k : indices) for_each_field(p, k, [&](const auto& v) { out.put(v); });
+  for (const std::size_t k : indices)
+    for_each_field(p, k, layout.affine, [&](const auto& v) { out.put(v); });
 }
 
-std::size_t unpack_particles(std::span<const std::byte> bytes, Particles& p) {
-  const std::size_t row = packed_particle_bytes(p);
+std::size_t unpack_particles(std::span<const std::byte> bytes, const PackedLayout& layout,
+                             Particles& p) {
+  require_layout(p, layout);
+  const std::size_t row = layout.bytes();
   if (bytes.size() % row != 0)
     throw Error("mpm: a particle message of {} bytes is not whole rows of {}", bytes.size(), row);
   const std::size_t first = p.count(), added = bytes.size() / row;
   p.resize(first + added);
+  // Particles::resize keeps an empty affine field empty (a rank all of whose particles
+  // left has none): the layout, not the particles, says whether rows carry one.
+  if (layout.affine) p.affine_velocity.resize(first + added, Vec4::Zero());
   ByteReader in(bytes);
   for (std::size_t k = first; k < first + added; ++k)
-    for_each_field(p, k, [&](auto& v) { in.get(v); });
+    for_each_field(p, k, layout.affine, [&](auto& v) { in.get(v); });
   return added;
 }
 
@@ -194,16 +213,16 @@ std::vector<std::size_t> range(std::size_t begin, std::size_t end) {
 /// arrivals (buffers in order), then the frozen ones [active, n), which stay last.
 /// Returns the new active count.
 std::size_t regroup(Particles& p, std::size_t active, std::vector<char> keep,
-                    std::span<const std::vector<std::byte>> arrivals) {
+                    std::span<const std::vector<std::byte>> arrivals, const PackedLayout& layout) {
   std::vector<std::byte> frozen;
   if (active < p.count()) {
-    pack_particles(p, range(active, p.count()), frozen);
+    pack_particles(p, range(active, p.count()), layout, frozen);
     std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 0);
   }
   compact(p, keep);
-  for (const auto& bytes : arrivals) unpack_particles(bytes, p);
+  for (const auto& bytes : arrivals) unpack_particles(bytes, layout, p);
   const std::size_t now_active = p.count();
-  unpack_particles(frozen, p);
+  unpack_particles(frozen, layout, p);
   return now_active;
 }
 
@@ -252,10 +271,31 @@ PlainVec2 plain(const Vec2& v) {
 
 }  // namespace
 
+namespace {
+
+/// Adds the wall time of its scope to `seconds` (the benchmarks' exchange time).
+class ExchangeTimer {
+ public:
+  explicit ExchangeTimer(double& seconds)
+      : seconds_(seconds), start_(std::chrono::steady_clock::now()) {}
+  ~ExchangeTimer() {
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  ExchangeTimer(const ExchangeTimer&) = delete;
+  ExchangeTimer& operator=(const ExchangeTimer&) = delete;
+
+ private:
+  double& seconds_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
 template <class T>
 void Subdomain::sum_shared_columns(const GridGeometry& grid, int active_begin, int active_end,
                                    std::span<T> values) const {
   if (!ranks_.distributed()) return;
+  const ExchangeTimer timer(exchange_seconds);
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const int rank = ranks_.rank();
   const bool has_left = rank > 0, has_right = rank < ranks_.size() - 1;
@@ -323,9 +363,10 @@ void Subdomain::check_reach(const GridGeometry& grid, int active_begin, int acti
 }
 
 std::size_t Subdomain::migrate(Particles& particles, std::size_t active, const GridGeometry& grid,
-                               bool& changed) const {
+                               const PackedLayout& layout, bool& changed) const {
   changed = false;
   if (!ranks_.distributed()) return active;
+  const ExchangeTimer timer(exchange_seconds);
   const int rank = ranks_.rank();
   std::vector<std::size_t> to_left, to_right;
   std::vector<char> keep(particles.count(), 1);
@@ -347,8 +388,8 @@ std::size_t Subdomain::migrate(Particles& particles, std::size_t active, const G
     keep[p] = 0;
   }
   std::vector<std::byte> left_bytes, right_bytes;
-  pack_particles(particles, to_left, left_bytes);
-  pack_particles(particles, to_right, right_bytes);
+  pack_particles(particles, to_left, layout, left_bytes);
+  pack_particles(particles, to_right, layout, right_bytes);
   const bool has_left = rank > 0, has_right = rank < ranks_.size() - 1;
   auto from_right =
       ranks_.exchange(has_left ? rank - 1 : -1, left_bytes, has_right ? rank + 1 : -1);
@@ -358,11 +399,14 @@ std::size_t Subdomain::migrate(Particles& particles, std::size_t active, const G
   if (to_left.empty() && to_right.empty() && from_left.empty() && from_right.empty()) return active;
   changed = true;
   return regroup(particles, active, std::move(keep),
-                 std::vector<std::vector<std::byte>>{std::move(from_left), std::move(from_right)});
+                 std::vector<std::vector<std::byte>>{std::move(from_left), std::move(from_right)},
+                 layout);
 }
 
-bool Subdomain::rebalance(Particles& particles, std::size_t& active, const GridGeometry& grid) {
+bool Subdomain::rebalance(Particles& particles, std::size_t& active, const GridGeometry& grid,
+                          const PackedLayout& layout) {
   if (!ranks_.distributed()) return false;
+  const ExchangeTimer timer(exchange_seconds);
   const auto largest = ranks_.max(static_cast<std::int64_t>(active));
   const double mean = ranks_.sum(static_cast<double>(active)) / ranks_.size();
   if (!(static_cast<double>(largest) > (1.0 + rebalance_share) * mean)) return false;
@@ -382,29 +426,85 @@ bool Subdomain::rebalance(Particles& particles, std::size_t& active, const GridG
   }
   std::vector<std::vector<std::byte>> outgoing(leaving.size());
   for (std::size_t r = 0; r < leaving.size(); ++r) {
-    pack_particles(particles, leaving[r], outgoing[r]);
+    pack_particles(particles, leaving[r], layout, outgoing[r]);
     bytes_sent += static_cast<std::int64_t>(outgoing[r].size());
   }
-  active = regroup(particles, active, std::move(keep), ranks_.all_to_all(outgoing));
+  active = regroup(particles, active, std::move(keep), ranks_.all_to_all(outgoing), layout);
   cuts_ = std::move(cuts);
   ++recuts;
   return true;
 }
 
-std::size_t Subdomain::keep_own(Particles& particles, std::size_t frozen,
-                                const GridGeometry& grid) const {
+std::size_t Subdomain::scatter(Particles& particles, std::size_t frozen, const GridGeometry& grid,
+                               const PackedLayout& layout) const {
   const std::size_t active = particles.count() - std::min(frozen, particles.count());
-  std::vector<char> keep(particles.count(), 0);
-  std::size_t kept = 0;
+  if (!ranks_.distributed()) return active;
+  const ExchangeTimer timer(exchange_seconds);
+  const auto n = static_cast<std::size_t>(ranks_.size());
+  std::vector<std::vector<std::size_t>> to(n);
   for (std::size_t p = 0; p < active; ++p) {
-    if (cuts_.owner_of_column(cell_column_of(grid, particles.coordinates[p])) == ranks_.rank()) {
-      keep[p] = 1;
-      ++kept;
-    }
+    const int owner = cuts_.owner_of_column(cell_column_of(grid, particles.coordinates[p]));
+    to[static_cast<std::size_t>(owner)].push_back(p);
   }
-  if (ranks_.root()) std::fill(keep.begin() + static_cast<std::ptrdiff_t>(active), keep.end(), 1);
+  // This rank's own particles travel too (a message to itself), so that every rank ends
+  // with its particles in the order of the parts, which is the order of the file.
+  std::vector<std::vector<std::byte>> outgoing(n), outgoing_frozen(n);
+  for (std::size_t r = 0; r < n; ++r) pack_particles(particles, to[r], layout, outgoing[r]);
+  pack_particles(particles, range(active, particles.count()), layout, outgoing_frozen[0]);
+  to.clear();
+  // The part goes before the arrivals come: a rank holds both at once only as bytes.
+  particles.resize(0);
+  particles.affine_velocity.clear();
+  particles.shrink_to_fit();
+  const auto arrivals = ranks_.all_to_all(outgoing);
+  outgoing.clear();
+  const auto frozen_arrivals = ranks_.all_to_all(outgoing_frozen);
+  outgoing_frozen.clear();
+  for (const auto& bytes : arrivals) unpack_particles(bytes, layout, particles);
+  const std::size_t now_active = particles.count();
+  for (const auto& bytes : frozen_arrivals) unpack_particles(bytes, layout, particles);
+  return now_active;
+}
+
+std::optional<std::int64_t> duplicate_id(const Particles& particles, const Ranks& ranks) {
+  // Each id to rank id mod N, which sorts the ids it receives: one pass over the ids
+  // with one all-to-all, wherever the duplicates are.
+  const auto n = static_cast<std::size_t>(ranks.size());
+  std::vector<std::vector<std::int64_t>> buckets(n);
+  for (const std::int64_t id : particles.id)
+    buckets[static_cast<std::size_t>(id >= 0 ? id % ranks.size() : 0)].push_back(id);
+  std::vector<std::vector<std::byte>> outgoing(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    const auto bytes = Ranks::bytes_of(std::span<const std::int64_t>(buckets[r]));
+    outgoing[r].assign(bytes.begin(), bytes.end());
+  }
+  std::vector<std::int64_t> mine;
+  for (const auto& bytes : ranks.all_to_all(outgoing)) {
+    const auto ids = Ranks::values_of<std::int64_t>(bytes);
+    mine.insert(mine.end(), ids.begin(), ids.end());
+  }
+  std::sort(mine.begin(), mine.end());
+  const auto twin = std::adjacent_find(mine.begin(), mine.end());
+  // The smallest duplicate of all ranks (−1: none), the same on every rank.
+  const std::int64_t found = twin == mine.end() ? std::numeric_limits<std::int64_t>::max() : *twin;
+  const std::int64_t smallest = -ranks.max(-found);
+  if (smallest == std::numeric_limits<std::int64_t>::max()) return std::nullopt;
+  return smallest;
+}
+
+std::size_t keep_part(Particles& particles, std::size_t frozen, const Ranks& ranks) {
+  const std::size_t n = particles.count();
+  frozen = std::min(frozen, n);
+  const auto r = static_cast<std::size_t>(ranks.rank()),
+             parts = static_cast<std::size_t>(ranks.size());
+  const std::size_t first = r * n / parts, end = (r + 1) * n / parts;
+  std::vector<char> keep(n, 0);
+  std::fill(keep.begin() + static_cast<std::ptrdiff_t>(first),
+            keep.begin() + static_cast<std::ptrdiff_t>(end), 1);
   compact(particles, keep);
-  return kept;
+  // The frozen rows [n − frozen, n) of the whole set that fall in [first, end).
+  const std::size_t frozen_begin = n - frozen;
+  return end > frozen_begin ? end - std::max(first, frozen_begin) : 0;
 }
 
 }  // namespace slide::mpm

@@ -70,13 +70,32 @@ std::vector<std::int64_t> particles_per_column(const Particles& particles, std::
 /// edge columns, as GridGeometry::cell_of).
 int cell_column_of(const GridGeometry& grid, const Vec2& x);
 
+/// What a packed particle holds besides the fields every particle has: its multi-yield
+/// surface stresses and, in an APIC run, its affine velocity. The run's settings give it,
+/// not the particles: a rank whose particles all left holds no affine field to tell.
+struct PackedLayout {
+  std::size_t surfaces = 0;
+  bool affine = false;
+  /// Bytes one packed particle takes.
+  std::size_t bytes() const;
+};
+
 /// Particles as bytes: every field of the rows `indices`, appended to `bytes`; and back,
-/// appended to the particles (which must have the same surface count and affine state).
+/// appended to the particles. Both throw Error when the particles do not fit `layout`.
 void pack_particles(const Particles& particles, std::span<const std::size_t> indices,
-                    std::vector<std::byte>& bytes);
-std::size_t unpack_particles(std::span<const std::byte> bytes, Particles& particles);
-/// Bytes one packed particle takes.
-std::size_t packed_particle_bytes(const Particles& particles);
+                    const PackedLayout& layout, std::vector<std::byte>& bytes);
+std::size_t unpack_particles(std::span<const std::byte> bytes, const PackedLayout& layout,
+                             Particles& particles);
+
+/// Of a particle set every rank holds whole, keeps this rank's part, which is what
+/// MpmSolver::distribute takes: rows [⌊r n/N⌋, ⌊(r + 1) n/N⌋) of the n rows, the way a
+/// particle file is read in parts (read_particle_checkpoint). The last `frozen` rows of
+/// the set are frozen. Returns how many of them are in the part (they stay last). Not
+/// collective.
+std::size_t keep_part(Particles& particles, std::size_t frozen, const Ranks& ranks);
+
+/// The smallest id that two particles share, on whichever ranks they are (collective).
+std::optional<std::int64_t> duplicate_id(const Particles& particles, const Ranks& ranks);
 
 /// This rank's slab and its exchanges with the other ranks.
 class Subdomain {
@@ -108,25 +127,32 @@ class Subdomain {
   /// arrivals follow them (left neighbour's first), ahead of the frozen particles.
   /// Returns the new active count; `changed` tells whether any particle came or went.
   std::size_t migrate(Particles& particles, std::size_t active, const GridGeometry& grid,
-                      bool& changed) const;
+                      const PackedLayout& layout, bool& changed) const;
 
   /// Every `sort_interval` steps: re-cuts the slabs when the largest active count exceeds
   /// the mean by more than `rebalance_share` and sends every particle to its new owner
   /// (collective). Returns true when it re-cut; `active` is updated.
-  bool rebalance(Particles& particles, std::size_t& active, const GridGeometry& grid);
+  bool rebalance(Particles& particles, std::size_t& active, const GridGeometry& grid,
+                 const PackedLayout& layout);
 
-  /// Keeps of a particle set every rank holds whole (a particle file, a restart, pure
-  /// MPM's generation) this rank's share: the active particles in its slab, and on rank
-  /// 0 the frozen ones (`frozen`: the last ones). Returns the new active count. Not
-  /// collective.
-  std::size_t keep_own(Particles& particles, std::size_t frozen, const GridGeometry& grid) const;
+  /// Sends every particle of this rank's part of the whole set (keep_part; the last
+  /// `frozen` frozen) to its owner: an active one to the rank whose slab holds its cell, a
+  /// frozen one to rank 0 (collective). Every rank ends with its particles in the order
+  /// of the parts, which is the order of the whole set, the frozen ones last. Returns the
+  /// new active count.
+  std::size_t scatter(Particles& particles, std::size_t frozen, const GridGeometry& grid,
+                      const PackedLayout& layout) const;
 
   /// Share by which the largest rank's particle count may exceed the mean before a re-cut.
   double rebalance_share = default_rebalance_share;
   /// Re-cuts done so far (logged at the end of the run).
   std::int64_t recuts = 0;
-  /// Bytes sent to the other ranks so far (halo and migration), for the benchmarks.
+  /// Bytes sent to the other ranks so far by the steps (halo, migration, re-cuts; not the
+  /// scatter at the start), for the log and the benchmarks.
   mutable std::int64_t bytes_sent = 0;
+  /// Wall time spent in the halo sums, migrations and re-cuts so far, waiting for the
+  /// neighbours included (what a slower neighbour costs shows here), for the benchmarks.
+  mutable double exchange_seconds = 0.0;
 
  private:
   template <class T>

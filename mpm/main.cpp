@@ -11,6 +11,8 @@
 //
 // Writes OUT/mpm_t<T>.h5 checkpoints, OUT/mpm_final.h5, OUT/mpm_history.csv, VTK files,
 // and the summary line `summary: steps=… particles=… wall_s=… particle_steps_per_s=…`.
+#include <algorithm>
+
 #include <omp.h>
 
 #include "common/base/error.hpp"
@@ -33,7 +35,9 @@ int main(int argc, char** argv) {
   app.add_option("--particles", particles, "particle file to start from (fem2mpm output)");
   app.add_option("--until", until, "stop at this time (s) instead of the case's end time");
   app.add_option("--restart", restart, "continue from an mpm checkpoint (mpm_t<T>.h5)");
-  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")
+  app.add_option("--threads", threads,
+                 "OpenMP threads (default: all cores; under mpirun, the cores over the ranks "
+                 "on the machine)")
       ->check(positive_number());
   app.add_option("--shape-function", shape, "override the case: gimp or linear")
       ->check(CLI::IsMember({"gimp", "linear"}));
@@ -51,8 +55,12 @@ int main(int argc, char** argv) {
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 
   return run_main_on_ranks("mpm-solve", [&] {
+    const Ranks& ranks = Ranks::world();
+    // Ranks on one machine share its cores: by default each takes its share of them.
+    if (threads == 0 && ranks.on_this_machine() > 1)
+      threads = std::max(1, omp_get_num_procs() / ranks.on_this_machine());
     if (threads > 0) omp_set_num_threads(threads);
-    const Logger log("mpm-solve", quiet, !Ranks::world().root());
+    const Logger log("mpm-solve", quiet, !ranks.root());
     const Case c = load_case(case_file);
     mpm::RunOptions options;
     options.output_dir = output_dir;

@@ -4,6 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
+#include <type_traits>
+
+#include <omp.h>
 
 #include "common/base/error.hpp"
 #include "common/input/mesh_generation.hpp"
@@ -55,11 +60,13 @@ void compare_materials(const MaterialTable& from_file, const MaterialTable& from
   }
 }
 
-Start start_from_file(const Case& c, const RunOptions& options, const Logger& log) {
+Start start_from_file(const Case& c, const RunOptions& options, const Logger& log,
+                      const Ranks& ranks) {
   Start start;
   const bool restart = options.restart_file.has_value();
   const fs::path path = restart ? *options.restart_file : *options.particles_file;
-  ParticleCheckpoint file = read_particle_checkpoint(path);
+  // On several ranks each reads its part of the rows (MpmSolver::distribute).
+  ParticleCheckpoint file = read_particle_checkpoint(path, {ranks.rank(), ranks.size()});
   if (file.header.case_name != c.name) {
     if (!options.other_case) {
       throw Error(
@@ -86,9 +93,16 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
   } else {
     start.clock.time = file.header.time;
     start.references.pe0 = file.header.pe0;
-    log.info("{} particles from {} ({} file) at t = {} s", file.particles.count(), path.string(),
+    log.info("{} particles from {} ({} file) at t = {} s", file.file_rows, path.string(),
              to_string(file.header.kind), file.header.time);
   }
+  // The file's frozen rows are its last ones: those of this part stay last in it.
+  if (start.clock.frozen > file.file_rows) {
+    throw Error("{}: {} frozen particles of {}", path.string(), start.clock.frozen, file.file_rows);
+  }
+  const std::size_t frozen_begin = file.file_rows - start.clock.frozen;
+  const std::size_t end = file.first_row + file.particles.count();
+  start.clock.frozen = end > frozen_begin ? end - std::max(file.first_row, frozen_begin) : 0;
   start.particles = std::move(file.particles);
   return start;
 }
@@ -110,6 +124,22 @@ Start start_pure_mpm(const Case& c, const MpmSettings& settings, const Logger& l
     log.info("pure MPM: K0 stresses of level ground (K0 = ν/(1 − ν))");
   }
   return start;
+}
+
+/// f() on every rank, as one decision (collective): when it throws Error on some ranks
+/// (a bad row in one rank's part of a particle file), every rank throws the message of
+/// the lowest of them, so that the run ends with its one line instead of an abort.
+template <class F>
+std::invoke_result_t<F> agreed(const Ranks& ranks, F&& f) {
+  std::invoke_result_t<F> result{};
+  std::optional<std::string> problem;
+  try {
+    result = f();
+  } catch (const Error& e) {
+    problem = e.what();
+  }
+  if (const auto first = ranks.first_problem(problem)) throw Error("{}", *first);
+  return result;
 }
 
 /// Particles on every rank together (collective).
@@ -455,9 +485,9 @@ void log_slabs(const Logger& log, const Subdomain& domain, const MpmSolver& solv
                          domain.cuts().begin[k], domain.cuts().begin[k + 1] - 1, counts[k]);
   }
   log.info(
-      "MPI: {} ranks, the grid cut into slabs of cell columns ({}); re-cut when a rank has "
-      "{:.0f} % more particles than the mean",
-      ranks.size(), slabs, 100.0 * domain.rebalance_share);
+      "MPI: {} ranks of {} OpenMP thread(s), the grid cut into slabs of cell columns ({}); re-cut "
+      "when a rank has {:.0f} % more particles than the mean",
+      ranks.size(), omp_get_max_threads(), slabs, 100.0 * domain.rebalance_share);
 }
 
 /// What the ranks exchanged over the run (the scaling benchmark reads this line).
@@ -491,8 +521,12 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log,
                    const Ranks& ranks) {
   // ---- settings and particles: restart, particle file, or the case geometry
   const MpmSettings settings = settings_for(c, options);
-  Start start = options.restart_file || options.particles_file ? start_from_file(c, options, log)
-                                                               : start_pure_mpm(c, settings, log);
+  Start start = agreed(ranks, [&] {
+    return options.restart_file || options.particles_file ? start_from_file(c, options, log, ranks)
+                                                          : start_pure_mpm(c, settings, log);
+  });
+  // Each rank goes on with its part of the body (a particle file was read in parts).
+  if (start.pure_mpm) start.clock.frozen = keep_part(start.particles, start.clock.frozen, ranks);
   const std::string source = options.restart_file     ? options.restart_file->string()
                              : options.particles_file ? options.particles_file->string()
                                                       : c.file.string();
@@ -502,7 +536,10 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log,
     placed.grid.origin +=
         base_position(*start.motion, grid_motion(*start.motion), start.clock.time);
   }
-  validate_particles(start.particles, placed, c.materials.size(), source, start.clock.frozen);
+  agreed(ranks, [&] {
+    validate_particles(start.particles, placed, c.materials.size(), source, start.clock.frozen);
+    return 0;
+  });
   // Every checkpoint under a name of its own (a fresh run checkpoints its start).
   run::check_checkpoint_cadence(c.mpm.checkpoint_every, "mpm.checkpoint_every");
   run::check_checkpoint_times(c.mpm.checkpoint_times, "mpm", "mpm.checkpoint_times",
@@ -529,7 +566,13 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log,
   }
   // On several ranks, each keeps its slab's share of the particles from here on.
   solver.distribute(ranks);
-  if (const Subdomain* domain = solver.subdomain()) log_slabs(log, *domain, solver);
+  if (const Subdomain* domain = solver.subdomain()) {
+    // Each part's ids were checked among themselves as they were read; now across parts.
+    if (const auto duplicate = duplicate_id(solver.particles(), ranks)) {
+      throw Error("{}: particles on ranks share id {}, expected unique ids", source, *duplicate);
+    }
+    log_slabs(log, *domain, solver);
+  }
   if (start.stored_settings) {
     for (const auto& change :
          changed_settings(*start.stored_settings, settings, c.mpm.time_step, c.mpm.courant)) {

@@ -42,8 +42,9 @@ struct RunSummary {
 };
 
 /// Runs the MPM phase of `c`; throws Error (one line) on bad input or an instability.
-/// On several ranks (collective; docs/parallel.md) every rank reads the inputs and keeps
-/// its slab's particles; the files are written together, the log by the root.
+/// On several ranks (collective; docs/parallel.md) each rank reads its part of the
+/// particle rows and keeps its slab's particles; the files are written together, the log
+/// by the root.
 RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log,
                    const Ranks& ranks = Ranks::world());
 

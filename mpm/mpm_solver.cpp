@@ -206,15 +206,27 @@ StepReport MpmSolver::step(double dt) {
 void MpmSolver::distribute(const Ranks& ranks, const Decomposition& decomposition) {
   if (!ranks.distributed()) return;
   const GridGeometry& grid = settings_.grid;
-  SlabCuts cuts = decomposition.cuts.value_or(
-      SlabCuts::balanced(particles_per_column(particles_, active_count(), grid), ranks.size()));
+  SlabCuts cuts;
+  if (decomposition.cuts) {
+    cuts = *decomposition.cuts;
+  } else {
+    // The particles per cell column of the whole body: the sum of the ranks' parts.
+    std::vector<std::int64_t> histogram = particles_per_column(particles_, active_count(), grid);
+    ranks.sum(std::span<std::int64_t>(histogram));
+    cuts = SlabCuts::balanced(histogram, ranks.size());
+  }
   cuts.check(grid.cells_x);
   subdomain_.emplace(ranks, std::move(cuts));
   subdomain_->rebalance_share = decomposition.rebalance_share;
-  const std::size_t kept = subdomain_->keep_own(particles_, clock_.frozen, grid);
-  clock_.frozen = particles_.count() - kept;
+  const std::size_t active = subdomain_->scatter(particles_, clock_.frozen, grid, packed_layout());
+  clock_.frozen = particles_.count() - active;
   located_ = false;
   set_own_columns();
+}
+
+PackedLayout MpmSolver::packed_layout() const {
+  return {particles_.surface_stress.per_point,
+          settings_.velocity_transfer == VelocityTransfer::apic};
 }
 
 void MpmSolver::set_own_columns() {
@@ -225,8 +237,10 @@ void MpmSolver::set_own_columns() {
 
 void MpmSolver::exchange_particles(bool sorting) {
   bool changed = false;
-  std::size_t active = subdomain_->migrate(particles_, active_count(), settings_.grid, changed);
-  if (sorting && subdomain_->rebalance(particles_, active, settings_.grid)) {
+  const PackedLayout layout = packed_layout();
+  std::size_t active =
+      subdomain_->migrate(particles_, active_count(), settings_.grid, layout, changed);
+  if (sorting && subdomain_->rebalance(particles_, active, settings_.grid, layout)) {
     changed = true;
     set_own_columns();
   }

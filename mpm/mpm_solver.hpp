@@ -94,8 +94,10 @@ class MpmSolver {
             SolverClock clock = {});
 
   /// Runs on several ranks from now on (docs/parallel.md, mpm/domain.hpp): the grid is cut
-  /// into slabs balanced on the particles, which every rank holds whole until this call
-  /// and only its share of after. From then on step, courant_time_step, energies and
+  /// into slabs balanced on the particles, and every particle goes to the rank of its
+  /// slab. Until this call each rank holds a disjoint part of the particles, in the order
+  /// of the whole set (keep_part, or a particle file read in parts), with the part's
+  /// frozen particles last. From then on step, courant_time_step, energies and
   /// last_kinetic_energy are collective and give the values of the whole body; the
   /// particles, active_count and max_speeds are this rank's. On one rank it does nothing.
   void distribute(const Ranks& ranks, const Decomposition& decomposition = {});
@@ -208,6 +210,8 @@ class MpmSolver {
   /// On several ranks: particles to their owners (and re-cut slabs at sorting time).
   void exchange_particles(bool sorting);
   void set_own_columns();
+  /// How this run packs a particle for another rank (surfaces, APIC's affine velocity).
+  PackedLayout packed_layout() const;
 
   std::optional<Subdomain> subdomain_;
 };

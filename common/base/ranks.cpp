@@ -213,6 +213,11 @@ RankSession::RankSession(int& argc, char**& argv) {
   MPI_Comm_dup(MPI_COMM_WORLD, &ranks.failure_communicator_);
   MPI_Comm_rank(ranks.communicator_, &ranks.rank_);
   MPI_Comm_size(ranks.communicator_, &ranks.size_);
+  MPI_Comm machine = MPI_COMM_NULL;
+  MPI_Comm_split_type(ranks.communicator_, MPI_COMM_TYPE_SHARED, ranks.rank_, MPI_INFO_NULL,
+                      &machine);
+  MPI_Comm_size(machine, &ranks.machine_size_);
+  MPI_Comm_free(&machine);
   world_ranks = &ranks;
 }
 

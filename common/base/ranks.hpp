@@ -35,6 +35,8 @@ class Ranks {
   int size() const { return size_; }
   bool root() const { return rank_ == 0; }
   bool distributed() const { return size_ > 1; }
+  /// Ranks on this rank's machine (shared memory), this one included: they share its cores.
+  int on_this_machine() const { return machine_size_; }
 
   // Reductions (collective): every rank gets the result.
   double sum(double value) const;
@@ -89,6 +91,7 @@ class Ranks {
   Ranks() = default;
   int rank_ = 0;
   int size_ = 1;
+  int machine_size_ = 1;
 #if SLIDE_MPI
   MPI_Comm communicator_ = MPI_COMM_NULL;
   MPI_Comm failure_communicator_ = MPI_COMM_NULL;  ///< Ranks::fail's own, apart from the run's

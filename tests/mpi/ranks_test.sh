@@ -6,7 +6,8 @@
 #   - restart across rank counts: 1 rank to 0.3 s then 2 ranks to 0.5 s, and 3 ranks to
 #     0.3 s then 1 rank to 0.5 s, each the same as the uninterrupted run;
 #   - the 3-rank VTK frame: one .pvtu naming its three pieces, all of the particles;
-#   - a bad case file on 2 ranks: one error line (from the root only) and status 1.
+#   - a damaged row in rank 1's part of a checkpoint, and a bad case file, on 2 ranks:
+#     one error line (from the root only) and status 1.
 # OpenMPI's mpirun (-q is its).
 # Usage: ranks_test.sh BIN_DIR SOURCE_DIR WORK_DIR PYTHON MPIEXEC
 set -euo pipefail
@@ -44,6 +45,28 @@ points = sum(int(re.search(rb'NumberOfPoints="(\d+)"', (folder / p).read_bytes()
 assert points == 32000, points
 print(f"{pvtu.name}: pieces {pieces}, {points} points")
 EOF
+
+# A checkpoint read in parts with a bad value in rank 1's rows only: every rank stops
+# with the one line that names the row, status 1.
+"$python" - "$work/np1/mpm_final.h5" "$work/damaged.h5" <<'PY'
+import sys, shutil, h5py
+shutil.copy(sys.argv[1], sys.argv[2])
+with h5py.File(sys.argv[2], "r+") as f:
+    f["particles/mass"][30000] = float("nan")
+PY
+set +e
+"$mpiexec" -q -n 2 "$bin/mpm-solve" "$case_file" -o "$work/damaged" --restart "$work/damaged.h5" \
+  --no-vtk 2> "$work/damaged.err"
+status=$?
+set -e
+expected="mpm-solve: error: $work/damaged.h5: /particles/mass: particle 30000 is not finite (nan)"
+if [[ $status -ne 1 || $(wc -l < "$work/damaged.err") -ne 1 ]] ||
+  [[ "$(cat "$work/damaged.err")" != "$expected" ]]; then
+  echo "damaged row on rank 1: status $status, stderr:" >&2
+  cat "$work/damaged.err" >&2
+  exit 1
+fi
+echo "damaged row on rank 1: status 1, one line: $(cat "$work/damaged.err")"
 
 # A case file that does not parse: one line from the root, status 1, on 2 ranks
 # (mpirun's -q keeps its own notice about the non-zero status away).

@@ -70,7 +70,8 @@ struct SlidingBlock {
   MaterialTable materials;
   Particles particles;
 
-  SlidingBlock() {
+  explicit SlidingBlock(VelocityTransfer transfer = VelocityTransfer::flip_pic) {
+    settings.velocity_transfer = transfer;
     Material block = elastic_soil(2000.0, 2.0e8, 0.25);
     block.model = MaterialModel::mohr_coulomb;
     block.friction_angle = 35.0;
@@ -79,6 +80,12 @@ struct SlidingBlock {
     particles = generate_box_particles(settings.grid, Vec2(2, 0), Vec2(6, 1), 4, 4, materials, 0);
     apply_k0_stresses(particles, materials, std::vector<double>(particles.count(), 1.0), g);
     for (auto& v : particles.velocity) v = Vec2(v0, 0.0);
+  }
+  /// This rank's part of the block, as distribute takes it.
+  Particles part() const {
+    Particles p = particles;
+    keep_part(p, 0, ranks());
+    return p;
   }
   double stop_time() const { return v0 / (mu * g); }
   double slide() const { return v0 * v0 / (2 * mu * g); }
@@ -135,13 +142,13 @@ void expect_same_particles(const MpmSolver& serial, const MpmSolver& distributed
 }
 
 // Migration stress test: cuts fixed between columns 7 and 12 and never re-cut, so the
-// whole block, which starts on rank 0, crosses every cut and ends on the last rank.
-TEST(Decomposition, SlidingBlockCrossesEveryCut) {
+// whole block, which starts on rank 0, crosses every cut and ends on the last rank; the
+// other ranks start with no particle at all.
+void cross_every_cut(VelocityTransfer transfer) {
   const int n = ranks().size();
-  if (n > 3) GTEST_SKIP() << "the fixed cuts fit 2 or 3 ranks";
-  SlidingBlock case_;
+  SlidingBlock case_(transfer);
   MpmSolver serial(case_.settings, case_.materials, case_.particles);
-  MpmSolver distributed(case_.settings, case_.materials, case_.particles);
+  MpmSolver distributed(case_.settings, case_.materials, case_.part());
   Decomposition fixed;
   fixed.cuts = n == 2 ? SlabCuts{{0, 9, 40}} : SlabCuts{{0, 7, 10, 40}};
   fixed.rebalance_share = std::numeric_limits<double>::infinity();
@@ -170,12 +177,46 @@ TEST(Decomposition, SlidingBlockCrossesEveryCut) {
   EXPECT_NEAR(distance / case_.slide(), 1.0, 0.03);
 }
 
+TEST(Decomposition, SlidingBlockCrossesEveryCut) {
+  if (ranks().size() > 3) GTEST_SKIP() << "the fixed cuts fit 2 or 3 ranks";
+  cross_every_cut(VelocityTransfer::flip_pic);
+}
+
+// APIC carries an affine velocity per particle, which the ranks that start empty must
+// take from their first arrivals on.
+TEST(Decomposition, ApicSlidingBlockCrossesEveryCut) {
+  if (ranks().size() > 3) GTEST_SKIP() << "the fixed cuts fit 2 or 3 ranks";
+  cross_every_cut(VelocityTransfer::apic);
+}
+
+// keep_part: the ranks' parts are the whole set, in order, each contiguous, with the
+// frozen rows last in the parts that hold them.
+TEST(Decomposition, PartsOfTheWholeSet) {
+  const MpmSettings s = settings_on(Vec2(0, 0), Vec2(10, 4), 1.0);
+  const MaterialTable materials{elastic_soil()};
+  Particles whole = generate_box_particles(s.grid, Vec2(1, 0), Vec2(6, 1), 1, 1, materials, 0);
+  ASSERT_EQ(whole.count(), 5u);
+  const std::size_t frozen = 2;  // the last two rows
+  Particles part = whole;
+  const auto part_frozen = static_cast<std::int64_t>(keep_part(part, frozen, ranks()));
+  const auto ids = Ranks::values_of<std::int64_t>(
+      ranks().gather_to_root(Ranks::bytes_of(std::span<const std::int64_t>(part.id))));
+  if (ranks().root()) {
+    EXPECT_EQ(ids, whole.id);
+  }
+  EXPECT_EQ(ranks().sum(static_cast<double>(part_frozen)), static_cast<double>(frozen));
+  for (std::size_t k = 0; k < part.count(); ++k) {
+    const bool is_frozen = part.id[k] == whole.id[3] || part.id[k] == whole.id[4];
+    EXPECT_EQ(is_frozen, k + static_cast<std::size_t>(part_frozen) >= part.count()) << k;
+  }
+}
+
 // Load balance: balanced cuts that the ranks re-cut as the block moves right, with the
 // same result as one process.
 TEST(Decomposition, ReCutsFollowTheBlock) {
   SlidingBlock case_;
   MpmSolver serial(case_.settings, case_.materials, case_.particles);
-  MpmSolver distributed(case_.settings, case_.materials, case_.particles);
+  MpmSolver distributed(case_.settings, case_.materials, case_.part());
   distributed.distribute(ranks());
   const Subdomain* domain = distributed.subdomain();
   ASSERT_NE(domain, nullptr);

@@ -82,7 +82,7 @@ TEST(CellColumn, MarginsBelongToTheEdgeColumns) {
 }
 
 /// Every field of particle k, as bytes, in declaration order.
-std::vector<std::byte> bytes_of_particle(const Particles& p, std::size_t k) {
+std::vector<std::byte> bytes_of_particle(const Particles& p, std::size_t k, bool affine) {
   std::vector<std::byte> out;
   auto add = [&](const auto& v) {
     const auto* b = reinterpret_cast<const std::byte*>(&v);
@@ -94,7 +94,7 @@ std::vector<std::byte> bytes_of_particle(const Particles& p, std::size_t k) {
   add(p.state[k].plastic_shear_strain), add(p.state[k].plastic_volumetric_strain);
   add(p.state[k].peak_strength);
   for (const auto& s : p.surface_stress.of(k)) add(s);
-  if (!p.affine_velocity.empty()) add(p.affine_velocity[k]);
+  if (affine) add(p.affine_velocity[k]);
   return out;
 }
 
@@ -134,20 +134,21 @@ Particles distinct_particles(std::size_t n, std::size_t surfaces) {
 TEST(ParticlePacking, RoundTripIsBitExactForEveryField) {
   for (std::size_t surfaces : {std::size_t{0}, std::size_t{3}}) {
     for (bool affine : {true, false}) {
+      const PackedLayout layout{surfaces, affine};
       Particles from = distinct_particles(7, surfaces);
       if (!affine) from.affine_velocity.clear();
       const std::vector<std::size_t> rows{5, 0, 3};
       std::vector<std::byte> bytes;
-      pack_particles(from, rows, bytes);
-      ASSERT_EQ(bytes.size(), rows.size() * packed_particle_bytes(from));
+      pack_particles(from, rows, layout, bytes);
+      ASSERT_EQ(bytes.size(), rows.size() * layout.bytes());
 
       Particles to = distinct_particles(2, surfaces);
       if (!affine) to.affine_velocity.clear();
-      ASSERT_EQ(unpack_particles(bytes, to), rows.size());
+      ASSERT_EQ(unpack_particles(bytes, layout, to), rows.size());
       ASSERT_EQ(to.count(), 2 + rows.size());
       to.check_consistent_sizes();
       for (std::size_t i = 0; i < rows.size(); ++i) {
-        EXPECT_EQ(bytes_of_particle(to, 2 + i), bytes_of_particle(from, rows[i]))
+        EXPECT_EQ(bytes_of_particle(to, 2 + i, affine), bytes_of_particle(from, rows[i], affine))
             << "row " << rows[i] << ", " << surfaces << " surfaces, affine " << affine;
       }
       EXPECT_EQ(to.id[0], 1000);  // the particles already there are left alone
@@ -155,25 +156,51 @@ TEST(ParticlePacking, RoundTripIsBitExactForEveryField) {
   }
 }
 
-TEST(ParticlePacking, APartialRowIsAnError) {
+// A rank all of whose particles left holds no affine field (Particles::resize keeps an
+// empty one empty): the run's layout, not the particles, tells that rows carry one, and
+// the arrivals bring it back.
+TEST(ParticlePacking, AnEmptyApicRankTakesAffineRows) {
+  const PackedLayout apic{0, true};
+  const Particles from = distinct_particles(3, 0);
+  std::vector<std::byte> bytes;
+  const std::vector<std::size_t> rows{2, 1};
+  pack_particles(from, rows, apic, bytes);
+  Particles empty = distinct_particles(1, 0);
+  empty.resize(0);
+  ASSERT_TRUE(empty.affine_velocity.empty());
+  ASSERT_EQ(unpack_particles(bytes, apic, empty), 2u);
+  ASSERT_EQ(empty.affine_velocity.size(), 2u);
+  EXPECT_EQ(bytes_of_particle(empty, 0, true), bytes_of_particle(from, 2, true));
+  EXPECT_EQ(bytes_of_particle(empty, 1, true), bytes_of_particle(from, 1, true));
+}
+
+TEST(ParticlePacking, APartialRowOrAnotherLayoutIsAnError) {
+  const PackedLayout flip{0, false};
   Particles from = distinct_particles(2, 0);
   std::vector<std::byte> bytes;
   const std::vector<std::size_t> rows{1};
-  pack_particles(from, rows, bytes);
+  pack_particles(from, rows, flip, bytes);
   bytes.pop_back();
   Particles to = distinct_particles(1, 0);
-  EXPECT_THROW(unpack_particles(bytes, to), Error);
+  EXPECT_THROW(unpack_particles(bytes, flip, to), Error);
+  EXPECT_THROW(unpack_particles(bytes, PackedLayout{2, false}, to), Error);  // surfaces
+  from.affine_velocity.clear();
+  EXPECT_THROW(pack_particles(from, rows, PackedLayout{0, true}, bytes), Error);
 }
 
-// On one process the decomposition is the whole grid: distribute changes nothing, and a
-// Subdomain of one slab keeps every particle and owns every node column.
+// On one process the decomposition is the whole grid: distribute changes nothing, the
+// part of the set is all of it, and a Subdomain of one slab keeps every particle and owns
+// every node column.
 TEST(Subdomain, OneRankOwnsEverything) {
   const MpmSettings s = settings_on(Vec2(0, 0), Vec2(10, 4), 1.0);
   const MaterialTable materials{elastic_soil()};
   Particles p = generate_box_particles(s.grid, Vec2(1, 0), Vec2(9, 2), 2, 2, materials, 0);
   const std::size_t n = p.count();
+  EXPECT_EQ(keep_part(p, 3, Ranks::single()), 3u);
+  EXPECT_EQ(p.count(), n);
   const Subdomain one(Ranks::single(), SlabCuts{{0, s.grid.cells_x}});
-  EXPECT_EQ(one.keep_own(p, 0, s.grid), n);
+  EXPECT_EQ(one.scatter(p, 0, s.grid, PackedLayout{}), n);
+  EXPECT_EQ(p.count(), n);
   EXPECT_EQ(one.own_node_columns(s.grid), std::make_pair(0, s.grid.node_columns()));
   MpmSolver solver(s, materials, std::move(p));
   solver.distribute(Ranks::single());
