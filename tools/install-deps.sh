@@ -2,7 +2,18 @@
 # Installs, from Debian 12's own archive, every package the project needs to build,
 # test and plot. Idempotent: when everything is present it only runs dpkg-query and
 # returns in well under a second. Needs root (or sudo) only when something is missing.
+#
+#   tools/install-deps.sh         the serial build (the default)
+#   tools/install-deps.sh --mpi   also OpenMPI and Debian's parallel HDF5, for the MPI
+#                                 build (cmake -DSLIDE_MPI=ON, docs/parallel.md)
 set -euo pipefail
+
+mpi=0
+case "${1:-}" in
+  "") ;;
+  --mpi) mpi=1 ;;
+  *) echo "install-deps: unknown option '$1' (usage: tools/install-deps.sh [--mpi])" >&2; exit 2 ;;
+esac
 
 packages=(
   build-essential cmake ninja-build pkg-config git clang-format strace
@@ -12,6 +23,9 @@ packages=(
   python3 python3-h5py python3-matplotlib python3-numpy
   gmsh  # cases/slope-gmsh's mesh: the test gmsh.slope-gmsh remakes it from its .geo
 )
+# The MPI build's: mpirun and the MPI headers, HDF5 built on them (h5pcc). They coexist
+# with the serial libhdf5-dev, which the serial build keeps using.
+if ((mpi)); then packages+=(openmpi-bin libopenmpi-dev libhdf5-openmpi-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do
