@@ -32,8 +32,10 @@
 #   BIN=dir     the programs (default BUILD/bin)
 #   PYTHON=py   for the plots and the report (default /usr/bin/python3, Debian's,
 #               with h5py and matplotlib)
-#   THREADS=n   OpenMP threads per MPM run (unset: all cores for a run made alone,
+#   THREADS=n   OpenMP threads per MPM run or rank (unset: all cores for a run made alone,
 #               1 per run under make -j, so that two runs do not oversubscribe)
+#   MPIRUN=cmd  runs mpm-solve under MPI, e.g. MPIRUN="mpirun -q -np 2" with
+#               BUILD=build-mpi (docs/parallel.md); unset: one process
 #   VTK_EVERY=s seconds between MPM VTK frames (default 1; 0: every output step)
 #   FEM_FLAGS, TRANSFER_FLAGS, MPM_FLAGS   more options for fem-solve, fem2mpm and
 #               mpm-solve (their --help lists them)
@@ -152,11 +154,11 @@ $(OUT)/tt$(MAIN_TT)/particles.h5: ALLOW_INVERTED := --allow-inverted
 
 mpm: $(call run_file,$(RUN_TT))
 $(OUT)/tt%/mpm_final.h5: $(OUT)/tt%/particles.h5 $(MPM_SOLVE)
-	$(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< $(MPM_OPTIONS) $(MPM_FLAGS)
+	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< $(MPM_OPTIONS) $(MPM_FLAGS)
 
 pure-mpm: $(PURE_MPM)
 $(PURE_MPM): $(CASE_INPUTS) $(MPM_SOLVE)
-	$(MPM_SOLVE) $(CASE) -o $(OUT)/pure-mpm $(MPM_OPTIONS) $(MPM_FLAGS)
+	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(OUT)/pure-mpm $(MPM_OPTIONS) $(MPM_FLAGS)
 
 # Pure FE: the FE model run on to the MPM end time, measured through the same
 # particles (element-wise transfer of its final state, folded elements included:
@@ -228,7 +230,7 @@ endif
 # is measured; slide-metrics and plots.py do not take the folder for a run.
 AFTER_MAIN := $(OUT)/tt$(MAIN_TT)/after-0.5s/mpm_final.h5
 $(AFTER_MAIN): $(OUT)/tt$(MAIN_TT)/particles.h5 $(MPM_SOLVE)
-	$(MPM_SOLVE) $(CASE) -o $(dir $@) --particles $< \
+	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(dir $@) --particles $< \
 	  --until $$(awk 'BEGIN { print $(MAIN_TT) + 0.5 }') --no-vtk --quiet \
 	  $(if $(mpm_threads),--threads $(mpm_threads)) $(MPM_FLAGS)
 SNAPSHOT_RUNS := $(if $(filter $(call run_file,$(MAIN_TT)),$(MEASURED)),$(AFTER_MAIN))
