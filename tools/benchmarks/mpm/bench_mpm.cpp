@@ -12,6 +12,16 @@
 //
 // --skip S first runs S untimed steps (the column has started to collapse and particles
 // move between cells, which is when the sort cadence matters).
+//
+// In the MPI build, under mpirun, the solver runs on the ranks (docs/parallel.md,
+// "Scaling"): each rank uses the listed threads, the wall time is the slowest rank's, and
+// it also prints per step and rank the bytes sent and the time in the exchanges (halo
+// sums, migration, re-cuts, waits for the neighbours). --widen K makes the column and the
+// grid K times as long, K times the particles: the weak-scaling run on K ranks.
+//
+//   mpirun -np 2 build-mpi/tools/benchmarks/mpm/bench_mpm --threads 1 --skip 200
+//   tools/benchmarks/mpm/scaling.sh       (1 → 2 ranks, strong and weak, with ratios)
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <sstream>
@@ -19,6 +29,8 @@
 #include <CLI/CLI.hpp>
 #include <omp.h>
 
+#include "common/base/ranks.hpp"
+#include "mpm/domain.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
 
@@ -40,10 +52,11 @@ Material column_soil() {
 }
 
 MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer transfer,
-                      double pic_fraction, VolumetricSmoothing smoothing, int sort_interval) {
+                      double pic_fraction, VolumetricSmoothing smoothing, int sort_interval,
+                      int widen, const Ranks& ranks) {
   MpmSpec spec;
   spec.domain_min = Vec2(0, 0);
-  spec.domain_max = Vec2(200, 45);
+  spec.domain_max = Vec2(200.0 * widen, 45);
   spec.cell_size = 1.0;
   spec.shape_function = shape;
   spec.update_scheme = scheme;
@@ -58,8 +71,10 @@ MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer
   MpmSettings settings = MpmSettings::from(spec);
   settings.sort_interval = sort_interval;
   const MaterialTable materials{column_soil()};
-  Particles p = generate_box_particles(settings.grid, Vec2(0, 0), Vec2(50, 40), 4, 4, materials, 0);
+  Particles p =
+      generate_box_particles(settings.grid, Vec2(0, 0), Vec2(50.0 * widen, 40), 4, 4, materials, 0);
   apply_k0_stresses(p, materials, std::vector<double>(p.count(), 40.0));
+  keep_part(p, 0, ranks);  // on several ranks, each starts from its part (distribute)
   MpmSolver solver(settings, materials, std::move(p));
   solver.return_to_yield_surface();
   return solver;
@@ -67,9 +82,43 @@ MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer
 
 }  // namespace
 
+/// The per-message costs of the weak-scaling model (docs/parallel.md): the mean time of
+/// one all-reduce of a double and of one exchange of a halo band (`bytes`) with both
+/// neighbours, over `repeat` of each, in µs.
+std::pair<double, double> message_costs(const Ranks& ranks, std::size_t bytes, int repeat) {
+  using clock = std::chrono::steady_clock;
+  const std::vector<std::byte> band(bytes, std::byte{1});
+  const int rank = ranks.rank(), last = ranks.size() - 1;
+  double sink = 0.0;
+  ranks.barrier();
+  auto begin = clock::now();
+  for (int i = 0; i < repeat; ++i) sink += ranks.sum(1.0);
+  const double reduce = std::chrono::duration<double>(clock::now() - begin).count();
+  ranks.barrier();
+  begin = clock::now();
+  for (int i = 0; i < repeat; ++i) {
+    sink += static_cast<double>(
+        ranks.exchange(rank < last ? rank + 1 : -1, band, rank > 0 ? rank - 1 : -1).size());
+    sink += static_cast<double>(
+        ranks.exchange(rank > 0 ? rank - 1 : -1, band, rank < last ? rank + 1 : -1).size());
+  }
+  const double exchange = std::chrono::duration<double>(clock::now() - begin).count();
+  if (sink < 0) std::puts("");  // keeps the loops
+  return {ranks.max(reduce) / repeat * 1e6, ranks.max(exchange) / repeat * 1e6};
+}
+
+/// Per rank of one timed run, gathered on the root.
+struct RankFigures {
+  double exchange_seconds = 0.0;
+  double bytes_sent = 0.0;
+  double particles = 0.0;
+};
+
 int main(int argc, char** argv) {
+  const RankSession session(argc, argv);
+  const Ranks& ranks = Ranks::world();
   CLI::App app{"bench_mpm: particle-steps per second of the MPM step loop (column-short)"};
-  int steps = 500, repeat = 3, sort_interval = 10, skip = 0;
+  int steps = 500, repeat = 3, sort_interval = 10, skip = 0, widen = 1;
   double pic_fraction = 0.0;
   // The defaults are those of the runout cases: uGIMP, MUSL, APIC, cell smoothing.
   std::string threads_list = "1,2", shape = "gimp", scheme = "musl", transfer = "apic",
@@ -86,6 +135,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"none", "cell"}));
   app.add_option("--sort-interval", sort_interval, "steps between two sorts by cell");
   app.add_option("--skip", skip, "untimed steps before timing");
+  app.add_option("--widen", widen, "column and grid this many times as long (weak scaling)")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   const ShapeFunction shape_function =
       shape == "linear" ? ShapeFunction::linear : ShapeFunction::gimp;
@@ -101,39 +152,79 @@ int main(int argc, char** argv) {
 
   const std::string transfer_name =
       transfer == "apic" ? transfer : fmt::format("{} (PIC share {})", transfer, pic_fraction);
-  std::printf(
-      "bench_mpm: column-short, %s, %s, %s, smoothing %s, sort every %d steps, %d timed steps "
-      "(after %d)\n",
-      shape.c_str(), scheme.c_str(), transfer_name.c_str(), smoothing.c_str(), sort_interval, steps,
-      skip);
+  // Only the root prints (the other ranks' figures reach it through gather_to_root).
+  auto print = [&](const std::string& line) {
+    if (ranks.root()) std::fputs(line.c_str(), stdout);
+  };
+  print(fmt::format(
+      "bench_mpm: column-short{}, {}, {}, {}, smoothing {}, sort every {} steps, {} timed steps "
+      "(after {}){}\n",
+      widen > 1 ? fmt::format(" widened ×{}", widen) : "", shape, scheme, transfer_name, smoothing,
+      sort_interval, steps, skip,
+      ranks.distributed() ? fmt::format(", {} ranks", ranks.size()) : ""));
+  if (ranks.distributed()) {
+    // A halo band of column-short: 3 node columns × 48 rows of NodeSums (5 doubles).
+    const auto [reduce_us, exchange_us] = message_costs(ranks, 3 * 48 * 40, 2000);
+    print(fmt::format("messages: allreduce_us={:.3g} halo_exchange_8kB_both_neighbours_us={:.3g}\n",
+                      reduce_us, exchange_us));
+  }
   double rate_one = 0.0;
   for (int t : threads) {
     omp_set_num_threads(t);
-    double best = 0.0;
+    double best = 0.0, best_wall = 0.0;
     std::size_t particles = 0;
     MpmSolver::Memory memory;
+    std::vector<RankFigures> figures;
     for (int r = 0; r < repeat; ++r) {
       MpmSolver solver = make_column(shape_function, update_scheme, velocity_transfer, pic_fraction,
-                                     volumetric_smoothing, sort_interval);
+                                     volumetric_smoothing, sort_interval, widen, ranks);
+      solver.distribute(ranks);
       const double dt = solver.courant_time_step(0.5);
       for (int s = 0; s < skip; ++s) solver.step(dt);
+      const Subdomain* domain = solver.subdomain();
+      const double exchanged_before = domain ? domain->exchange_seconds : 0.0;
+      const auto sent_before = domain ? domain->bytes_sent : 0;
+      ranks.barrier();
       const auto begin = std::chrono::steady_clock::now();
       for (int s = 0; s < steps; ++s) solver.step(dt);
-      const double wall =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-      particles = solver.active_count();
-      best = std::max(best, static_cast<double>(particles) * static_cast<double>(steps) / wall);
+      const double wall = ranks.max(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
+      particles = static_cast<std::size_t>(ranks.sum(static_cast<double>(solver.active_count())));
+      const double rate = static_cast<double>(particles) * static_cast<double>(steps) / wall;
+      if (rate > best) {
+        best = rate;
+        best_wall = wall;
+        const RankFigures mine{domain ? domain->exchange_seconds - exchanged_before : 0.0,
+                               domain ? static_cast<double>(domain->bytes_sent - sent_before) : 0.0,
+                               static_cast<double>(solver.active_count())};
+        figures = Ranks::values_of<RankFigures>(
+            ranks.gather_to_root(Ranks::bytes_of(std::span<const RankFigures>(&mine, 1))));
+      }
       memory = solver.memory();
     }
     if (t == 1) rate_one = best;
     const double n = static_cast<double>(particles);
     auto per = [n](std::size_t bytes) { return static_cast<double>(bytes) / n; };
-    std::printf(
-        "threads=%d particles=%zu particle_steps_per_s=%.4g%s\n", t, particles, best,
-        t > 1 && rate_one > 0 ? fmt::format(" speedup={:.2f}", best / rate_one).c_str() : "");
+    print(fmt::format(
+        "{}threads={} particles={} particle_steps_per_s={:.4g} wall_per_step_ms={:.4g}{}\n",
+        ranks.distributed() ? fmt::format("ranks={} ", ranks.size()) : "", t, particles, best,
+        1e3 * best_wall / steps,
+        t > 1 && rate_one > 0 ? fmt::format(" speedup={:.2f}", best / rate_one) : ""));
+    // Per rank and step: the halo and migration traffic and the time it took.
+    for (std::size_t r = 0; ranks.distributed() && r < figures.size(); ++r) {
+      print(fmt::format(
+          "  rank {}: particles={:.0f} exchange_ms_per_step={:.4g} ({:.1f} % of the step) "
+          "kB_sent_per_step={:.4g}\n",
+          r, figures[r].particles, 1e3 * figures[r].exchange_seconds / steps,
+          100 * figures[r].exchange_seconds / best_wall, figures[r].bytes_sent / 1e3 / steps));
+    }
     // The windows keep their widest capacity, so this is the peak of the steps run.
-    std::printf("  bytes/particle: arrays %.0f + sort peak %.0f + grid/windows %.0f = %.0f\n",
-                per(memory.particle_arrays), per(memory.sort_peak), per(memory.grid),
-                per(memory.total()));
+    if (!ranks.distributed()) {
+      print(
+          fmt::format("  bytes/particle: arrays {:.0f} + sort peak {:.0f} + grid/windows {:.0f} "
+                      "= {:.0f}\n",
+                      per(memory.particle_arrays), per(memory.sort_peak), per(memory.grid),
+                      per(memory.total())));
+    }
   }
 }
