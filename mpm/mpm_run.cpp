@@ -109,15 +109,18 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
 
 /// Pure MPM's particles from the case geometry, with the K0 stresses of level ground when
 /// the case asks for them (the gravity stage needs the solver: initialise_pure_mpm).
-Start start_pure_mpm(const Case& c, const MpmSettings& settings, const Logger& log) {
+Start start_pure_mpm(const Case& c, const MpmSettings& settings, const Logger& log,
+                     const Ranks& ranks) {
   Start start;
   start.pure_mpm = true;
   start.body = build_mesh(c);
   Particles& p = start.particles;
+  // On several ranks each makes its part of the body's rows (MpmSolver::distribute).
+  std::size_t body_count = 0;
   p = generate_mesh_particles(settings.grid, start.body, c.mpm.particles_x, c.mpm.particles_y,
-                              c.materials);
+                              c.materials, {ranks.rank(), ranks.size(), &body_count});
   log.info("pure MPM: {} particles ({} × {} per cell) in the {} elements of the case geometry",
-           p.count(), c.mpm.particles_x, c.mpm.particles_y, start.body.element_count());
+           body_count, c.mpm.particles_x, c.mpm.particles_y, start.body.element_count());
   if (c.mpm.initial_stress == InitialStress::k0) {
     apply_k0_stresses(p, c.materials, mesh_surface_heights(start.body, p.coordinates),
                       -settings.gravity.y());
@@ -523,10 +526,8 @@ RunSummary run_mpm(const Case& c, const RunOptions& options, const Logger& log,
   const MpmSettings settings = settings_for(c, options);
   Start start = agreed(ranks, [&] {
     return options.restart_file || options.particles_file ? start_from_file(c, options, log, ranks)
-                                                          : start_pure_mpm(c, settings, log);
+                                                          : start_pure_mpm(c, settings, log, ranks);
   });
-  // Each rank goes on with its part of the body (a particle file was read in parts).
-  if (start.pure_mpm) start.clock.frozen = keep_part(start.particles, start.clock.frozen, ranks);
   const std::string source = options.restart_file     ? options.restart_file->string()
                              : options.particles_file ? options.particles_file->string()
                                                       : c.file.string();

@@ -75,7 +75,10 @@ Particles generate_box_particles(const GridGeometry& grid, const Vec2& lower, co
 }
 
 Particles generate_mesh_particles(const GridGeometry& grid, const Mesh& mesh, int per_cell_x,
-                                  int per_cell_y, const MaterialTable& materials) {
+                                  int per_cell_y, const MaterialTable& materials,
+                                  const BodyPart& part) {
+  if (part.parts < 1 || part.part < 0 || part.part >= part.parts)
+    throw Error("pure MPM: part {} of {} asked", part.part, part.parts);
   const double h = grid.cell_size;
   const auto rule = tensor_gauss_legendre(per_cell_x, per_cell_y);
   const Vec2 size(h / per_cell_x, h / per_cell_y);
@@ -113,23 +116,32 @@ Particles generate_mesh_particles(const GridGeometry& grid, const Mesh& mesh, in
       }
     }
   }
+  // The body's rows are its points in cell order; this part makes rows [first, end).
+  const auto total = static_cast<std::size_t>(
+      std::count_if(owner.begin(), owner.end(), [](std::int64_t e) { return e >= 0; }));
+  if (total == 0) {
+    throw Error("pure MPM: the body's mesh does not overlap the grid (no particle generated)");
+  }
+  const auto k = static_cast<std::size_t>(part.part), parts = static_cast<std::size_t>(part.parts);
+  const std::size_t first = k * total / parts, end = (k + 1) * total / parts;
   Particles particles;
-  for (std::size_t cell = 0; cell < grid.cell_count(); ++cell) {
+  std::size_t row = 0;
+  for (std::size_t cell = 0; cell < grid.cell_count() && row < end; ++cell) {
     const int cx = static_cast<int>(cell / static_cast<std::size_t>(grid.cells_y));
     const int cy = static_cast<int>(cell % static_cast<std::size_t>(grid.cells_y));
     const Vec2 corner = grid.origin + h * Vec2(cx, cy);
     for (std::size_t q = 0; q < rule.size(); ++q) {
       const std::int64_t e = owner[cell * rule.size() + q];
       if (e < 0) continue;
+      if (row++ < first || row > end) continue;
       const std::int32_t material_id = mesh.material_id[static_cast<std::size_t>(e)];
       const Vec2 x = corner + 0.5 * h * (rule[q].xi + Vec2(1.0, 1.0));
       add_particle(particles, x, h * h * rule[q].weight / 4.0, size,
                    materials.at(static_cast<std::size_t>(material_id)), material_id);
+      particles.id.back() = static_cast<std::int64_t>(row - 1);  // its row in the whole body
     }
   }
-  if (particles.count() == 0) {
-    throw Error("pure MPM: the body's mesh does not overlap the grid (no particle generated)");
-  }
+  if (part.whole_count != nullptr) *part.whole_count = total;
   return particles;
 }
 

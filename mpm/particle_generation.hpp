@@ -27,10 +27,21 @@ Particles generate_box_particles(const GridGeometry& grid, const Vec2& lower, co
                                  int per_cell_x, int per_cell_y, const MaterialTable& materials,
                                  std::int32_t material_id);
 
-/// Particles filling the elements of `mesh` (reference coordinates); a particle takes
-/// the material of the element it falls in. Throws Error when none is inside the grid.
+/// Which rows of the body generate_mesh_particles makes: part `part` of `parts`, rows
+/// [⌊k n/N⌋, ⌊(k + 1) n/N⌋) of the body's n (each MPI rank its own, as keep_part would
+/// keep of the whole). `whole_count`, when given, receives n.
+struct BodyPart {
+  int part = 0;
+  int parts = 1;
+  std::size_t* whole_count = nullptr;
+};
+
+/// Particles filling the elements of `mesh` (reference coordinates), in cell order, ids
+/// their rows; a particle takes the material of the element it falls in. Throws Error
+/// when none is inside the grid.
 Particles generate_mesh_particles(const GridGeometry& grid, const Mesh& mesh, int per_cell_x,
-                                  int per_cell_y, const MaterialTable& materials);
+                                  int per_cell_y, const MaterialTable& materials,
+                                  const BodyPart& part = {});
 
 /// y_s(x_p): the highest point of the mesh boundary on the vertical line through each
 /// particle (exact for any mesh made of straight-sided elements).

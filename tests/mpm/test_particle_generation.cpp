@@ -2,6 +2,7 @@
 // surface heights of the K0 stresses.
 #include <gtest/gtest.h>
 
+#include "common/base/error.hpp"
 #include "tests/support/mpm_builders.hpp"
 
 namespace slide::mpm {
@@ -34,6 +35,34 @@ TEST(ParticleGeneration, GaussLayoutFillsWholeCellsExactly) {
   }
   EXPECT_NEAR(volume, 400.0, 1e-9);
   EXPECT_NEAR(mass, 1700.0 * 400.0, 1e-6);
+}
+
+// Each MPI rank makes its part of the body (BodyPart): the parts, joined in order, are the
+// whole body row for row, ids included, and each knows the whole count.
+TEST(ParticleGeneration, PartsJoinToTheWholeBody) {
+  MpmSettings s = settings_on(Vec2(0, 0), Vec2(60, 30), 1.0);
+  const MaterialTable materials{elastic_soil()};
+  Mesh mesh;
+  mesh.element_type = ElementType::tri3;
+  mesh.nodes = {Vec2(0, 0), Vec2(20, 0), Vec2(40, 0), Vec2(0, 20), Vec2(20, 20)};
+  mesh.connectivity = {0, 1, 4, 0, 4, 3, 1, 2, 4};
+  mesh.material_id = {0, 0, 0};
+  const Particles whole = generate_mesh_particles(s.grid, mesh, 2, 2, materials);
+  for (int parts : {1, 2, 3, 7}) {
+    std::vector<std::int64_t> ids;
+    std::vector<Vec2> coordinates;
+    for (int k = 0; k < parts; ++k) {
+      std::size_t count = 0;
+      const Particles part =
+          generate_mesh_particles(s.grid, mesh, 2, 2, materials, {k, parts, &count});
+      EXPECT_EQ(count, whole.count());
+      ids.insert(ids.end(), part.id.begin(), part.id.end());
+      coordinates.insert(coordinates.end(), part.coordinates.begin(), part.coordinates.end());
+    }
+    EXPECT_EQ(ids, whole.id) << parts << " parts";
+    EXPECT_EQ(coordinates, whole.coordinates) << parts << " parts";
+  }
+  EXPECT_THROW(generate_mesh_particles(s.grid, mesh, 2, 2, materials, {3, 3}), Error);
 }
 
 TEST(ParticleGeneration, SlopedFaceAndSurfaceHeights) {
