@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 
 tools/install-deps.sh --mpi
 cmake -S . -B build-mpi -G Ninja -DCMAKE_BUILD_TYPE=Release -DSLIDE_MPI=ON
-cmake --build build-mpi --target mpm-solve slide-metrics tests_mpi
+cmake --build build-mpi --target mpi-tests  # what the tests run (tests/mpi/CMakeLists.txt)
 # (tests/mpi/CMakeLists.txt gives each test the environment OpenMPI needs as root and
 # with more ranks than cores.)
 ctest --test-dir build-mpi --output-on-failure --label-regex '^mpi$' --timeout 900
