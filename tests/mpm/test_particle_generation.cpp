@@ -20,6 +20,16 @@ Mesh square_mesh() {
   return mesh;
 }
 
+/// A 20 m high crest block (0–20 m) and its 1H:1V face (20–40 m), as three triangles.
+Mesh sloped_mesh() {
+  Mesh mesh;
+  mesh.element_type = ElementType::tri3;
+  mesh.nodes = {Vec2(0, 0), Vec2(20, 0), Vec2(40, 0), Vec2(0, 20), Vec2(20, 20)};
+  mesh.connectivity = {0, 1, 4, 0, 4, 3, 1, 2, 4};
+  mesh.material_id = {0, 0, 0};
+  return mesh;
+}
+
 TEST(ParticleGeneration, GaussLayoutFillsWholeCellsExactly) {
   MpmSettings s = settings_on(Vec2(0, 0), Vec2(40, 30), 1.0);
   const MaterialTable materials{elastic_soil()};
@@ -42,11 +52,7 @@ TEST(ParticleGeneration, GaussLayoutFillsWholeCellsExactly) {
 TEST(ParticleGeneration, PartsJoinToTheWholeBody) {
   MpmSettings s = settings_on(Vec2(0, 0), Vec2(60, 30), 1.0);
   const MaterialTable materials{elastic_soil()};
-  Mesh mesh;
-  mesh.element_type = ElementType::tri3;
-  mesh.nodes = {Vec2(0, 0), Vec2(20, 0), Vec2(40, 0), Vec2(0, 20), Vec2(20, 20)};
-  mesh.connectivity = {0, 1, 4, 0, 4, 3, 1, 2, 4};
-  mesh.material_id = {0, 0, 0};
+  const Mesh mesh = sloped_mesh();
   const Particles whole = generate_mesh_particles(s.grid, mesh, 2, 2, materials);
   for (int parts : {1, 2, 3, 7}) {
     std::vector<std::int64_t> ids;
@@ -68,12 +74,7 @@ TEST(ParticleGeneration, PartsJoinToTheWholeBody) {
 TEST(ParticleGeneration, SlopedFaceAndSurfaceHeights) {
   MpmSettings s = settings_on(Vec2(0, 0), Vec2(60, 30), 1.0);
   const MaterialTable materials{elastic_soil()};
-  Mesh mesh;
-  mesh.element_type = ElementType::tri3;
-  // Crest block 0–20 m and the 1H:1V face 20–40 m, as triangles.
-  mesh.nodes = {Vec2(0, 0), Vec2(20, 0), Vec2(40, 0), Vec2(0, 20), Vec2(20, 20)};
-  mesh.connectivity = {0, 1, 4, 0, 4, 3, 1, 2, 4};
-  mesh.material_id = {0, 0, 0};
+  const Mesh mesh = sloped_mesh();
   const Particles p = generate_mesh_particles(s.grid, mesh, 2, 2, materials);
   double volume = 0.0;
   for (double v : p.volume) volume += v;
