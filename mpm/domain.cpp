@@ -269,10 +269,6 @@ PlainVec2 plain(const Vec2& v) {
   return {v.x(), v.y()};
 }
 
-}  // namespace
-
-namespace {
-
 /// Adds the wall time of its scope to `seconds` (the benchmarks' exchange time).
 class ExchangeTimer {
  public:
@@ -494,17 +490,12 @@ std::optional<std::int64_t> duplicate_id(const Particles& particles, const Ranks
 
 std::size_t keep_part(Particles& particles, std::size_t frozen, const Ranks& ranks) {
   const std::size_t n = particles.count();
-  frozen = std::min(frozen, n);
-  const auto r = static_cast<std::size_t>(ranks.rank()),
-             parts = static_cast<std::size_t>(ranks.size());
-  const std::size_t first = r * n / parts, end = (r + 1) * n / parts;
+  const RowSpan rows = ranks.part().rows(n);
   std::vector<char> keep(n, 0);
-  std::fill(keep.begin() + static_cast<std::ptrdiff_t>(first),
-            keep.begin() + static_cast<std::ptrdiff_t>(end), 1);
+  std::fill(keep.begin() + static_cast<std::ptrdiff_t>(rows.first),
+            keep.begin() + static_cast<std::ptrdiff_t>(rows.end), 1);
   compact(particles, keep);
-  // The frozen rows [n − frozen, n) of the whole set that fall in [first, end).
-  const std::size_t frozen_begin = n - frozen;
-  return end > frozen_begin ? end - std::max(first, frozen_begin) : 0;
+  return rows.last_rows_within(n, frozen);
 }
 
 }  // namespace slide::mpm

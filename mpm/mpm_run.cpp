@@ -66,7 +66,7 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
   const bool restart = options.restart_file.has_value();
   const fs::path path = restart ? *options.restart_file : *options.particles_file;
   // On several ranks each reads its part of the rows (MpmSolver::distribute).
-  ParticleCheckpoint file = read_particle_checkpoint(path, {ranks.rank(), ranks.size()});
+  ParticleCheckpoint file = read_particle_checkpoint(path, ranks.part());
   if (file.header.case_name != c.name) {
     if (!options.other_case) {
       throw Error(
@@ -100,9 +100,8 @@ Start start_from_file(const Case& c, const RunOptions& options, const Logger& lo
   if (start.clock.frozen > file.file_rows) {
     throw Error("{}: {} frozen particles of {}", path.string(), start.clock.frozen, file.file_rows);
   }
-  const std::size_t frozen_begin = file.file_rows - start.clock.frozen;
-  const std::size_t end = file.first_row + file.particles.count();
-  start.clock.frozen = end > frozen_begin ? end - std::max(file.first_row, frozen_begin) : 0;
+  const RowSpan rows{file.first_row, file.first_row + file.particles.count()};
+  start.clock.frozen = rows.last_rows_within(file.file_rows, start.clock.frozen);
   start.particles = std::move(file.particles);
   return start;
 }
@@ -118,7 +117,7 @@ Start start_pure_mpm(const Case& c, const MpmSettings& settings, const Logger& l
   // On several ranks each makes its part of the body's rows (MpmSolver::distribute).
   std::size_t body_count = 0;
   p = generate_mesh_particles(settings.grid, start.body, c.mpm.particles_x, c.mpm.particles_y,
-                              c.materials, {ranks.rank(), ranks.size(), &body_count});
+                              c.materials, ranks.part(), &body_count);
   log.info("pure MPM: {} particles ({} × {} per cell) in the {} elements of the case geometry",
            body_count, c.mpm.particles_x, c.mpm.particles_y, start.body.element_count());
   if (c.mpm.initial_stress == InitialStress::k0) {
@@ -151,6 +150,13 @@ std::size_t total_particles(const MpmSolver& solver) {
       solver.ranks().sum(static_cast<double>(solver.particles().count())));
 }
 
+/// MpmSolver::return_to_yield_surface on every rank: how many particles it returned in all
+/// (collective).
+std::size_t return_to_yield_surface(MpmSolver& solver) {
+  return static_cast<std::size_t>(
+      solver.ranks().sum(static_cast<double>(solver.return_to_yield_surface())));
+}
+
 /// The initial stresses of pure MPM (docs/method.md §5): K0 of level ground (set on the
 /// particles already), or an elastic gravity stage with damping to equilibrium; then the
 /// switch to the plastic model.
@@ -166,8 +172,7 @@ void initialise_pure_mpm(const Case& c, MpmSolver& solver, double dt, const Logg
         c.mpm.gravity_stage_duration, settling.steps, c.mpm.gravity_stage_damping,
         settling.kinetic_energy);
   }
-  const auto returned = static_cast<std::size_t>(
-      solver.ranks().sum(static_cast<double>(solver.return_to_yield_surface())));
+  const std::size_t returned = return_to_yield_surface(solver);
   log.info(
       "pure MPM: switch to the plastic model: {} of {} particles returned to the yield surface",
       returned, total_particles(solver));
@@ -451,8 +456,7 @@ void log_settings(const Logger& log, const MpmSettings& settings, const MpmSpec&
 void prepare_start(const Case& c, Start& start, MpmSolver& solver, double dt, const Logger& log) {
   if (start.pure_mpm) initialise_pure_mpm(c, solver, dt, log);
   if (start.fresh && !start.pure_mpm) {
-    const auto returned = static_cast<std::size_t>(
-        solver.ranks().sum(static_cast<double>(solver.return_to_yield_surface())));
+    const std::size_t returned = return_to_yield_surface(solver);
     log.info("switch to the MPM models: {} of {} particles returned to the yield surface", returned,
              total_particles(solver));
   }

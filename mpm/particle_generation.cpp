@@ -75,10 +75,8 @@ Particles generate_box_particles(const GridGeometry& grid, const Vec2& lower, co
 }
 
 Particles generate_mesh_particles(const GridGeometry& grid, const Mesh& mesh, int per_cell_x,
-                                  int per_cell_y, const MaterialTable& materials,
-                                  const BodyPart& part) {
-  if (part.parts < 1 || part.part < 0 || part.part >= part.parts)
-    throw Error("pure MPM: part {} of {} asked", part.part, part.parts);
+                                  int per_cell_y, const MaterialTable& materials, const Part& part,
+                                  std::size_t* whole_count) {
   const double h = grid.cell_size;
   const auto rule = tensor_gauss_legendre(per_cell_x, per_cell_y);
   const Vec2 size(h / per_cell_x, h / per_cell_y);
@@ -122,8 +120,7 @@ Particles generate_mesh_particles(const GridGeometry& grid, const Mesh& mesh, in
   if (total == 0) {
     throw Error("pure MPM: the body's mesh does not overlap the grid (no particle generated)");
   }
-  const auto k = static_cast<std::size_t>(part.part), parts = static_cast<std::size_t>(part.parts);
-  const std::size_t first = k * total / parts, end = (k + 1) * total / parts;
+  const auto [first, end] = part.rows(total);
   Particles particles;
   std::size_t row = 0;
   for (std::size_t cell = 0; cell < grid.cell_count() && row < end; ++cell) {
@@ -141,7 +138,7 @@ Particles generate_mesh_particles(const GridGeometry& grid, const Mesh& mesh, in
       particles.id.back() = static_cast<std::int64_t>(row - 1);  // its row in the whole body
     }
   }
-  if (part.whole_count != nullptr) *part.whole_count = total;
+  if (whole_count != nullptr) *whole_count = total;
   return particles;
 }
 

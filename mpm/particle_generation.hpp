@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "common/base/ranks.hpp"
 #include "common/geometry/mesh.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/particles.hpp"
@@ -27,21 +28,14 @@ Particles generate_box_particles(const GridGeometry& grid, const Vec2& lower, co
                                  int per_cell_x, int per_cell_y, const MaterialTable& materials,
                                  std::int32_t material_id);
 
-/// Which rows of the body generate_mesh_particles makes: part `part` of `parts`, rows
-/// [⌊k n/N⌋, ⌊(k + 1) n/N⌋) of the body's n (each MPI rank its own, as keep_part would
-/// keep of the whole). `whole_count`, when given, receives n.
-struct BodyPart {
-  int part = 0;
-  int parts = 1;
-  std::size_t* whole_count = nullptr;
-};
-
 /// Particles filling the elements of `mesh` (reference coordinates), in cell order, ids
 /// their rows; a particle takes the material of the element it falls in. Throws Error
-/// when none is inside the grid.
+/// when none is inside the grid. Only the rows of `part` (Part::rows) of the body's n are
+/// made (each MPI rank its own, as keep_part would keep of the whole), with the ids of the
+/// whole; `whole_count`, when given, receives n.
 Particles generate_mesh_particles(const GridGeometry& grid, const Mesh& mesh, int per_cell_x,
                                   int per_cell_y, const MaterialTable& materials,
-                                  const BodyPart& part = {});
+                                  const Part& part = {}, std::size_t* whole_count = nullptr);
 
 /// y_s(x_p): the highest point of the mesh boundary on the vertical line through each
 /// particle (exact for any mesh made of straight-sided elements).

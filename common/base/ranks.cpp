@@ -13,6 +13,18 @@
 
 namespace slide {
 
+std::size_t RowSpan::last_rows_within(std::size_t n, std::size_t tail) const {
+  const std::size_t tail_begin = n - std::min(tail, n);
+  return end > tail_begin ? end - std::max(first, tail_begin) : 0;
+}
+
+RowSpan Part::rows(std::size_t n) const {
+  if (parts < 1 || index < 0 || index >= parts)
+    throw Error("part {} of {} of a set of rows", index, parts);
+  const auto k = static_cast<std::size_t>(index), m = static_cast<std::size_t>(parts);
+  return {k * n / m, (k + 1) * n / m};
+}
+
 namespace {
 
 Ranks* world_ranks = nullptr;

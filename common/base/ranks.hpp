@@ -23,6 +23,25 @@
 
 namespace slide {
 
+/// Rows [first, end) of a set of rows.
+struct RowSpan {
+  std::size_t first = 0;
+  std::size_t end = 0;
+  std::size_t count() const { return end - first; }
+  /// How many of the last `tail` rows of the set's n lie in this span (its last ones).
+  std::size_t last_rows_within(std::size_t n, std::size_t tail) const;
+};
+
+/// Part `index` of `parts` of a set of rows that processes split among them (each MPI
+/// rank its own: docs/parallel.md): rows [⌊index·n/parts⌋, ⌊(index + 1)·n/parts⌋),
+/// contiguous and in order, all of them together.
+struct Part {
+  int index = 0;
+  int parts = 1;
+  /// Throws Error unless 0 ≤ index < parts.
+  RowSpan rows(std::size_t n) const;
+};
+
 class Ranks {
  public:
   /// All processes of this program (MPI_COMM_WORLD; one process in the serial build).
@@ -35,6 +54,8 @@ class Ranks {
   int size() const { return size_; }
   bool root() const { return rank_ == 0; }
   bool distributed() const { return size_ > 1; }
+  /// This rank's part of a set of rows split among the ranks.
+  Part part() const { return {rank_, size_}; }
   /// Ranks on this rank's machine (shared memory), this one included: they share its cores.
   int on_this_machine() const { return machine_size_; }
 

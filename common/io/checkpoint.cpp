@@ -953,13 +953,18 @@ void write_checkpoint(const fs::path& path, const FemCheckpoint& checkpoint) {
   });
 }
 
-void write_checkpoint(const fs::path& path, const ParticleCheckpoint& checkpoint) {
-  const std::string target = path.string();
-  if (checkpoint.header.kind == CheckpointKind::fem) {
+/// The header of a particle checkpoint about to be written to `target`.
+void check_particle_header(const std::string& target, const CheckpointHeader& header) {
+  if (header.kind == CheckpointKind::fem) {
     throw Error("{}: cannot write: a particle checkpoint needs header kind particles or mpm",
                 target);
   }
-  check_header(target, checkpoint.header);
+  check_header(target, header);
+}
+
+void write_checkpoint(const fs::path& path, const ParticleCheckpoint& checkpoint) {
+  const std::string target = path.string();
+  check_particle_header(target, checkpoint.header);
   write_atomically(path, [&](const fs::path& temporary) {
     hdf5::File file = hdf5::File::create(temporary, target);
     Writer writer(file, target);
@@ -972,11 +977,7 @@ void write_checkpoint_on_ranks(const fs::path& path, const ParticleCheckpoint& c
                                std::size_t frozen, const Ranks& ranks) {
   if (!ranks.distributed()) return write_checkpoint(path, checkpoint);
   const std::string target = path.string();
-  if (checkpoint.header.kind == CheckpointKind::fem) {
-    throw Error("{}: cannot write: a particle checkpoint needs header kind particles or mpm",
-                target);
-  }
-  check_header(target, checkpoint.header);
+  check_particle_header(target, checkpoint.header);
   // Rows: every rank's active particles in rank order, then every rank's frozen ones.
   const auto count = static_cast<std::int64_t>(checkpoint.particles.count());
   const auto own_frozen = static_cast<std::int64_t>(frozen);
@@ -1072,9 +1073,7 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   return c;
 }
 
-ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const ParticleRows& part) {
-  if (part.parts < 1 || part.part < 0 || part.part >= part.parts)
-    throw Error("{}: part {} of {} asked", path.string(), part.part, part.parts);
+ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const Part& part) {
   const Reader reader(path);
   ParticleCheckpoint c;
   c.header = read_header(reader.file());
@@ -1086,13 +1085,9 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const Particle
       reader.define_rows("/particles/coordinates", TypeClass::floating_point, 2, "particle", "n_p");
   c.file_rows = particles.count;
   if (part.parts > 1) {
-    // Part k of N: rows [⌊k n/N⌋, ⌊(k + 1) n/N⌋), contiguous, in file order.
-    const auto n = static_cast<std::uint64_t>(particles.count);
-    const auto k = static_cast<std::uint64_t>(part.part),
-               parts = static_cast<std::uint64_t>(part.parts);
-    const std::uint64_t first = k * n / parts, end = (k + 1) * n / parts;
-    particles.held = hdf5::RowRange{first, end - first};
-    c.first_row = first;
+    const RowSpan rows = part.rows(particles.count);
+    particles.held = hdf5::RowRange{rows.first, rows.count()};
+    c.first_row = rows.first;
   }
   Particles& p = c.particles;
   p.coordinates = reader.vectors<2>("/particles/coordinates", particles);

@@ -133,13 +133,6 @@ struct TransferSettings {
   std::int64_t rbf_neighbours = 0;    ///< k of rbf-local (0: unused)
 };
 
-/// Which particle rows a reader takes: part `part` of `parts` contiguous, equal runs of
-/// the file's rows (each rank its own, docs/parallel.md); by default all of them.
-struct ParticleRows {
-  int part = 0;
-  int parts = 1;
-};
-
 /// Kinds "particles" (fem2mpm output) and "mpm" (mpm-solve checkpoints).
 struct ParticleCheckpoint {
   CheckpointHeader header;
@@ -169,9 +162,9 @@ void write_checkpoint_on_ranks(const std::filesystem::path& path,
 /// Reads and validates a kind "fem" file.
 FemCheckpoint read_fem_checkpoint(const std::filesystem::path& path);
 /// Reads and validates a kind "particles" or "mpm" file, or of it only the particle rows
-/// of `part` (whose ids are then checked unique among themselves only).
+/// of `part` (Part::rows; their ids are then checked unique among themselves only).
 ParticleCheckpoint read_particle_checkpoint(const std::filesystem::path& path,
-                                            const ParticleRows& part = {});
+                                            const Part& part = {});
 /// Reads and validates only the file attributes.
 CheckpointHeader read_checkpoint_header(const std::filesystem::path& path);
 

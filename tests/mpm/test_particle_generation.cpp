@@ -47,7 +47,7 @@ TEST(ParticleGeneration, GaussLayoutFillsWholeCellsExactly) {
   EXPECT_NEAR(mass, 1700.0 * 400.0, 1e-6);
 }
 
-// Each MPI rank makes its part of the body (BodyPart): the parts, joined in order, are the
+// Each MPI rank makes its part of the body (a Part): the parts, joined in order, are the
 // whole body row for row, ids included, and each knows the whole count.
 TEST(ParticleGeneration, PartsJoinToTheWholeBody) {
   MpmSettings s = settings_on(Vec2(0, 0), Vec2(60, 30), 1.0);
@@ -60,7 +60,7 @@ TEST(ParticleGeneration, PartsJoinToTheWholeBody) {
     for (int k = 0; k < parts; ++k) {
       std::size_t count = 0;
       const Particles part =
-          generate_mesh_particles(s.grid, mesh, 2, 2, materials, {k, parts, &count});
+          generate_mesh_particles(s.grid, mesh, 2, 2, materials, {k, parts}, &count);
       EXPECT_EQ(count, whole.count());
       ids.insert(ids.end(), part.id.begin(), part.id.end());
       coordinates.insert(coordinates.end(), part.coordinates.begin(), part.coordinates.end());
