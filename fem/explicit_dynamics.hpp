@@ -29,7 +29,7 @@
 #include <span>
 #include <vector>
 
-#include "common/input/case_file.hpp"  // DampingSpec
+#include "common/settings/fem_spec.hpp"
 #include "common/physics/constitutive.hpp"
 #include "common/physics/nodal_update.hpp"
 #include "fem/fem_model.hpp"

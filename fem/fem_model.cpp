@@ -111,20 +111,16 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
 
 FemState make_rest_state(const FemModel& model) {
   FemState state;
-  const auto n_nodes = static_cast<std::size_t>(model.node_count());
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_count());
-  state.displacement.assign(n_nodes, Vec2::Zero());
-  state.velocity.assign(n_nodes, Vec2::Zero());
-  state.acceleration.assign(n_nodes, Vec2::Zero());
-  state.stress.assign(n_gauss, Vec4::Zero());
-  state.strain.assign(n_gauss, Vec4::Zero());
-  state.material_state.assign(n_gauss, MaterialState{});
-  state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
-  state.surface_stress.resize(n_gauss);
-  state.yielded.assign(n_gauss, 0);
+  // The hourglass forces exist for one-point quads only (resize_rows leaves an unused,
+  // empty field empty).
   if (model.hourglass) {
     state.hourglass_force.assign(static_cast<std::size_t>(model.element_count()), Vec2::Zero());
   }
+  state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
+  resize_rows(fe_fields, state, RowKind::node, static_cast<std::size_t>(model.node_count()));
+  resize_rows(fe_fields, state, RowKind::element, static_cast<std::size_t>(model.element_count()));
+  resize_rows(fe_fields, state, RowKind::gauss_point, static_cast<std::size_t>(model.gauss_count()));
+  state.yielded.assign(static_cast<std::size_t>(model.gauss_count()), 0);
   return state;
 }
 

@@ -5,8 +5,8 @@
 //    gradients ∂N/∂x and integration weights w·det J), hourglass data of one-point quads,
 //    the lumped (row-sum) nodal masses m_I = Σ_e ∫ N_I ρ dA, gravity loads m_I g and the
 //    node → element adjacency used to gather nodal forces.
-//  - FemState: what evolves and what a checkpoint stores (nodal u, v, a; Gauss-point
-//    stress, strain, material state; hourglass generalised forces).
+//  - FemState: what evolves and what a checkpoint stores (common/physics/fe_fields.hpp:
+//    nodal u, v, a, p; Gauss-point stress, strain, material state; hourglass forces).
 //  - NodalConstraints: the boundary conditions of one stage, node by node, in the form
 //    the shared nodal update (common/physics/nodal_update.hpp) consumes.
 //
@@ -24,6 +24,7 @@
 #include "common/geometry/mesh.hpp"
 #include "common/physics/algorithms.hpp"
 #include "common/physics/constitutive.hpp"
+#include "common/physics/fe_fields.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/nodal_update.hpp"
 
@@ -84,27 +85,12 @@ struct FemModel {
 FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
                     double hourglass_coefficient, const Vec2& gravity = gravity_vector());
 
-struct FemState {
+/// The evolving state (common/physics/fe_fields.hpp: what checkpoints carry) with its
+/// clock and the yield flags of the last update.
+struct FemState : FeFields {
   double time = 0.0;  ///< s, t = 0 at the start of the failure stage
   Index step = 0;     ///< time steps since t = 0
-
-  // Nodes. The velocity is the mid-step velocity v_{n+1/2} of the leapfrog scheme
-  // (the one the last position update used); the acceleration is (v_{n+1/2} − v_{n−1/2})/dt.
-  std::vector<Vec2> displacement;  ///< u since t = 0, m
-  std::vector<Vec2> velocity;      ///< m/s
-  std::vector<Vec2> acceleration;  ///< m/s²
-
-  // Gauss points.
-  std::vector<Vec4> stress;  ///< [σxx, σyy, σzz, σxy], Pa, tension positive
-  std::vector<Vec4> strain;  ///< total strain since t = 0, [εxx, εyy, εzz, γxy]
-  std::vector<MaterialState> material_state;
-  /// Multi-yield surface stresses of the failure-stage models (none when no material
-  /// uses the model in FE).
-  SurfaceStresses surface_stress;
   std::vector<std::uint8_t> yielded;  ///< 1 where the point yielded in the last update
-
-  /// Per element (one-point quads): hourglass generalised force Q = ∫ K_q dq, N (per m).
-  std::vector<Vec2> hourglass_force;
 };
 
 /// Zero displacement, velocity, stress and state for every node and Gauss point.

@@ -29,17 +29,12 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
   checkpoint.boundary_conditions = context.boundary_conditions;
   checkpoint.friction_coefficient = context.friction_coefficient;
 
+  static_cast<FeFields&>(checkpoint) = state;
   checkpoint.coordinates = x;
-  checkpoint.displacement = state.displacement;
-  checkpoint.velocity = state.velocity;
-  checkpoint.acceleration = state.acceleration;
-  checkpoint.pore_pressure.assign(x.size(), 0.0);  // dry analyses
-
   checkpoint.jacobian_ratio = quality.jacobian_ratio;
   checkpoint.scaled_jacobian = quality.scaled_jacobian;
   checkpoint.volume_reference = model.volume_reference;
   checkpoint.volume = quality.volume;
-  checkpoint.hourglass_force = state.hourglass_force;
 
   const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
   const auto n_points = state.stress.size();
@@ -56,11 +51,7 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
         map_to_physical(model.mesh.shape(), model.mesh.element_nodes(e, x), model.gauss_local[p]);
     checkpoint.gauss_weight[gp] = model.gauss_rule_weight[p];
   }
-  checkpoint.stress = state.stress;
-  checkpoint.strain = state.strain;
   checkpoint.eps_q = quality.gauss_eps_q;
-  checkpoint.state = state.material_state;
-  checkpoint.surface_stress = state.surface_stress;
   checkpoint.materials = model.materials;
   checkpoint.solver = context.solver;
   return checkpoint;
@@ -68,53 +59,35 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
 
 FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& checkpoint,
                                const std::filesystem::path& file) {
-  const auto require_size = [&](std::size_t size, Index expected, std::string_view name) {
-    if (size != static_cast<std::size_t>(expected)) {
-      throw Error("{}: {} has {} entries, expected {} for this mesh", file.string(), name, size,
-                  expected);
+  const auto require_rows = [&](RowKind kind, Index expected, std::string_view group) {
+    const auto rows = static_cast<std::size_t>(expected);
+    if (const auto name = field_of_wrong_size(fe_fields, checkpoint, kind, rows)) {
+      throw Error("{}: /{}/{} does not have {} rows, as this mesh", file.string(), group, *name,
+                  rows);
     }
   };
-  require_size(checkpoint.displacement.size(), model.node_count(), "/nodes/displacement");
-  require_size(checkpoint.velocity.size(), model.node_count(), "/nodes/velocity");
-  require_size(checkpoint.acceleration.size(), model.node_count(), "/nodes/acceleration");
-  require_size(checkpoint.stress.size(), model.gauss_count(), "/gauss_points/stress");
-  require_size(checkpoint.strain.size(), model.gauss_count(), "/gauss_points/strain");
-  require_size(checkpoint.state.size(), model.gauss_count(), "/gauss_points/state");
-  if (model.hourglass) {
-    require_size(checkpoint.hourglass_force.size(), model.element_count(),
-                 "the hourglass forces of the quad4-1gp elements");
+  require_rows(RowKind::node, model.node_count(), "nodes");
+  require_rows(RowKind::gauss_point, model.gauss_count(), "gauss_points");
+  if (model.hourglass &&
+      checkpoint.hourglass_force.size() != static_cast<std::size_t>(model.element_count())) {
+    throw Error("{}: /elements/hourglass_force does not have {} rows: the quad4-1gp elements "
+                "need their hourglass forces",
+                file.string(), model.element_count());
   }
   FemState state;
+  static_cast<FeFields&>(state) = checkpoint;
   state.time = checkpoint.header.time;
   state.step = checkpoint.header.step;
-  state.displacement = checkpoint.displacement;
-  state.velocity = checkpoint.velocity;
-  state.acceleration = checkpoint.acceleration;
-  state.stress = checkpoint.stress;
-  state.strain = checkpoint.strain;
-  state.material_state = checkpoint.state;
   // The surfaces the case's failure-stage models need: those of the file when it has
   // as many per point, else none yet (a geostatic checkpoint, or a model changed since:
   // the switch then sets them up from the stress).
-  state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
-  if (checkpoint.surface_stress.per_point == state.surface_stress.per_point) {
-    state.surface_stress = checkpoint.surface_stress;
-  } else {
+  const std::size_t surfaces = surfaces_needed(model.materials, Phase::fem);
+  if (state.surface_stress.per_point != surfaces) {
+    state.surface_stress = SurfaceStresses{surfaces, {}};
     state.surface_stress.resize(state.stress.size());
   }
+  if (!model.hourglass) state.hourglass_force.clear();
   state.yielded.assign(state.stress.size(), 0);
-  if (model.hourglass) state.hourglass_force = checkpoint.hourglass_force;
-
-  const auto finite = [](const auto& values) {
-    for (const auto& v : values) {
-      if (!v.allFinite()) return false;
-    }
-    return true;
-  };
-  if (!finite(state.displacement) || !finite(state.velocity) || !finite(state.stress) ||
-      !finite(state.strain) || !finite(state.hourglass_force) || !std::isfinite(state.time)) {
-    throw Error("{}: the checkpoint holds non-finite values (NaN or Inf)", file.string());
-  }
   return state;
 }
 

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "common/base/log.hpp"
-#include "common/input/case_file.hpp"
+#include "common/settings/fem_spec.hpp"
 #include "common/physics/ground_motion.hpp"
 #include "fem/fem_model.hpp"
 

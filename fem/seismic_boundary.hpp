@@ -30,7 +30,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/input/case_file.hpp"
+#include "common/settings/fem_spec.hpp"
 #include "common/physics/ground_motion.hpp"
 #include "fem/fem_model.hpp"
 

@@ -121,36 +121,45 @@ class ByteReader {
 
 }  // namespace
 
-std::size_t PackedLayout::bytes() const {
-  return sizeof(double) * (20 + 3 + 4 * surfaces + (affine ? 4 : 0)) + sizeof(std::int32_t) +
-         2 * sizeof(std::int64_t);
+// A packed row is every field of particle_fields in its order, each entry as its bytes;
+// the unused fields (APIC's affine velocity in a FLIP run) only when the layout carries
+// them, the surface stresses `surfaces` to a particle.
+namespace {
+
+template <class T>
+std::size_t entry_bytes(const std::vector<T>&) {
+  return sizeof(T);
+}
+template <class Column>
+std::size_t packed_bytes(const Column& column, Presence presence, const PackedLayout& layout) {
+  if constexpr (std::is_same_v<Column, SurfaceStresses>) {
+    return layout.surfaces * sizeof(Vec4);
+  } else {
+    return presence == Presence::when_used && !layout.affine ? 0 : entry_bytes(column);
+  }
 }
 
-// Every field of Particles, in the order of a packed row; the one list both directions
-// use. Like ParticleRow in kernels.cpp, a new field of Particles must be added here.
-static_assert(sizeof(Particles) == 15 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
-              "a field was added to Particles: add it to for_each_field");
-
+/// f(entry) for every entry of particle k in the packed order (`P` const or not).
 template <class P, class F>
-void for_each_field(P& p, std::size_t k, bool affine, F&& field) {
-  field(p.coordinates[k]);
-  field(p.displacement[k]);
-  field(p.velocity[k]);
-  field(p.stress[k]);
-  field(p.strain[k]);
-  field(p.eps_q[k]);
-  field(p.pore_pressure[k]);
-  field(p.volume[k]);
-  field(p.mass[k]);
-  field(p.size[k]);
-  field(p.material_id[k]);
-  field(p.element[k]);
-  field(p.id[k]);
-  field(p.state[k].plastic_shear_strain);
-  field(p.state[k].plastic_volumetric_strain);
-  field(p.state[k].peak_strength);
-  for (auto& s : p.surface_stress.of(k)) field(s);
-  if (affine) field(p.affine_velocity[k]);
+void for_each_entry(P& p, std::size_t k, const PackedLayout& layout, F&& f) {
+  for_each_field(particle_fields, [&](const auto& field) {
+    auto& column = field.of(p);
+    if constexpr (std::is_same_v<std::remove_cvref_t<decltype(column)>, SurfaceStresses>) {
+      for (auto& s : column.of(k)) f(s);
+    } else if (field.presence == Presence::always || layout.affine) {
+      f(column[k]);
+    }
+  });
+}
+
+}  // namespace
+
+std::size_t PackedLayout::bytes() const {
+  std::size_t total = 0;
+  const Particles none;
+  for_each_field(particle_fields,
+                 [&](const auto& field) { total += packed_bytes(field.of(none), field.presence, *this); });
+  return total;
 }
 
 static void require_layout(const Particles& p, const PackedLayout& layout) {
@@ -170,7 +179,7 @@ void pack_particles(const Particles& p, std::span<const std::size_t> indices,
   bytes.reserve(bytes.size() + indices.size() * layout.bytes());
   ByteWriter out(bytes);
   for (const std::size_t k : indices)
-    for_each_field(p, k, layout.affine, [&](const auto& v) { out.put(v); });
+    for_each_entry(p, k, layout, [&](const auto& v) { out.put(v); });
 }
 
 std::size_t unpack_particles(std::span<const std::byte> bytes, const PackedLayout& layout,
@@ -186,7 +195,7 @@ std::size_t unpack_particles(std::span<const std::byte> bytes, const PackedLayou
   if (layout.affine) p.affine_velocity.resize(first + added, Vec4::Zero());
   ByteReader in(bytes);
   for (std::size_t k = first; k < first + added; ++k)
-    for_each_field(p, k, layout.affine, [&](auto& v) { in.get(v); });
+    for_each_entry(p, k, layout, [&](auto& v) { in.get(v); });
   return added;
 }
 

@@ -427,75 +427,10 @@ void smooth_block(Particles& particles, const GridGeometry& grid, const GridStat
   }
 }
 
-// Every field of Particles, so that a permutation moves whole particles. A new field
-// must be added to ParticleRow and move_particle below (this trips when Particles grows).
-static_assert(sizeof(Particles) == 15 * sizeof(std::vector<double>) + sizeof(SurfaceStresses),
-              "a field was added to Particles: add it to ParticleRow and move_particle");
-
-/// One particle, all fields: the one-particle buffer of the in-place permutation.
-struct ParticleRow {
-  Vec2 coordinates, displacement, velocity;
-  Vec4 stress, strain;
-  double eps_q, pore_pressure, volume, mass;
-  Vec2 size;
-  std::int32_t material_id;
-  std::int64_t element, id;
-  MaterialState state;
-  std::array<Vec4, max_yield_surfaces> surfaces;
-  Vec4 affine_velocity;  ///< zero when the particles carry none
-
-  static ParticleRow of(const Particles& p, std::size_t k) {
-    ParticleRow row{p.coordinates[k], p.displacement[k],  p.velocity[k], p.stress[k], p.strain[k],
-                    p.eps_q[k],       p.pore_pressure[k], p.volume[k],   p.mass[k],   p.size[k],
-                    p.material_id[k], p.element[k],       p.id[k],       p.state[k],  {},
-                    Vec4::Zero()};
-    const auto own = p.surface_stress.of(k);
-    std::copy(own.begin(), own.end(), row.surfaces.begin());
-    if (!p.affine_velocity.empty()) row.affine_velocity = p.affine_velocity[k];
-    return row;
-  }
-  void store(Particles& p, std::size_t k) const {
-    p.coordinates[k] = coordinates;
-    p.displacement[k] = displacement;
-    p.velocity[k] = velocity;
-    p.stress[k] = stress;
-    p.strain[k] = strain;
-    p.eps_q[k] = eps_q;
-    p.pore_pressure[k] = pore_pressure;
-    p.volume[k] = volume;
-    p.mass[k] = mass;
-    p.size[k] = size;
-    p.material_id[k] = material_id;
-    p.element[k] = element;
-    p.id[k] = id;
-    p.state[k] = state;
-    const auto own = p.surface_stress.of(k);
-    std::copy(surfaces.begin(), surfaces.begin() + static_cast<std::ptrdiff_t>(own.size()),
-              own.begin());
-    if (!p.affine_velocity.empty()) p.affine_velocity[k] = affine_velocity;
-  }
-};
-
 }  // namespace
 
 void move_particle(Particles& p, std::size_t to, std::size_t from) {
-  p.coordinates[to] = p.coordinates[from];
-  p.displacement[to] = p.displacement[from];
-  p.velocity[to] = p.velocity[from];
-  p.stress[to] = p.stress[from];
-  p.strain[to] = p.strain[from];
-  p.eps_q[to] = p.eps_q[from];
-  p.pore_pressure[to] = p.pore_pressure[from];
-  p.volume[to] = p.volume[from];
-  p.mass[to] = p.mass[from];
-  p.size[to] = p.size[from];
-  p.material_id[to] = p.material_id[from];
-  p.element[to] = p.element[from];
-  p.id[to] = p.id[from];
-  p.state[to] = p.state[from];
-  const auto source = p.surface_stress.of(from);
-  std::copy(source.begin(), source.end(), p.surface_stress.of(to).begin());
-  if (!p.affine_velocity.empty()) p.affine_velocity[to] = p.affine_velocity[from];
+  move_row(particle_fields, p, to, from);
 }
 
 namespace {
@@ -508,13 +443,14 @@ void permute_in_place(Particles& particles, std::vector<std::uint32_t>& order) {
   const std::size_t n = order.size();
   for (std::size_t k = 0; k < n; ++k) {
     if (order[k] == k) continue;
-    const ParticleRow first = ParticleRow::of(particles, k);
+    RowBuffer<ParticleFieldTable> first;
+    first.load(particle_fields, particles, k);
     std::size_t to = k;
     for (;;) {
       const std::size_t from = order[to];
       order[to] = static_cast<std::uint32_t>(to);
       if (from == k) {
-        first.store(particles, to);
+        first.store(particle_fields, particles, to);
         break;
       }
       move_particle(particles, to, from);

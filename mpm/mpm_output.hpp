@@ -7,7 +7,7 @@
 #include <string>
 
 #include "common/base/log.hpp"
-#include "common/input/case_file.hpp"
+#include "common/settings/metrics_spec.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/io/vtk_output.hpp"
 #include "common/run/history_csv.hpp"

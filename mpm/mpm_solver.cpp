@@ -7,15 +7,6 @@
 
 namespace slide::mpm {
 
-namespace {
-
-template <class T>
-std::size_t bytes_of(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
-
-}  // namespace
-
 MpmSettings MpmSettings::from(const MpmSpec& spec) {
   MpmSettings s;
   s.grid = GridGeometry::covering(spec.domain_min, spec.domain_max, spec.cell_size);
@@ -374,11 +365,7 @@ double MpmSolver::courant_time_step(double courant) const {
 MpmSolver::Memory MpmSolver::memory() const {
   Memory m;
   const Particles& p = particles_;
-  m.particle_arrays = bytes_of(p.coordinates) + bytes_of(p.displacement) + bytes_of(p.velocity) +
-                      bytes_of(p.stress) + bytes_of(p.strain) + bytes_of(p.eps_q) +
-                      bytes_of(p.pore_pressure) + bytes_of(p.volume) + bytes_of(p.mass) +
-                      bytes_of(p.size) + bytes_of(p.material_id) + bytes_of(p.element) +
-                      bytes_of(p.id) + bytes_of(p.state) + bytes_of(p.affine_velocity);
+  m.particle_arrays = p.bytes();
   // The sort (in place): the permutation, 4 B per particle, and the bucket table.
   m.sort_peak =
       p.count() * sizeof(std::uint32_t) + (settings_.grid.cell_count() + 2) * sizeof(std::uint32_t);

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "common/base/error.hpp"
-#include "common/input/case_file.hpp"
+#include "common/settings/mpm_spec.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/physics/constitutive.hpp"
 #include "common/physics/ground_motion.hpp"

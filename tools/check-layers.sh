@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # The include rules of the source tree (common/README.md), checked by the test
-# style.layers: common/ is layered base < geometry < physics < io < input < run, and a
+# style.layers: common/ is layered base < geometry < physics < settings < io < input < run, and a
 # file may include only its own layer and the ones below; fem/, transfer/ and mpm/
 # include common/ and never each other. Prints every include that breaks a rule, and
 # with --picture the folder-to-folder include counts. Exit 1 on any violation.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-layers=(base geometry physics io input run)
+layers=(base geometry physics settings io input run)
 rank() {
   local i
   for i in "${!layers[@]}"; do

@@ -67,7 +67,7 @@ FieldValues pack_gauss_fields(const FemCheckpoint& fem) {
     const auto i = static_cast<std::size_t>(g);
     values.row(g).segment<4>(stress_column) = fem.stress[i].transpose();
     values.row(g).segment<4>(strain_column) = fem.strain[i].transpose();
-    const MaterialState state = fem.state.empty() ? default_state() : fem.state[i];
+    const MaterialState state = fem.material_state.empty() ? default_state() : fem.material_state[i];
     values(g, state_column + 0) = state.plastic_shear_strain;
     values(g, state_column + 1) = state.plastic_volumetric_strain;
     if (surfaces == 0) continue;
@@ -138,7 +138,7 @@ void validate(const FemCheckpoint& fem) {
   check_size(fem.gauss_coordinates, gauss, "/gauss_points/coordinates");
   check_size(fem.stress, gauss, "/gauss_points/stress");
   check_size(fem.strain, gauss, "/gauss_points/strain");
-  if (!fem.state.empty()) check_size(fem.state, gauss, "/gauss_points/state");
+  if (!fem.material_state.empty()) check_size(fem.material_state, gauss, "/gauss_points/state");
   for (std::size_t e = 0; e < elements; ++e) {
     const auto id = mesh.material_id[e];
     if (id < 0 || static_cast<std::size_t>(id) >= fem.materials.size()) {
@@ -168,7 +168,7 @@ void validate(const FemCheckpoint& fem) {
   check_finite(fem.gauss_coordinates, "/gauss_points/coordinates");
   check_finite(fem.stress, "/gauss_points/stress");
   check_finite(fem.strain, "/gauss_points/strain");
-  check_finite(fem.state, "/gauss_points/state");
+  check_finite(fem.material_state, "/gauss_points/state");
   // A positive geometry needs a positive V_t^e (the particles take their volume from it);
   // an inverted element's V_t^e is not used (transfer.hpp).
   for (Index e = 0; e < mesh.element_count(); ++e) {

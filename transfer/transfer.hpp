@@ -30,7 +30,7 @@
 #include <optional>
 
 #include "common/base/log.hpp"
-#include "common/input/case_file.hpp"
+#include "common/settings/transfer_spec.hpp"
 #include "common/io/checkpoint.hpp"
 #include "transfer/particle_layout.hpp"
 #include "transfer/transfer_report.hpp"

@@ -2,7 +2,7 @@
 // GroundMotion both phases evaluate (common/physics/ground_motion.hpp).
 #pragma once
 
-#include "common/input/case_file.hpp"
+#include "common/settings/fem_spec.hpp"
 #include "common/physics/ground_motion.hpp"
 
 namespace slide {

@@ -222,26 +222,32 @@ std::vector<VecK<K>> unflatten(const std::vector<double>& flat) {
   return vectors;
 }
 
-std::vector<double> plastic_shear_strain(std::span<const MaterialState> state) {
+/// One member of every point's material state, as a column.
+std::vector<double> state_column(std::span<const MaterialState> state,
+                                 double MaterialState::*member) {
   std::vector<double> values(state.size());
-  for (std::size_t i = 0; i < state.size(); ++i) values[i] = state[i].plastic_shear_strain;
+  for (std::size_t i = 0; i < state.size(); ++i) values[i] = state[i].*member;
   return values;
 }
 
-std::vector<double> plastic_volumetric_strain(std::span<const MaterialState> state) {
-  std::vector<double> values(state.size());
-  for (std::size_t i = 0; i < state.size(); ++i) values[i] = state[i].plastic_volumetric_strain;
-  return values;
+/// The surface stresses among the fields of rows `kind` (multi-yield), or nothing.
+template <class Table, class Owner>
+const SurfaceStresses* surfaces_of(const Table& table, const Owner& owner, RowKind kind) {
+  const SurfaceStresses* found = nullptr;
+  for_each_field(table, [&](const auto& field) {
+    if constexpr (std::is_same_v<typename std::remove_cvref_t<decltype(field)>::column_type,
+                                 SurfaceStresses>) {
+      if (field.rows == kind) found = &field.of(owner);
+    }
+  });
+  return found;
 }
 
-std::vector<MaterialState> material_state(const std::vector<double>& shear,
-                                          const std::vector<double>& volumetric) {
-  std::vector<MaterialState> state(shear.size());
-  for (std::size_t i = 0; i < state.size(); ++i) {
-    state[i].plastic_shear_strain = shear[i];
-    state[i].plastic_volumetric_strain = volumetric[i];
-  }
-  return state;
+/// Whether some point of rows `kind` carries multi-yield surfaces.
+template <class Table, class Owner>
+bool with_surfaces(const Table& table, const Owner& owner, RowKind kind) {
+  const SurfaceStresses* surfaces = surfaces_of(table, owner, kind);
+  return surfaces != nullptr && surfaces->per_point > 0;
 }
 
 CheckpointKind parse_kind(std::string_view text, std::string_view where) {
@@ -307,27 +313,73 @@ class Writer {
         .write_string_attribute(units_attribute, "1");
   }
 
-  void state(hdf5::Group& parent, const std::vector<MaterialState>& state,
-             const SurfaceStresses& surfaces, const Rows& rows) {
-    require_count(where(parent, "state"), state.size(), 0, rows);
-    hdf5::Group group = parent.create_group("state");
-    doubles(group, "plastic_shear_strain", plastic_shear_strain(state), 0, rows, "1");
-    doubles(group, "plastic_volumetric_strain", plastic_volumetric_strain(state), 0, rows, "1");
-    if (surfaces.per_point == 0) return;
-    // Multi-yield: the frozen peak strength (negative: not frozen yet) and the
-    // deviatoric stress each surface carries, [sxx, syy, szz, sxy] per surface.
-    std::vector<double> peak(state.size());
-    for (std::size_t i = 0; i < state.size(); ++i) peak[i] = state[i].peak_strength;
-    doubles(group, "peak_strength", peak, 0, rows, "Pa");
-    const std::size_t width = 4 * surfaces.per_point;
+  /// Every field of `table` with rows `kind` into `group` (and its state/ subgroup). An
+  /// unused field (Presence::when_used) is written when it is set, or as `when_used`
+  /// says (ranks writing together, some of them without particles).
+  template <class Table, class Owner>
+  void fields(hdf5::Group& group, const Table& table, const Owner& owner, RowKind kind,
+              const Rows& rows, std::size_t material_count,
+              std::optional<bool> when_used = std::nullopt) {
+    const bool surfaces = with_surfaces(table, owner, kind);
+    for_each_field(table, [&](const auto& field) {
+      if (field.rows != kind) return;
+      const auto& values = field.of(owner);
+      if constexpr (std::is_same_v<std::remove_cvref_t<decltype(values)>, SurfaceStresses>) {
+        if (values.per_point > 0) surface_column(group, values, rows);
+      } else {
+        if (field.presence == Presence::when_used && !when_used.value_or(!values.empty())) return;
+        column(group, field, values, rows, material_count, surfaces);
+      }
+    });
+  }
+
+ private:
+  /// The state/ subgroup of `parent`, created when it is not there yet.
+  static hdf5::Group state_group(hdf5::Group& parent) {
+    return parent.contains("state") ? parent.open_group("state") : parent.create_group("state");
+  }
+
+  template <class FieldT, class T>
+  void column(hdf5::Group& group, const FieldT& field, const std::vector<T>& values,
+              const Rows& rows, std::size_t material_count, bool surfaces) {
+    const std::string_view name = field.name;
+    if constexpr (std::is_same_v<T, double>) {
+      if (field.check == Check::positive)
+        require_positive(where(group, name), values, rows, name);
+      doubles(group, name, values, 0, rows, field.unit);
+    } else if constexpr (std::is_same_v<T, std::int32_t>) {
+      material_ids(group, values, rows, material_count);
+    } else if constexpr (std::is_same_v<T, std::int64_t>) {
+      if (field.check == Check::unique_id) require_unique_ids(where(group, name), values, rows);
+      indices(group, name, values, 0, rows,
+              field.check == Check::source_element ? std::optional(source_element_range)
+                                                   : std::nullopt);
+    } else if constexpr (std::is_same_v<T, MaterialState>) {
+      require_count(where(group, name), values.size(), 0, rows);
+      hdf5::Group state = state_group(group);
+      for (const StateField& member : material_state_fields) {
+        if (member.presence == StatePresence::with_surfaces && !surfaces) continue;
+        doubles(state, member.name, state_column(values, member.member), 0, rows, member.unit);
+      }
+    } else {
+      if constexpr (std::is_same_v<T, Vec2>) {
+        if (field.check == Check::positive_size)
+          require_positive_sizes(where(group, name), values, rows);
+      }
+      vectors<T::RowsAtCompileTime>(group, name, values, rows, field.unit);
+    }
+  }
+
+  /// The multi-yield surfaces, [sxx, syy, szz, sxy] per surface, n × 4·per_point.
+  void surface_column(hdf5::Group& group, const SurfaceStresses& surfaces, const Rows& rows) {
     std::vector<double> flat(surfaces.values.size() * 4);
     for (std::size_t i = 0; i < surfaces.values.size(); ++i) {
       for (int k = 0; k < 4; ++k) flat[4 * i + static_cast<std::size_t>(k)] = surfaces.values[i][k];
     }
-    doubles(group, "surface_stress", flat, width, rows, "Pa");
+    hdf5::Group state = state_group(group);
+    doubles(state, "surface_stress", flat, 4 * surfaces.per_point, rows, "Pa");
   }
 
- private:
   static Shape shape(std::size_t width, const Rows& rows) {
     return width == 0 ? Shape{rows.count} : Shape{rows.count, width};
   }
@@ -476,10 +528,7 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
   hdf5::Group n = file.create_group("nodes");
   writer.vectors<2>(n, "reference_coordinates", mesh.nodes, nodes, "m");
   writer.vectors<2>(n, "coordinates", c.coordinates, nodes, "m");
-  writer.vectors<2>(n, "displacement", c.displacement, nodes, "m");
-  writer.vectors<2>(n, "velocity", c.velocity, nodes, "m/s");
-  writer.vectors<2>(n, "acceleration", c.acceleration, nodes, "m/s^2");
-  writer.doubles(n, "pore_pressure", c.pore_pressure, 0, nodes, "Pa");
+  writer.fields(n, fe_fields, c, RowKind::node, nodes, c.materials.size());
 
   hdf5::Group e = file.create_group("elements");
   hdf5::Dataset connectivity = writer.indices(e, "connectivity", mesh.connectivity,
@@ -496,9 +545,7 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
                    "reference volume");
   writer.doubles(e, "volume_reference", c.volume_reference, 0, elements, "m^3/m");
   writer.doubles(e, "volume", c.volume, 0, elements, "m^3/m");
-  if (!c.hourglass_force.empty()) {
-    writer.vectors<2>(e, "hourglass_force", c.hourglass_force, elements, "N/m");
-  }
+  writer.fields(e, fe_fields, c, RowKind::element, elements, c.materials.size());
 
   hdf5::Group g = file.create_group("gauss_points");
   writer.indices(g, "element", c.gauss_element, 0, gauss, below(elements.count, "n_elements"));
@@ -506,10 +553,8 @@ void write_fem(Writer& writer, const FemCheckpoint& c) {
   writer.vectors<2>(g, "coordinates", c.gauss_coordinates, gauss, "m");
   require_positive(writer.where(g, "weight"), c.gauss_weight, gauss, "weight");
   writer.doubles(g, "weight", c.gauss_weight, 0, gauss, "1");
-  writer.vectors<4>(g, "stress", c.stress, gauss, "Pa");
-  writer.vectors<4>(g, "strain", c.strain, gauss, "1");
   writer.doubles(g, "eps_q", c.eps_q, 0, gauss, "1");
-  writer.state(g, c.state, c.surface_stress, gauss);
+  writer.fields(g, fe_fields, c, RowKind::gauss_point, gauss, c.materials.size());
 
   write_boundary(writer, c, nodes);
   write_solver(writer, c.solver);
@@ -538,7 +583,7 @@ bool is_default(const TransferSettings& t) {
 }
 
 /// `share`: this rank's rows when several write the file together; `affine`: whether
-/// the particles carry C_p (on every rank, also one without particles).
+/// the particles carry APIC's C_p (only an APIC run writes it), on every rank.
 void write_particles(Writer& writer, const ParticleCheckpoint& c,
                      const hdf5::RowShare* share = nullptr, std::optional<bool> affine = {}) {
   hdf5::File& file = writer.file();
@@ -548,28 +593,8 @@ void write_particles(Writer& writer, const ParticleCheckpoint& c,
   const Particles& p = c.particles;
   const Rows particles{"particle", "n_p", p.coordinates.size(), share};
   hdf5::Group g = file.create_group("particles");
-  writer.vectors<2>(g, "coordinates", p.coordinates, particles, "m");
-  writer.vectors<2>(g, "displacement", p.displacement, particles, "m");
-  writer.vectors<2>(g, "velocity", p.velocity, particles, "m/s");
-  writer.vectors<4>(g, "stress", p.stress, particles, "Pa");
-  writer.vectors<4>(g, "strain", p.strain, particles, "1");
-  writer.doubles(g, "eps_q", p.eps_q, 0, particles, "1");
-  writer.doubles(g, "pore_pressure", p.pore_pressure, 0, particles, "Pa");
-  require_positive(writer.where(g, "volume"), p.volume, particles, "volume");
-  writer.doubles(g, "volume", p.volume, 0, particles, "m^3/m");
-  require_positive(writer.where(g, "mass"), p.mass, particles, "mass");
-  writer.doubles(g, "mass", p.mass, 0, particles, "kg/m");
-  require_positive_sizes(writer.where(g, "size"), p.size, particles);
-  writer.vectors<2>(g, "size", p.size, particles, "m");
-  writer.material_ids(g, p.material_id, particles, c.materials.size());
-  writer.indices(g, "element", p.element, 0, particles, source_element_range);
-  require_unique_ids(writer.where(g, "id"), p.id, particles);
-  writer.indices(g, "id", p.id, 0, particles, std::nullopt);
-  writer.state(g, p.state, p.surface_stress, particles);
-  // APIC's affine velocity C_p: only particles that carry it (an APIC run) write it.
-  if (affine.value_or(!p.affine_velocity.empty())) {
-    writer.vectors<4>(g, "affine_velocity_gradient", p.affine_velocity, particles, "1/s");
-  }
+  // `affine`: whether the particles carry C_p (on every rank, also one without particles).
+  writer.fields(g, particle_fields, p, RowKind::particle, particles, c.materials.size(), affine);
 
   if (c.header.kind == CheckpointKind::particles || !is_default(c.transfer)) {
     write_transfer(writer, c.transfer);
@@ -633,22 +658,61 @@ class Reader {
     return std::vector<std::int32_t>(wide.begin(), wide.end());  // in range: fits
   }
 
-  std::vector<MaterialState> state(std::string_view group, const Rows& rows) const {
-    std::vector<MaterialState> state =
-        material_state(doubles(fmt::format("{}/plastic_shear_strain", group), 0, rows),
-                       doubles(fmt::format("{}/plastic_volumetric_strain", group), 0, rows));
-    const std::string peak = fmt::format("{}/peak_strength", group);
-    if (file_.contains(relative(peak))) {
-      const std::vector<double> values = doubles(peak, 0, rows);
-      for (std::size_t i = 0; i < state.size(); ++i) state[i].peak_strength = values[i];
+  /// Every field of `table` with rows `kind` from the group `group` (e.g. "/particles"),
+  /// checked; an unused field (Presence::when_used) and the multi-yield surfaces when the
+  /// file has them, else left empty.
+  template <class Table, class Owner>
+  void fields(const Table& table, Owner& owner, RowKind kind, std::string_view group,
+              const Rows& rows, std::size_t material_count) const {
+    for_each_field(table, [&](const auto& field) {
+      if (field.rows != kind) return;
+      auto& values = field.of(owner);
+      const std::string path = fmt::format("{}/{}", group, field.name);
+      if constexpr (std::is_same_v<std::remove_cvref_t<decltype(values)>, SurfaceStresses>) {
+        values = surface_stress(path, rows);
+      } else {
+        if (field.presence == Presence::when_used && !file_.contains(relative(path))) return;
+        column(field, values, path, rows, material_count);
+      }
+    });
+  }
+
+ private:
+  template <class FieldT, class T>
+  void column(const FieldT& field, std::vector<T>& values, const std::string& path,
+              const Rows& rows, std::size_t material_count) const {
+    if constexpr (std::is_same_v<T, double>) {
+      values = doubles(path, 0, rows);
+      if (field.check == Check::positive) require_positive(where(path), values, rows, field.name);
+    } else if constexpr (std::is_same_v<T, std::int32_t>) {
+      values = material_ids(path, rows, material_count);
+    } else if constexpr (std::is_same_v<T, std::int64_t>) {
+      values = indices(path, 0, rows,
+                       field.check == Check::source_element ? std::optional(source_element_range)
+                                                            : std::nullopt);
+      if (field.check == Check::unique_id) require_unique_ids(where(path), values, rows);
+    } else if constexpr (std::is_same_v<T, MaterialState>) {
+      values.assign(rows.held ? rows.held->count : rows.count, MaterialState{});
+      for (const StateField& member : material_state_fields) {
+        const std::string column_path = fmt::format("{}/{}", path, member.name);
+        // Only multi-yield runs store the frozen peak strength.
+        if (member.presence == StatePresence::with_surfaces &&
+            !file_.contains(relative(column_path)))
+          continue;
+        const std::vector<double> read = doubles(column_path, 0, rows);
+        for (std::size_t i = 0; i < values.size(); ++i) values[i].*member.member = read[i];
+      }
+    } else {
+      values = vectors<T::RowsAtCompileTime>(path, rows);
+      if constexpr (std::is_same_v<T, Vec2>) {
+        if (field.check == Check::positive_size) require_positive_sizes(where(path), values, rows);
+      }
     }
-    return state;
   }
 
   /// The multi-yield surface stresses, if the file has them (n × 4·surfaces).
-  SurfaceStresses surface_stress(std::string_view group, const Rows& rows) const {
+  SurfaceStresses surface_stress(const std::string& path, const Rows& rows) const {
     SurfaceStresses surfaces;
-    const std::string path = fmt::format("{}/surface_stress", group);
     if (!file_.contains(relative(path))) return surfaces;
     const hdf5::Shape shape = file_.open_dataset(relative(path)).shape();
     const std::size_t width = shape.size() == 2 ? shape[1] : 0;
@@ -662,7 +726,6 @@ class Reader {
     return surfaces;
   }
 
- private:
   static std::string_view relative(std::string_view path) { return path.substr(1); }
 
   void require_type_class(const hdf5::Dataset& dataset, TypeClass expected) const {
@@ -1018,10 +1081,7 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
                                         2, "node", "n_nodes");
   c.mesh.nodes = reader.vectors<2>("/nodes/reference_coordinates", nodes);
   c.coordinates = reader.vectors<2>("/nodes/coordinates", nodes);
-  c.displacement = reader.vectors<2>("/nodes/displacement", nodes);
-  c.velocity = reader.vectors<2>("/nodes/velocity", nodes);
-  c.acceleration = reader.vectors<2>("/nodes/acceleration", nodes);
-  c.pore_pressure = reader.doubles("/nodes/pore_pressure", 0, nodes);
+  reader.fields(fe_fields, c, RowKind::node, "/nodes", nodes, c.materials.size());
 
   // The element type: `integration` names the rule, `type` the shape it must agree with.
   const hdf5::Dataset connectivity = reader.file().open_dataset("elements/connectivity");
@@ -1049,9 +1109,7 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   require_positive(reader.where("/elements/volume_reference"), c.volume_reference, elements,
                    "reference volume");
   c.volume = reader.doubles("/elements/volume", 0, elements);
-  if (reader.file().contains("elements/hourglass_force")) {
-    c.hourglass_force = reader.vectors<2>("/elements/hourglass_force", elements);
-  }
+  reader.fields(fe_fields, c, RowKind::element, "/elements", elements, c.materials.size());
 
   const Rows gauss =
       reader.define_rows("/gauss_points/element", TypeClass::integer, 0, "Gauss point", "n_gp");
@@ -1061,11 +1119,8 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   c.gauss_coordinates = reader.vectors<2>("/gauss_points/coordinates", gauss);
   c.gauss_weight = reader.doubles("/gauss_points/weight", 0, gauss);
   require_positive(reader.where("/gauss_points/weight"), c.gauss_weight, gauss, "weight");
-  c.stress = reader.vectors<4>("/gauss_points/stress", gauss);
-  c.strain = reader.vectors<4>("/gauss_points/strain", gauss);
   c.eps_q = reader.doubles("/gauss_points/eps_q", 0, gauss);
-  c.state = reader.state("/gauss_points/state", gauss);
-  c.surface_stress = reader.surface_stress("/gauss_points/state", gauss);
+  reader.fields(fe_fields, c, RowKind::gauss_point, "/gauss_points", gauss, c.materials.size());
 
   read_boundary(reader, c, nodes);
   c.solver = read_solver(reader);
@@ -1089,33 +1144,12 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const Part& pa
     particles.held = hdf5::RowRange{rows.first, rows.count()};
     c.first_row = rows.first;
   }
-  Particles& p = c.particles;
-  p.coordinates = reader.vectors<2>("/particles/coordinates", particles);
-  p.displacement = reader.vectors<2>("/particles/displacement", particles);
-  p.velocity = reader.vectors<2>("/particles/velocity", particles);
-  p.stress = reader.vectors<4>("/particles/stress", particles);
-  p.strain = reader.vectors<4>("/particles/strain", particles);
-  p.eps_q = reader.doubles("/particles/eps_q", 0, particles);
-  p.pore_pressure = reader.doubles("/particles/pore_pressure", 0, particles);
-  p.volume = reader.doubles("/particles/volume", 0, particles);
-  require_positive(reader.where("/particles/volume"), p.volume, particles, "volume");
-  p.mass = reader.doubles("/particles/mass", 0, particles);
-  require_positive(reader.where("/particles/mass"), p.mass, particles, "mass");
-  p.size = reader.vectors<2>("/particles/size", particles);
-  p.material_id = reader.material_ids("/particles/material_id", particles, c.materials.size());
-  p.element = reader.indices("/particles/element", 0, particles, source_element_range);
-  p.id = reader.indices("/particles/id", 0, particles, std::nullopt);
-  require_unique_ids(reader.where("/particles/id"), p.id, particles);
-  require_positive_sizes(reader.where("/particles/size"), p.size, particles);
-  p.state = reader.state("/particles/state", particles);
-  p.surface_stress = reader.surface_stress("/particles/state", particles);
-  // Optional: absent (FLIP/PIC runs, fem2mpm) leaves it empty; an APIC run then starts
-  // its particles with C_p = 0. The B_p = C_p D_p that the first APIC version wrote as
-  // /particles/affine_velocity is not read (it needs the grid to convert): such a file
-  // restarts as one without affine velocities.
-  if (reader.file().contains("particles/affine_velocity_gradient")) {
-    p.affine_velocity = reader.vectors<4>("/particles/affine_velocity_gradient", particles);
-  }
+  // The affine velocity C_p is optional: absent (FLIP/PIC runs, fem2mpm) leaves it
+  // empty, and an APIC run then starts its particles with C_p = 0. The B_p = C_p D_p that
+  // the first APIC version wrote as /particles/affine_velocity is not read (it needs the
+  // grid to convert): such a file restarts as one without affine velocities.
+  reader.fields(particle_fields, c.particles, RowKind::particle, "/particles", particles,
+                c.materials.size());
 
   // A particle file always records its transfer; an mpm checkpoint when it came from one.
   if (c.header.kind == CheckpointKind::particles || reader.file().contains("transfer")) {

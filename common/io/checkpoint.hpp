@@ -20,6 +20,7 @@
 #include "common/base/types.hpp"
 #include "common/geometry/mesh.hpp"
 #include "common/physics/constitutive.hpp"
+#include "common/physics/fe_fields.hpp"
 #include "common/physics/ground_motion.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/particles.hpp"
@@ -78,8 +79,9 @@ CheckpointMotion checkpoint_motion(const GroundMotion& motion, std::string base,
 /// The motion a checkpoint recorded.
 GroundMotion ground_motion(const CheckpointMotion& motion);
 
-/// Kind "fem": the FE model at one time.
-struct FemCheckpoint {
+/// Kind "fem": the FE model at one time: its state (FeFields, common/physics/fe_fields.hpp)
+/// and what is derived from the mesh and the state for the transfer and the tools.
+struct FemCheckpoint : FeFields {
   CheckpointHeader header;
   Mesh mesh;  ///< reference coordinates, connectivity, material ids, boundary node sets
   /// Condition applied to each node set in the stage that wrote the file
@@ -87,12 +89,7 @@ struct FemCheckpoint {
   std::vector<BoundaryCondition> boundary_conditions;
   double friction_coefficient = 0.0;
 
-  // Nodes (n_nodes each).
-  std::vector<Vec2> coordinates;  ///< current x = X + u
-  std::vector<Vec2> displacement;
-  std::vector<Vec2> velocity;
-  std::vector<Vec2> acceleration;
-  std::vector<double> pore_pressure;
+  std::vector<Vec2> coordinates;  ///< per node: current x = X + u
 
   // Elements (n_elements each).
   std::vector<double> jacobian_ratio;  ///< |J_t|/|J_0| at the element centre
@@ -101,22 +98,13 @@ struct FemCheckpoint {
   std::vector<double> scaled_jacobian;
   std::vector<double> volume_reference;  ///< V_0^e
   std::vector<double> volume;            ///< V_t^e
-  /// Hourglass generalised forces of stabilised one-point quads (n_elements × 2); empty
-  /// when the element type has none or the kinematics recompute them from displacements.
-  std::vector<Vec2> hourglass_force;
 
   // Gauss points (n_gp each), element by element in the order of the element's rule.
   std::vector<Index> gauss_element;
   std::vector<Vec2> gauss_local_coordinates;
   std::vector<Vec2> gauss_coordinates;  ///< current x
   std::vector<double> gauss_weight;     ///< reference quadrature weight
-  std::vector<Vec4> stress;
-  std::vector<Vec4> strain;
-  std::vector<double> eps_q;
-  std::vector<MaterialState> state;
-  /// Multi-yield surface stresses, `surfaces` per Gauss point (empty when no material
-  /// uses the model).
-  SurfaceStresses surface_stress;
+  std::vector<double> eps_q;            ///< εq of `strain`
 
   MaterialTable materials;
   SolverSettings solver;

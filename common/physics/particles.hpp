@@ -1,13 +1,20 @@
 // Material points as a structure of arrays: one contiguous vector per field, indexed by
 // particle. The transfer fills it, the MPM kernels run over index ranges of it, and the
 // checkpoint module writes each vector as one dataset. No per-particle objects.
+//
+// particle_fields below lists every field once (common/physics/field_table.hpp): resizing,
+// the sort's permutation, the MPI packing, the memory count and the checkpoint reader and
+// writer all walk it. A new field is a member here and one entry there.
 #pragma once
 
 #include <cstdint>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "common/base/types.hpp"
 #include "common/physics/constitutive.hpp"
+#include "common/physics/field_table.hpp"
 
 namespace slide {
 
@@ -34,13 +41,40 @@ struct Particles {
   std::vector<Vec4> affine_velocity;
 
   std::size_t count() const { return coordinates.size(); }
-  /// Resizes every field to n (new entries zero-initialised); an empty affine_velocity
+  /// Resizes every field to n (new entries zero, element −1); an empty affine_velocity
   /// stays empty.
   void resize(std::size_t n);
   /// Releases the spare capacity of every field (one field reallocated at a time).
   void shrink_to_fit();
   /// Throws Error naming the field when the fields do not all have the same length.
   void check_consistent_sizes() const;
+  /// Bytes held by the particle arrays.
+  std::size_t bytes() const;
 };
+
+/// Every field of Particles, with its dataset under /particles and its unit
+/// (common/io/checkpoint-schema.md), in the order of a checkpoint and of an MPI message.
+inline constexpr std::tuple particle_fields{
+    field(&Particles::coordinates, "coordinates", "m"),
+    field(&Particles::displacement, "displacement", "m"),
+    field(&Particles::velocity, "velocity", "m/s"),
+    field(&Particles::stress, "stress", "Pa"),
+    field(&Particles::strain, "strain", "1"),
+    field(&Particles::eps_q, "eps_q", "1"),
+    field(&Particles::pore_pressure, "pore_pressure", "Pa"),
+    field(&Particles::volume, "volume", "m^3/m", {.check = Check::positive}),
+    field(&Particles::mass, "mass", "kg/m", {.check = Check::positive}),
+    field(&Particles::size, "size", "m", {.check = Check::positive_size}),
+    field(&Particles::material_id, "material_id", "1", {.check = Check::material}),
+    field(&Particles::element, "element", "1", {.check = Check::source_element, .fill = Fill::minus_one}),
+    field(&Particles::id, "id", "1", {.check = Check::unique_id}),
+    field(&Particles::state, "state", ""),
+    field(&Particles::surface_stress, "state/surface_stress", "Pa"),
+    field(&Particles::affine_velocity, "affine_velocity_gradient", "1/s",
+          {.presence = Presence::when_used}),
+};
+using ParticleFieldTable = std::remove_const_t<decltype(particle_fields)>;
+static_assert(listed_bytes<ParticleFieldTable>() == sizeof(Particles),
+              "a member of Particles is missing from particle_fields");
 
 }  // namespace slide

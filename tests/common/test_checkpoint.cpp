@@ -187,7 +187,7 @@ FemCheckpoint sample_fem(ElementType type) {
   c.stress = f.vec4s(n_gp);
   c.strain = f.vec4s(n_gp);
   c.eps_q = f.positives(n_gp);
-  c.state = f.states(n_gp);
+  c.material_state = f.states(n_gp);
 
   c.materials = sample_materials();
   c.solver = {{"stage", std::string("failure")},
@@ -345,7 +345,7 @@ void expect_identical(const FemCheckpoint& a, const FemCheckpoint& b) {
   expect_identical<4>(a.stress, b.stress, "stress");
   expect_identical<4>(a.strain, b.strain, "strain");
   expect_identical(a.eps_q, b.eps_q, "eps_q");
-  expect_identical(a.state, b.state, "state");
+  expect_identical(a.material_state, b.material_state, "state");
   expect_identical(a.materials, b.materials);
   expect_identical(a.solver, b.solver);
 }

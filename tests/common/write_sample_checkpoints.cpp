@@ -85,7 +85,7 @@ FemCheckpoint sample_fem() {
       c.stress.emplace_back(-1000.0 * (g + 1), -2000.0 * (g + 1), -1500.0 * (g + 1), 100.0 * g);
       c.strain.emplace_back(1.0e-4 * g, -2.0e-4 * g, 0.0, 5.0e-5 * g);
       c.eps_q.push_back(0.001 * g);
-      c.state.push_back({0.01 * g, 0.0});
+      c.material_state.push_back({0.01 * g, 0.0});
     }
   }
   c.materials = sample_materials();

@@ -1,0 +1,58 @@
+// The state of an FE model that evolves and that checkpoints carry: per node the
+// displacement, velocity, acceleration and pore pressure, per element the hourglass
+// forces of one-point quads, per Gauss point the stress, strain and the material's state.
+// fem-solve's FemState and the checkpoint module's FemCheckpoint both hold it, and
+// fe_fields lists it once (common/physics/field_table.hpp): sizing a state, checking
+// one read from a file and the checkpoint reader and writer walk the list.
+#pragma once
+
+#include <tuple>
+#include <type_traits>
+#include <vector>
+
+#include "common/base/types.hpp"
+#include "common/physics/constitutive.hpp"
+#include "common/physics/field_table.hpp"
+
+namespace slide {
+
+struct FeFields {
+  // Nodes. In the FE phase the velocity is the mid-step velocity v_{n+1/2} of the
+  // leapfrog scheme and the acceleration (v_{n+1/2} − v_{n−1/2})/dt.
+  std::vector<Vec2> displacement;     ///< u since t = 0, m
+  std::vector<Vec2> velocity;         ///< m/s
+  std::vector<Vec2> acceleration;     ///< m/s²
+  std::vector<double> pore_pressure;  ///< Pa, compression positive (0 for dry analyses)
+
+  // Elements: the hourglass generalised force Q = ∫ K_q dq of one-point quads, N (per m);
+  // empty for the other element types.
+  std::vector<Vec2> hourglass_force;
+
+  // Gauss points, element by element in the order of the element's rule.
+  std::vector<Vec4> stress;  ///< [σxx, σyy, σzz, σxy], Pa, tension positive
+  std::vector<Vec4> strain;  ///< total strain since t = 0, [εxx, εyy, εzz, γxy]
+  std::vector<MaterialState> material_state;
+  /// Multi-yield surface stresses of the failure-stage models (none when no material
+  /// uses the model in FE).
+  SurfaceStresses surface_stress;
+};
+
+/// Every field of FeFields with its rows, dataset (under /nodes, /elements or
+/// /gauss_points) and unit (common/io/checkpoint-schema.md).
+inline constexpr std::tuple fe_fields{
+    field(&FeFields::displacement, "displacement", "m", {.rows = RowKind::node}),
+    field(&FeFields::velocity, "velocity", "m/s", {.rows = RowKind::node}),
+    field(&FeFields::acceleration, "acceleration", "m/s^2", {.rows = RowKind::node}),
+    field(&FeFields::pore_pressure, "pore_pressure", "Pa", {.rows = RowKind::node}),
+    field(&FeFields::hourglass_force, "hourglass_force", "N/m",
+          {.rows = RowKind::element, .presence = Presence::when_used}),
+    field(&FeFields::stress, "stress", "Pa", {.rows = RowKind::gauss_point}),
+    field(&FeFields::strain, "strain", "1", {.rows = RowKind::gauss_point}),
+    field(&FeFields::material_state, "state", "", {.rows = RowKind::gauss_point}),
+    field(&FeFields::surface_stress, "state/surface_stress", "Pa", {.rows = RowKind::gauss_point}),
+};
+using FeFieldTable = std::remove_const_t<decltype(fe_fields)>;
+static_assert(listed_bytes<FeFieldTable>() == sizeof(FeFields),
+              "a member of FeFields is missing from fe_fields");
+
+}  // namespace slide
