@@ -17,26 +17,10 @@
 #include <vector>
 
 #include "common/base/log.hpp"
-#include "common/input/case_file.hpp"
+#include "common/base/types.hpp"
+#include "fem/fem_plan.hpp"
 
 namespace slide::fem {
-
-struct FemOptions {
-  std::filesystem::path output_dir;
-  std::optional<double> until;                   ///< end time instead of fem.end_time
-  std::optional<std::filesystem::path> restart;  ///< a kind "fem" checkpoint
-  double checkpoint_every = 0.0;                 ///< extra checkpoint cadence, s (0: none)
-  bool checkpoint_at_zone_exit = false;
-  bool write_vtk = true;
-  /// --vtk-every: VTK frames every this many seconds (0: at every output step); none:
-  /// the case's fem.vtk_every, else run::automatic_vtk_every.
-  std::optional<double> vtk_every;
-  std::optional<ElementType> element;    ///< overrides mesh.element
-  std::optional<Kinematics> kinematics;  ///< overrides fem.kinematics
-  /// Read and check the case and the mesh, or the restart checkpoint, then return before
-  /// the first file is written (the fuzz drivers, tests/fuzz/).
-  bool inputs_only = false;
-};
 
 struct FemRunSummary {
   Index steps = 0;  ///< time steps taken by this run
@@ -54,9 +38,11 @@ struct FemRunSummary {
   std::vector<std::filesystem::path> checkpoints;  ///< written by this run
 };
 
-/// Runs the FE phase of `c`. Throws Error (one line) on bad input, on an instability
-/// and on an element inversion in updated Lagrangian mode; checkpoints already written
-/// stay as they are and no partial one is left.
-FemRunSummary run_fem(const Case& c, const FemOptions& options, const Logger& logger);
+/// Runs the FE phase as `plan` says (fem_plan.hpp): the stage (explicit_stage.hpp) handed
+/// to the shared run lifecycle (run::execute: outputs, the guard, the loop, the summary
+/// line). Throws Error (one line) on bad input, on an instability and on an element
+/// inversion in updated Lagrangian mode; checkpoints already written stay as they are
+/// and no partial one is left.
+FemRunSummary run_fem(const FemPlan& plan, const Logger& log);
 
 }  // namespace slide::fem

@@ -16,6 +16,7 @@
 #include "common/base/program.hpp"
 #include "common/geometry/element.hpp"
 #include "common/input/case_file.hpp"
+#include "fem/fem_plan.hpp"
 #include "fem/fem_solver.hpp"
 
 int main(int argc, char** argv) {
@@ -62,12 +63,6 @@ int main(int argc, char** argv) {
     }
     options.write_vtk = !no_vtk;
     if (app.count("--vtk-every") > 0) options.vtk_every = vtk_every;
-    const fem::FemRunSummary summary = fem::run_fem(c, options, logger);
-    const double rate =
-        summary.wall_seconds > 0.0
-            ? static_cast<double>(summary.elements * summary.steps) / summary.wall_seconds
-            : 0.0;
-    logger.result("summary: steps={} elements={} wall_s={:.3f} element_steps_per_s={:.4g}",
-                  summary.steps, summary.elements, summary.wall_seconds, rate);
+    fem::run_fem(fem::plan_fem(c, options), logger);  // ends with the summary line
   });
 }

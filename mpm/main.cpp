@@ -19,6 +19,8 @@
 #include "common/base/log.hpp"
 #include "common/base/program.hpp"
 #include "common/base/ranks.hpp"
+#include "common/input/case_file.hpp"
+#include "mpm/mpm_plan.hpp"
 #include "mpm/mpm_run.hpp"
 
 int main(int argc, char** argv) {
@@ -74,8 +76,6 @@ int main(int argc, char** argv) {
       options.shape_function = shape == "gimp" ? ShapeFunction::gimp : ShapeFunction::linear;
     if (!scheme.empty())
       options.update_scheme = scheme == "musl" ? UpdateScheme::musl : UpdateScheme::usl;
-    const mpm::RunSummary s = mpm::run_mpm(c, options, log);
-    log.result("summary: steps={} particles={} wall_s={:.3f} particle_steps_per_s={:.4g}", s.steps,
-               s.particles, s.wall_seconds, s.particle_steps_per_second);
+    mpm::run_mpm(mpm::plan_mpm(c, options), log);  // ends with the summary line
   });
 }

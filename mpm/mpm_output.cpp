@@ -9,6 +9,7 @@
 
 #include "common/base/error.hpp"
 #include "common/base/program.hpp"
+#include "common/run/restart_record.hpp"
 #include "common/physics/runout_metrics.hpp"
 
 namespace slide::mpm {
@@ -49,20 +50,49 @@ SolverSettings settings_record(const MpmSettings& s, double time_step, double co
   return r;
 }
 
-std::string show(const SettingValue& v) {
-  return std::visit([](const auto& x) { return fmt::format("{}", x); }, v);
-}
-
-template <class T>
-T setting(const SolverSettings& s, const std::string& key, const std::string& source) {
-  const auto found = s.find(key);
-  if (found == s.end())
-    throw Error("{}: /solver attribute {} missing (not an mpm-solve checkpoint?)", source, key);
-  if (const T* value = std::get_if<T>(&found->second)) return *value;
-  throw Error("{}: /solver attribute {} has the wrong type", source, key);
-}
+/// The restart record's entries (common/run/restart_record.hpp), each checked on reading.
+constexpr std::array<run::RecordEntry<MpmRecord>, 12> record_table{{
+    {"stage", &MpmRecord::stage},
+    {"previous_time_step", &MpmRecord::previous_time_step, 0.0},
+    {"steps_since_sort", &MpmRecord::steps_since_sort, 0.0},
+    // Absent in checkpoints of earlier versions: sorted (checkpointed after steps).
+    {"sorted_once", &MpmRecord::sorted_once, 0.0, 1.0, run::Need::optional},
+    {"frozen_particles", &MpmRecord::frozen_particles, 0.0},
+    {"reference_height", &MpmRecord::reference_height, 0.0},
+    {"initial_energy", &MpmRecord::initial_energy},
+    {"energy_scale", &MpmRecord::energy_scale, 0.0},
+    {"rest_timer", &MpmRecord::rest_timer, 0.0},
+    {"time_step", &MpmRecord::time_step, 0.0},
+    // Absent before the step followed the particles' current density (the step itself
+    // was stored, no Courant number).
+    {"courant", &MpmRecord::courant, 0.0, run::unbounded, run::Need::optional},
+    // Shaken runs only.
+    {"boundary_work", &MpmRecord::boundary_work, -run::unbounded, run::unbounded,
+     run::Need::optional},
+}};
 
 }  // namespace
+
+MpmRecord restart_record(const MpmSolver& solver, const RunReferences& references) {
+  const SolverClock& clock = solver.clock();
+  MpmRecord r;
+  r.stage = "mpm";
+  r.previous_time_step = clock.previous_dt;
+  r.steps_since_sort = clock.steps_since_sort;
+  // false in the checkpoint a run writes at its start, before its first step sorts: a
+  // restart from it then sorts too, and continues bit for bit.
+  r.sorted_once = clock.sorted_once;
+  // The file's count: every rank's frozen particles (they are the file's last rows).
+  r.frozen_particles =
+      static_cast<std::int64_t>(solver.ranks().sum(static_cast<double>(clock.frozen)));
+  r.reference_height = references.reference_height;
+  r.set_energy(references.energy);
+  r.rest_timer = references.rest_timer;
+  r.time_step = references.time_step;
+  r.courant = references.courant;
+  if (solver.base_motion()) r.boundary_work = clock.boundary_work;
+  return r;
+}
 
 void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunReferences& references,
                           const std::string& case_name, const TransferSettings& transfer,
@@ -76,29 +106,13 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   c.header.pe0 = references.pe0;
   c.materials = solver.materials();
   c.transfer = transfer;
-  c.solver = settings_record(solver.settings(), references.time_step, references.courant);
-  const SolverClock& clock = solver.clock();
-  c.solver["previous_time_step"] = clock.previous_dt;
-  c.solver["steps_since_sort"] = clock.steps_since_sort;
-  // 0 in the checkpoint a run writes at its start, before its first step sorts: a
-  // restart from it then sorts too, and continues bit for bit.
-  c.solver["sorted_once"] = std::int64_t{clock.sorted_once ? 1 : 0};
-  const Ranks& ranks = solver.ranks();
-  // The file's count: every rank's frozen particles (they are the file's last rows).
-  c.solver["frozen_particles"] =
-      static_cast<std::int64_t>(ranks.sum(static_cast<double>(clock.frozen)));
-  c.solver["reference_height"] = references.reference_height;
-  c.solver["initial_energy"] = references.energy.initial_energy;
-  c.solver["energy_scale"] = references.energy.energy_scale;
-  c.solver["rest_timer"] = references.rest_timer;
-  if (motion) {
-    c.motion = motion;
-    c.solver["boundary_work"] = clock.boundary_work;
-  }
+  c.motion = motion;
+  c.solver = run::merged(ran_with(solver.settings(), references.time_step, references.courant),
+                         run::write_record(restart_record(solver, references), record_table));
   // Borrow the arrays (moves, no copy) and give them back whatever the write does.
   c.particles = solver.lend_particles();
   try {
-    write_checkpoint_on_ranks(path, c, clock.frozen, ranks);
+    write_checkpoint_on_ranks(path, c, solver.clock().frozen, solver.ranks());
   } catch (...) {
     solver.return_particles(std::move(c.particles));
     throw;
@@ -112,70 +126,31 @@ void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string&
     throw Error("{}: is a {} file; --restart takes an mpm-solve checkpoint (kind mpm)", source,
                 to_string(checkpoint.header.kind));
   }
-  const SolverSettings& s = checkpoint.solver;
-  // Every counter and reference is checked here, so that a damaged value is named at
-  // once instead of surfacing later as a misleading failure (a NaN step as a
-  // "non-finite position").
-  const auto at_least = [&](const std::string& key, double low) {
-    const double value = setting<double>(s, key, source);
-    if (!(std::isfinite(value) && value >= low)) {
-      throw Error("{}: /solver attribute {} = {} is out of range (expected a finite value ≥ {})",
-                  source, key, value, low);
-    }
-    return value;
-  };
+  MpmRecord defaults;
+  defaults.sorted_once = true;
+  const MpmRecord r = run::read_record(checkpoint.solver, record_table, source, defaults);
+  if (static_cast<std::size_t>(r.frozen_particles) > checkpoint.file_rows) {
+    throw Error("{}: /solver attribute frozen_particles = {} is out of range (the file has {} "
+                "particles)",
+                source, r.frozen_particles, checkpoint.file_rows);
+  }
   clock.time = checkpoint.header.time;
   clock.step = checkpoint.header.step;
-  clock.previous_dt = at_least("previous_time_step", 0.0);
-  clock.steps_since_sort = setting<std::int64_t>(s, "steps_since_sort", source);
-  if (clock.steps_since_sort < 0) {
-    throw Error("{}: /solver attribute steps_since_sort = {} is out of range (expected ≥ 0)",
-                source, clock.steps_since_sort);
-  }
-  // Checkpoints written before the key existed: sorted (a run checkpointed after steps).
-  clock.sorted_once = true;
-  if (s.contains("sorted_once")) {
-    const auto sorted = setting<std::int64_t>(s, "sorted_once", source);
-    if (sorted != 0 && sorted != 1) {
-      throw Error("{}: /solver attribute sorted_once = {} is out of range (expected 0 or 1)",
-                  source, sorted);
-    }
-    clock.sorted_once = sorted == 1;
-  }
-  const auto frozen = setting<std::int64_t>(s, "frozen_particles", source);
-  if (frozen < 0 || static_cast<std::size_t>(frozen) > checkpoint.particles.count()) {
-    throw Error("{}: /solver attribute frozen_particles = {} is out of range", source, frozen);
-  }
-  clock.frozen = static_cast<std::size_t>(frozen);
-  if (s.contains("boundary_work")) {
-    clock.boundary_work = setting<double>(s, "boundary_work", source);
-    if (!std::isfinite(clock.boundary_work)) {
-      throw Error("{}: /solver attribute boundary_work = {} is not finite", source,
-                  clock.boundary_work);
-    }
-  }
+  clock.previous_dt = r.previous_time_step;
+  clock.steps_since_sort = r.steps_since_sort;
+  clock.sorted_once = r.sorted_once;
+  clock.frozen = static_cast<std::size_t>(r.frozen_particles);
+  clock.boundary_work = r.boundary_work.value_or(0.0);
   references.pe0 = checkpoint.header.pe0;
-  references.reference_height = at_least("reference_height", 0.0);
-  references.energy.initial_energy =
-      at_least("initial_energy", std::numeric_limits<double>::lowest());
-  references.energy.energy_scale = at_least("energy_scale", 0.0);
-  references.rest_timer = at_least("rest_timer", 0.0);
-  references.time_step = at_least("time_step", 0.0);
-  // Checkpoints before the step followed the particles' current density stored the
-  // step itself and no Courant number.
-  if (s.contains("courant")) references.courant = at_least("courant", 0.0);
+  references.reference_height = r.reference_height;
+  references.energy = *r.energy();
+  references.rest_timer = r.rest_timer;
+  references.time_step = r.time_step;
+  references.courant = r.courant;
 }
 
-std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
-                                          double time_step, double courant) {
-  std::vector<std::string> changes;
-  for (const auto& [key, value] : settings_record(settings, time_step, courant)) {
-    const auto found = stored.find(key);
-    if (found == stored.end()) continue;
-    if (found->second != value)
-      changes.push_back(fmt::format("{} {} → {}", key, show(found->second), show(value)));
-  }
-  return changes;
+SolverSettings ran_with(const MpmSettings& settings, double time_step, double courant) {
+  return settings_record(settings, time_step, courant);
 }
 
 // ----------------------------------------------------------------------------- history

@@ -11,6 +11,7 @@
 #include "common/io/checkpoint.hpp"
 #include "common/io/vtk_output.hpp"
 #include "common/run/history_csv.hpp"
+#include "common/run/restart_record.hpp"
 #include "common/run/stability_guard.hpp"
 #include "mpm/mpm_solver.hpp"
 
@@ -27,6 +28,19 @@ struct RunReferences {
   double courant = 0.0;           ///< C of the Courant step (with time_step 0)
 };
 
+/// The restart record of an "mpm" checkpoint (common/run/restart_record.hpp): the solver's
+/// clock beyond time and step, the guard's references and the step rule.
+struct MpmRecord : run::RunRecord {
+  double previous_time_step = 0.0;  ///< Δt_{n−1}, s
+  std::int64_t steps_since_sort = 0;
+  bool sorted_once = false;
+  std::int64_t frozen_particles = 0;  ///< the file's last rows
+  double reference_height = 0.0;      ///< H of the speed bound, m
+  double rest_timer = 0.0;            ///< s
+  double time_step = 0.0;             ///< the case's fixed Δt, s (0: Courant)
+  double courant = 0.0;
+};
+
 /// Writes the solver's state as a kind "mpm" checkpoint (atomically, common/io/checkpoint.hpp)
 /// straight from the solver's particle arrays, which it borrows for the write instead of
 /// copying them (a copy would double the particle memory at every checkpoint).
@@ -35,15 +49,15 @@ void write_mpm_checkpoint(const std::filesystem::path& path, MpmSolver& solver,
                           const TransferSettings& transfer,
                           const std::optional<CheckpointMotion>& motion = std::nullopt);
 
-/// Restores the counters and references of a kind "mpm" checkpoint; throws Error naming
-/// `source` when a setting is missing.
+/// Restores the counters and references of a kind "mpm" checkpoint; Error naming
+/// `source` and the /solver key when one is missing, of the wrong type or out of range.
 void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string& source,
                         SolverClock& clock, RunReferences& references);
 
-/// The settings stored in an "mpm" checkpoint that differ from `settings` ("key: old →
-/// new" entries), to report when a restart runs with an edited case.
-std::vector<std::string> changed_settings(const SolverSettings& stored, const MpmSettings& settings,
-                                          double time_step, double courant);
+/// The settings a run with `settings` and the step rule (`time_step`, `courant`) records
+/// in its checkpoints' /solver group, which a restart compares with its own
+/// (run::changed_settings) to say what an edited case changed.
+SolverSettings ran_with(const MpmSettings& settings, double time_step, double courant);
 
 /// mpm_history.csv: one row per output step with the docs/contract.md columns, through
 /// common/run/history_csv.hpp. The runout is measured as sweep.csv measures it (docs/method.md

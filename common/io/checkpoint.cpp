@@ -1069,6 +1069,11 @@ CheckpointHeader read_checkpoint_header(const fs::path& path) {
   return read_header(reader.file());
 }
 
+TransferSettings read_checkpoint_transfer(const fs::path& path) {
+  const Reader reader(path);
+  return reader.file().contains("transfer") ? read_transfer(reader) : TransferSettings{};
+}
+
 FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   const Reader reader(path);
   FemCheckpoint c;

@@ -155,5 +155,8 @@ ParticleCheckpoint read_particle_checkpoint(const std::filesystem::path& path,
                                             const Part& part = {});
 /// Reads and validates only the file attributes.
 CheckpointHeader read_checkpoint_header(const std::filesystem::path& path);
+/// The /transfer group of a particle checkpoint (the defaults when it has none: an mpm
+/// checkpoint of pure MPM).
+TransferSettings read_checkpoint_transfer(const std::filesystem::path& path);
 
 }  // namespace slide

@@ -1,23 +1,89 @@
 #include "common/run/stage.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <limits>
 
 #include <fmt/format.h>
 
 #include "common/base/error.hpp"
 #include "common/io/atomic_file.hpp"
+#include "common/run/stability_guard.hpp"
 
 namespace slide::run {
 
-bool drive(Stage& stage, const OutputSchedule& schedule, bool checkpoint_at_end) {
-  while (!schedule.is_end(stage.time())) {
-    const double stop = schedule.next_stop(stage.time());
-    const bool reached = stage.advance_to(stop);
+/// The outputs of one run: the guard before each, the frame and checkpoint it asks for.
+struct Lifecycle {
+  Stage& stage;
+  const Plan& plan;
+  double last_output_time = -std::numeric_limits<double>::infinity();
+
+  /// The output of the current state; `start`: the stage's first (a frame whatever the
+  /// cadence). A time already written is written again only for a checkpoint.
+  void output(bool checkpoint, bool start) {
     const double now = stage.time();
-    stage.write_output(schedule.is_checkpoint(now) || (checkpoint_at_end && schedule.is_end(now)));
-    if (!reached) return false;
+    if (now == last_output_time && !checkpoint) return;
+    last_output_time = now;
+    if (const auto problem = stage.check_stability()) {
+      const std::filesystem::path& last = stage.last_checkpoint();
+      throw InstabilityError(
+          "instability at t = {:.6g} s (step {}): {}; stopped, the last good checkpoint is {} "
+          "(restart from it with a smaller time step or more damping)",
+          now, stage.step(), *problem, last.empty() ? "none" : last.string());
+    }
+    const OutputSchedule& schedule = plan.schedule;
+    const bool end_checkpoint = plan.output.checkpoint_at_end && schedule.is_end(now);
+    OutputStep step;
+    if (checkpoint || end_checkpoint) {
+      step.checkpoint =
+          plan.output.folder / checkpoint_file_name(plan.output.checkpoint_prefix, now);
+    }
+    step.frame = plan.output.write_vtk &&
+                 is_vtk_frame(now, plan.output.vtk_every, start || !step.checkpoint.empty());
+    stage.write_output(step);
+    if (!step.checkpoint.empty()) set_last_checkpoint(step.checkpoint);
   }
-  return true;
+
+  void set_last_checkpoint(const std::filesystem::path& file) { stage.last_checkpoint_ = file; }
+
+  /// The loop: every stop of the schedule from the stage's time to the end. False when
+  /// the stage came to rest first.
+  bool loop() {
+    const OutputSchedule& schedule = plan.schedule;
+    while (!schedule.is_end(stage.time())) {
+      const bool reached = stage.advance_to(schedule.next_stop(stage.time()));
+      output(schedule.is_checkpoint(stage.time()), false);
+      if (!reached) return false;
+    }
+    return true;
+  }
+};
+
+RunResult execute(Stage& stage, const Plan& plan, const Logger& log, const Ranks& ranks) {
+  std::filesystem::create_directories(plan.output.folder);
+  if (ranks.root()) remove_temporaries_of_killed_runs(plan.output.folder, log);
+  ranks.barrier();  // no rank writes before the root has cleared the folder
+  Lifecycle run{stage, plan};
+  if (plan.start == Start::restart) run.set_last_checkpoint(plan.start_file);
+  stage.open_outputs(plan.resume_outputs);
+  const auto wall_start = std::chrono::steady_clock::now();
+  const StartOutput first = stage.start();
+  if (first != StartOutput::none) {
+    const bool first_output = first == StartOutput::first;
+    run.output(first_output && plan.output.checkpoint_at_start &&
+                   plan.schedule.is_checkpoint(stage.time()),
+               first_output);
+  }
+  RunResult result;
+  result.reached_end = run.loop();
+  result.wall_seconds = ranks.max(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
+  stage.finish();
+  result.work = stage.work();
+  const double rate = result.wall_seconds > 0.0 ? result.work.unit_steps / result.wall_seconds : 0.0;
+  log.result("summary: steps={} {}s={} wall_s={:.3f} {}_steps_per_s={:.4g}", result.work.steps,
+             result.work.unit, result.work.units, result.wall_seconds, result.work.unit, rate);
+  return result;
 }
 
 std::string checkpoint_file_name(std::string_view prefix, double time) {

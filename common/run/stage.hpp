@@ -5,35 +5,103 @@
 // history format and the checkpoint names are here, once (common/run/README.md).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "common/base/log.hpp"
+#include "common/base/ranks.hpp"
 #include "common/physics/material.hpp"
 #include "common/run/output_schedule.hpp"
+#include "common/run/plan.hpp"
 
 namespace slide::run {
 
-/// What the loop needs of a stage.
+/// What execute asks a stage to write at one output step.
+struct OutputStep {
+  bool frame = false;  ///< a VTK frame
+  /// A checkpoint of the current state to this file (empty: none).
+  std::filesystem::path checkpoint;
+};
+
+/// What the summary line counts.
+struct Work {
+  std::int64_t steps = 0;   ///< steps this run took
+  std::string unit;         ///< "element" or "particle"
+  std::int64_t units = 0;   ///< how many of them
+  double unit_steps = 0.0;  ///< Σ over the steps of the units that moved (the rate's numerator)
+};
+
+/// The output a stage's start needs.
+enum class StartOutput {
+  none,   ///< none: the run continues outputs written already (a restart)
+  row,    ///< an output like any stop's (a restart whose history lacks its time)
+  first,  ///< the stage's first: a frame whatever the cadence, a checkpoint where the
+          ///< schedule has one and the plan checkpoints the start
+};
+
+/// What the run lifecycle needs of a stage (fem-solve's explicit FE stage, mpm-solve).
 class Stage {
  public:
   virtual ~Stage() = default;
-  /// The time of the current state, s.
+  /// The time and step of the current state.
   virtual double time() const = 0;
+  virtual std::int64_t step() const = 0;
+  /// Opens the history, the VTK series and the stage's other outputs in the prepared
+  /// output folder, keeping what an earlier run wrote up to now when `resume`.
+  virtual void open_outputs(bool resume) = 0;
+  /// Brings the state to the start of the loop (fem-solve's geostatic stage and the
+  /// switch to the failure models, pure MPM's initial stresses, the guard's references),
+  /// and says what output that start needs.
+  virtual StartOutput start() = 0;
   /// Steps up to `stop` and lands on it exactly. False when the stage stopped earlier
   /// because it is done (a body at rest): the loop then writes that state and ends.
   virtual bool advance_to(double stop) = 0;
-  /// Checks the state (the instability guard; InstabilityError) and writes the history
-  /// row, the VTK frame and, when `checkpoint`, a checkpoint of the current state.
-  virtual void write_output(bool checkpoint) = 0;
+  /// The instability guard (docs/method.md §5): nothing when the state passes, else the
+  /// diagnosis (which check, where). Collective on several ranks.
+  virtual std::optional<std::string> check_stability() = 0;
+  /// The history row, and what `step` asks for.
+  virtual void write_output(const OutputStep& step) = 0;
+  /// After the loop: the stage's last files and reports.
+  virtual void finish() = 0;
+  virtual Work work() const = 0;
+
+  /// The last checkpoint written (or the one the run restarted from): what an
+  /// instability's message names. Kept by execute.
+  const std::filesystem::path& last_checkpoint() const { return last_checkpoint_; }
+
+ protected:
+  /// A checkpoint the stage wrote of its own (fem-solve's geostatic state, the zone exit).
+  void note_checkpoint(const std::filesystem::path& file) { last_checkpoint_ = file; }
+
+ private:
+  friend struct Lifecycle;
+  std::filesystem::path last_checkpoint_;
 };
 
-/// Runs `stage` from its time to the schedule's end: at every stop of the schedule it
-/// writes the output, with a checkpoint where the schedule has one (and at the end when
-/// `checkpoint_at_end`). Returns false when the stage ended early (at rest).
-bool drive(Stage& stage, const OutputSchedule& schedule, bool checkpoint_at_end);
+/// What a run did.
+struct RunResult {
+  Work work;
+  double wall_seconds = 0.0;  ///< the start output and the loop (the slowest rank's)
+  bool reached_end = true;    ///< false: the stage ended early (at rest)
+};
+
+/// Carries out `plan` with `stage`, the lifecycle every stage shares:
+///   1. the output folder made, the temporaries of killed runs removed;
+///   2. the stage's outputs opened (resumed on restart), its start, the start's output;
+///   3. the loop: at every stop of the schedule the guard, then the output (the history
+///      row, a VTK frame on the cadence, at the start, the checkpoints and, with
+///      checkpoint_at_end, the end; a checkpoint where the schedule has one); a stage at
+///      rest ends it;
+///   4. the stage's finish, the wall time, the summary line.
+/// A failed guard is an InstabilityError naming the check, the time and step, and the
+/// last good checkpoint; nothing of that step is written. Collective on several ranks
+/// (the root alone clears the folder and logs).
+RunResult execute(Stage& stage, const Plan& plan, const Logger& log,
+                  const Ranks& ranks = Ranks::single());
 
 /// "fem_t2.000.h5": the checkpoint file name of a stage (`prefix` "fem" or "mpm") at
 /// time t, three decimals (docs/contract.md).

@@ -30,7 +30,7 @@ void check_like_fem_solve_restart(const std::filesystem::path& file, const Case&
   fem::FemOptions options = fuzz::fem_solve_inputs_only();
   options.restart = file;
   options.element = element;
-  fem::run_fem(c, options, fuzz::quiet_logger());
+  fem::run_fem(fem::plan_fem(c, options), fuzz::quiet_logger());
 }
 
 }  // namespace

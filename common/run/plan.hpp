@@ -1,0 +1,53 @@
+// run::Plan: what a run of one stage does, resolved once, before anything is written, from
+// the case, the command line and (on restart) the checkpoint: where the state comes from,
+// when the run ends and stops to write, what it writes where. fem-solve and mpm-solve each
+// resolve theirs (fem/fem_plan.hpp, mpm/mpm_plan.hpp) with their own typed settings
+// beside it; run::execute (common/run/stage.hpp) carries it out.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "common/run/output_schedule.hpp"
+
+namespace slide::run {
+
+/// Where a run's state comes from.
+enum class Start {
+  case_geometry,  ///< the case's mesh: fem-solve's geostatic stage, pure MPM
+  particle_file,  ///< mpm-solve --particles: a transfer's particles, a new run from them
+  restart,        ///< a checkpoint of the stage itself: the run continues
+};
+
+/// What a run writes where.
+struct OutputPlan {
+  std::filesystem::path folder;
+  /// "fem" or "mpm": checkpoints are folder/<prefix>_t<T>.h5 (checkpoint_file_name).
+  std::string checkpoint_prefix;
+  bool write_vtk = true;
+  double vtk_every = 0.0;  ///< s between frames (0: every output step)
+  /// The end time is a checkpoint too (fem-solve: a later run continues from it).
+  bool checkpoint_at_end = false;
+  /// A fresh stage's first output is a checkpoint where the schedule has one (mpm-solve:
+  /// mpm_t<t_T>.h5; fem-solve's start is fem_t0.000.h5 already, the geostatic state).
+  bool checkpoint_at_start = false;
+};
+
+struct Plan {
+  std::string case_name;
+  Start start = Start::case_geometry;
+  std::filesystem::path start_file;  ///< the particle file or checkpoint (Start::case_geometry: none)
+  OutputSchedule schedule{0.0, 0.0, {}, {}};
+  OutputPlan output;
+  /// The run continues outputs an earlier run wrote (history rows and VTK frames up to
+  /// its start are kept): a restart, except fem-solve's from its geostatic checkpoint.
+  bool resume_outputs = false;
+  /// Read and check every input, then stop before the first file is written (the fuzz
+  /// drivers, tests/fuzz/).
+  bool inputs_only = false;
+
+  double end_time() const { return schedule.end_time(); }
+};
+
+}  // namespace slide::run
