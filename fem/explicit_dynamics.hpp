@@ -29,9 +29,9 @@
 #include <span>
 #include <vector>
 
-#include "common/settings/fem_spec.hpp"
 #include "common/physics/constitutive.hpp"
 #include "common/physics/nodal_update.hpp"
+#include "common/settings/fem_spec.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/seismic_boundary.hpp"
 

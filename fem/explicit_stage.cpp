@@ -99,8 +99,7 @@ void FemOutputs::track_zone(const HistoryRow& row, const FemState& state, Write&
       "εq,avg = {:.4f})",
       state.time, row.jacobian_ratio_avg, row.eps_q_avg);
   if (!zone_state_) return;
-  const auto file =
-      plan_.run.output.folder / run::checkpoint_file_name("fem", zone_state_->time);
+  const auto file = plan_.run.output.folder / run::checkpoint_file_name("fem", zone_state_->time);
   // A regular checkpoint of that time, or fem_t0.000.h5 at t = 0, already serves.
   if (written_this_run(file) || zone_state_->time <= run::OutputSchedule::tolerance(0.0)) {
     log_.info("zone-exit checkpoint: {} (already written)", file.string());
@@ -127,8 +126,8 @@ ExplicitStage::ExplicitStage(const FemPlan& plan, const FemModel& model, const L
   }
   time_step_ = fem.time_step > 0.0
                    ? fem.time_step
-                   : damped_time_step(courant_time_step(model, model.mesh.nodes, 1.0),
-                                      fem.courant, fem.damping.rayleigh_stiffness);
+                   : damped_time_step(courant_time_step(model, model.mesh.nodes, 1.0), fem.courant,
+                                      fem.damping.rayleigh_stiffness);
   if (!fem.failure_stage) return;
   // A run too long to finish (a huge stiffness, a tiny fixed step) and a bad motion are
   // refused now, before the geostatic checkpoint is written.
@@ -138,8 +137,8 @@ ExplicitStage::ExplicitStage(const FemPlan& plan, const FemModel& model, const L
   if (!plan.restart) return;
   const std::string& kinematics = plan.record.kinematics;
   if (!kinematics.empty() && kinematics != to_string(fem.kinematics)) {
-    log.warning("{}: written with {} kinematics, continued with {}",
-                plan.run.start_file.string(), kinematics, to_string(fem.kinematics));
+    log.warning("{}: written with {} kinematics, continued with {}", plan.run.start_file.string(),
+                kinematics, to_string(fem.kinematics));
   }
   log.info("restart from {} (t = {:.3f} s, step {}, stage {})", plan.run.start_file.string(),
            state_.time, state_.step, plan.record.stage);
@@ -220,7 +219,9 @@ double ExplicitStage::step_for(const FemState& state) {
 
 // ----------------------------------------------------------------------------- start
 
-void ExplicitStage::open_outputs(bool resume) { outputs_.open(resume, state_.time); }
+void ExplicitStage::open_outputs(bool resume) {
+  outputs_.open(resume, state_.time);
+}
 
 run::StartOutput ExplicitStage::start() {
   if (!plan_.restart) {
@@ -286,8 +287,7 @@ void ExplicitStage::start_shaking(bool from_geostatic_state) {
   } else {
     FemState geostatic = make_rest_state(model_);
     solve_geostatic(
-        model_,
-        make_constraints(model_.mesh, fem.geostatic_boundaries, "fem.geostatic.boundaries"),
+        model_, make_constraints(model_.mesh, fem.geostatic_boundaries, "fem.geostatic.boundaries"),
         geostatic);
     reactions = support_reactions(model_, geostatic);
   }
@@ -335,8 +335,8 @@ void ExplicitStage::set_guard_limits(bool fresh_stage) {
   measures_.step = -1;  // the switch changed the stresses at the same time and step
   const Measures& m = measure();
   GuardLimits& limits = guard_.limits;
-  limits.speed_limit = run::speed_limit(plan_.source.fem.speed_limit_factor, gravity_acceleration,
-                                        model_.height);
+  limits.speed_limit =
+      run::speed_limit(plan_.source.fem.speed_limit_factor, gravity_acceleration, model_.height);
   const Energies& energies = m.energies;
   limits.energy.initial_energy = total_energy(energies);
   limits.energy.energy_scale = releasable_potential_energy(model_) + energies.elastic +
@@ -431,8 +431,8 @@ double ExplicitStage::total_energy(const Energies& energies) const {
 std::optional<std::string> ExplicitStage::check_stability() {
   if (!guard_.on) return std::nullopt;
   const Measures& m = measure();
-  std::string diagnosis = fem::check_stability(model_, state_, m.coordinates,
-                                               total_energy(m.energies), guard_.limits);
+  std::string diagnosis =
+      fem::check_stability(model_, state_, m.coordinates, total_energy(m.energies), guard_.limits);
   if (diagnosis.empty()) return std::nullopt;
   return diagnosis;
 }
@@ -593,7 +593,7 @@ FemRunSummary ExplicitStage::summary(const run::RunResult& result) const {
       zone = "no output step";
     }
     log_.info("recommended transfer zone ((|J_t|/|J_0|)_avg ≥ {}, εq,avg ≤ {}): {}",
-                 zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, zone);
+              zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, zone);
     const auto first = [&](const std::optional<double>& t) {
       return t ? fmt::format("first at {}", at(*t)) : std::string("never");
     };
@@ -606,7 +606,7 @@ FemRunSummary ExplicitStage::summary(const run::RunResult& result) const {
                   first(summary.first_time_jacobian_ratio_negative))
             : std::string("no element inverted (det J > 0 at every corner at every output step)");
     log_.info("{}; KE/PE0 peak {:.5f} at {}", inversion, summary.ke_over_pe0_max,
-                 at(summary.ke_over_pe0_max_time));
+              at(summary.ke_over_pe0_max_time));
   }
   const std::string text = fmt::format(
       "# fem-solve summary of case {} (times in s; docs/method.md §3)\n"

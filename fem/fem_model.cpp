@@ -119,7 +119,8 @@ FemState make_rest_state(const FemModel& model) {
   state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
   resize_rows(fe_fields, state, RowKind::node, static_cast<std::size_t>(model.node_count()));
   resize_rows(fe_fields, state, RowKind::element, static_cast<std::size_t>(model.element_count()));
-  resize_rows(fe_fields, state, RowKind::gauss_point, static_cast<std::size_t>(model.gauss_count()));
+  resize_rows(fe_fields, state, RowKind::gauss_point,
+              static_cast<std::size_t>(model.gauss_count()));
   state.yielded.assign(static_cast<std::size_t>(model.gauss_count()), 0);
   return state;
 }

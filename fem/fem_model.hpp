@@ -88,8 +88,8 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
 /// The evolving state (common/physics/fe_fields.hpp: what checkpoints carry) with its
 /// clock and the yield flags of the last update.
 struct FemState : FeFields {
-  double time = 0.0;  ///< s, t = 0 at the start of the failure stage
-  Index step = 0;     ///< time steps since t = 0
+  double time = 0.0;                  ///< s, t = 0 at the start of the failure stage
+  Index step = 0;                     ///< time steps since t = 0
   std::vector<std::uint8_t> yielded;  ///< 1 where the point yielded in the last update
 };
 

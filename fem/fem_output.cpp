@@ -70,9 +70,10 @@ FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& check
   require_rows(RowKind::gauss_point, model.gauss_count(), "gauss_points");
   if (model.hourglass &&
       checkpoint.hourglass_force.size() != static_cast<std::size_t>(model.element_count())) {
-    throw Error("{}: /elements/hourglass_force does not have {} rows: the quad4-1gp elements "
-                "need their hourglass forces",
-                file.string(), model.element_count());
+    throw Error(
+        "{}: /elements/hourglass_force does not have {} rows: the quad4-1gp elements "
+        "need their hourglass forces",
+        file.string(), model.element_count());
   }
   FemState state;
   static_cast<FeFields&>(state) = checkpoint;

@@ -115,10 +115,13 @@ FemPlan plan_fem(const Case& original, const FemOptions& options) {
   run.schedule = run::OutputSchedule(end, c.fem.output_every,
                                      {c.fem.checkpoint_every, options.checkpoint_every},
                                      c.fem.checkpoint_times);
-  run.output = {options.output_dir, "fem", options.write_vtk,
-                run::choose_vtk_every(options.vtk_every, c.fem.vtk_every, 0.0, end,
-                                      c.fem.output_every),
-                c.fem.failure_stage, false};
+  run.output = {
+      options.output_dir,
+      "fem",
+      options.write_vtk,
+      run::choose_vtk_every(options.vtk_every, c.fem.vtk_every, 0.0, end, c.fem.output_every),
+      c.fem.failure_stage,
+      false};
   run.inputs_only = options.inputs_only;
   if (options.restart) {
     run.start = run::Start::restart;

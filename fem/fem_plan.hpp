@@ -11,11 +11,11 @@
 #include <string>
 
 #include "common/geometry/mesh.hpp"
-#include "common/settings/fem_spec.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/physics/material.hpp"
 #include "common/run/plan.hpp"
 #include "common/run/restart_record.hpp"
+#include "common/settings/fem_spec.hpp"
 
 namespace slide {
 struct Case;  // common/input/case_file.hpp: only plan_fem reads it

@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "common/base/log.hpp"
-#include "common/settings/fem_spec.hpp"
 #include "common/physics/ground_motion.hpp"
+#include "common/settings/fem_spec.hpp"
 #include "fem/fem_model.hpp"
 
 namespace slide::fem {

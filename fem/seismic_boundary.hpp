@@ -30,8 +30,8 @@
 #include <utility>
 #include <vector>
 
-#include "common/settings/fem_spec.hpp"
 #include "common/physics/ground_motion.hpp"
+#include "common/settings/fem_spec.hpp"
 #include "fem/fem_model.hpp"
 
 namespace slide::fem {

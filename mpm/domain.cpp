@@ -157,8 +157,9 @@ void for_each_entry(P& p, std::size_t k, const PackedLayout& layout, F&& f) {
 std::size_t PackedLayout::bytes() const {
   std::size_t total = 0;
   const Particles none;
-  for_each_field(particle_fields,
-                 [&](const auto& field) { total += packed_bytes(field.of(none), field.presence, *this); });
+  for_each_field(particle_fields, [&](const auto& field) {
+    total += packed_bytes(field.of(none), field.presence, *this);
+  });
   return total;
 }
 

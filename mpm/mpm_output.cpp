@@ -9,90 +9,12 @@
 
 #include "common/base/error.hpp"
 #include "common/base/program.hpp"
-#include "common/run/restart_record.hpp"
 #include "common/physics/runout_metrics.hpp"
+#include "mpm/mpm_record.hpp"
 
 namespace slide::mpm {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string_view exit_name(ParticleExit e) {
-  return e == ParticleExit::freeze ? "freeze" : "remove";
-}
-
-/// The settings a run used, as stored in /solver.
-SolverSettings settings_record(const MpmSettings& s, double time_step, double courant) {
-  SolverSettings r;
-  r["stage"] = std::string("mpm");
-  r["domain_min_x"] = s.grid.origin.x();
-  r["domain_min_y"] = s.grid.origin.y();
-  r["cells_x"] = std::int64_t{s.grid.cells_x};
-  r["cells_y"] = std::int64_t{s.grid.cells_y};
-  r["cell_size"] = s.grid.cell_size;
-  r["shape_function"] = std::string(to_string(s.shape_function));
-  r["update_scheme"] = std::string(to_string(s.update_scheme));
-  r["velocity_transfer"] = std::string(to_string(s.velocity_transfer));
-  r["pic_fraction"] = s.pic_fraction;
-  r["volumetric_smoothing"] = std::string(to_string(s.volumetric_smoothing));
-  r["local_damping"] = s.damping.local;
-  r["friction_coefficient"] = s.boundaries.friction_coefficient;
-  const char* edges[] = {"left", "right", "base", "top"};
-  for (int e = 0; e < 4; ++e) {
-    r[fmt::format("boundary_{}", edges[e])] =
-        std::string(to_string(s.boundaries.edge[static_cast<std::size_t>(e)].condition));
-  }
-  r["particle_exit"] = std::string(exit_name(s.particle_exit));
-  r["sort_interval"] = std::int64_t{s.sort_interval};
-  r["time_step"] = time_step;
-  r["courant"] = courant;
-  return r;
-}
-
-/// The restart record's entries (common/run/restart_record.hpp), each checked on reading.
-constexpr std::array<run::RecordEntry<MpmRecord>, 12> record_table{{
-    {"stage", &MpmRecord::stage},
-    {"previous_time_step", &MpmRecord::previous_time_step, 0.0},
-    {"steps_since_sort", &MpmRecord::steps_since_sort, 0.0},
-    // Absent in checkpoints of earlier versions: sorted (checkpointed after steps).
-    {"sorted_once", &MpmRecord::sorted_once, 0.0, 1.0, run::Need::optional},
-    {"frozen_particles", &MpmRecord::frozen_particles, 0.0},
-    {"reference_height", &MpmRecord::reference_height, 0.0},
-    {"initial_energy", &MpmRecord::initial_energy},
-    {"energy_scale", &MpmRecord::energy_scale, 0.0},
-    {"rest_timer", &MpmRecord::rest_timer, 0.0},
-    {"time_step", &MpmRecord::time_step, 0.0},
-    // Absent before the step followed the particles' current density (the step itself
-    // was stored, no Courant number).
-    {"courant", &MpmRecord::courant, 0.0, run::unbounded, run::Need::optional},
-    // Shaken runs only.
-    {"boundary_work", &MpmRecord::boundary_work, -run::unbounded, run::unbounded,
-     run::Need::optional},
-}};
-
-}  // namespace
-
-MpmRecord restart_record(const MpmSolver& solver, const RunReferences& references) {
-  const SolverClock& clock = solver.clock();
-  MpmRecord r;
-  r.stage = "mpm";
-  r.previous_time_step = clock.previous_dt;
-  r.steps_since_sort = clock.steps_since_sort;
-  // false in the checkpoint a run writes at its start, before its first step sorts: a
-  // restart from it then sorts too, and continues bit for bit.
-  r.sorted_once = clock.sorted_once;
-  // The file's count: every rank's frozen particles (they are the file's last rows).
-  r.frozen_particles =
-      static_cast<std::int64_t>(solver.ranks().sum(static_cast<double>(clock.frozen)));
-  r.reference_height = references.reference_height;
-  r.set_energy(references.energy);
-  r.rest_timer = references.rest_timer;
-  r.time_step = references.time_step;
-  r.courant = references.courant;
-  if (solver.base_motion()) r.boundary_work = clock.boundary_work;
-  return r;
-}
 
 void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunReferences& references,
                           const std::string& case_name, const TransferSettings& transfer,
@@ -107,8 +29,7 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   c.materials = solver.materials();
   c.transfer = transfer;
   c.motion = motion;
-  c.solver = run::merged(ran_with(solver.settings(), references.time_step, references.courant),
-                         run::write_record(restart_record(solver, references), record_table));
+  c.solver = write_record(solver, references);
   // Borrow the arrays (moves, no copy) and give them back whatever the write does.
   c.particles = solver.lend_particles();
   try {
@@ -118,39 +39,6 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
     throw;
   }
   solver.return_particles(std::move(c.particles));
-}
-
-void read_restart_state(const ParticleCheckpoint& checkpoint, const std::string& source,
-                        SolverClock& clock, RunReferences& references) {
-  if (checkpoint.header.kind != CheckpointKind::mpm) {
-    throw Error("{}: is a {} file; --restart takes an mpm-solve checkpoint (kind mpm)", source,
-                to_string(checkpoint.header.kind));
-  }
-  MpmRecord defaults;
-  defaults.sorted_once = true;
-  const MpmRecord r = run::read_record(checkpoint.solver, record_table, source, defaults);
-  if (static_cast<std::size_t>(r.frozen_particles) > checkpoint.file_rows) {
-    throw Error("{}: /solver attribute frozen_particles = {} is out of range (the file has {} "
-                "particles)",
-                source, r.frozen_particles, checkpoint.file_rows);
-  }
-  clock.time = checkpoint.header.time;
-  clock.step = checkpoint.header.step;
-  clock.previous_dt = r.previous_time_step;
-  clock.steps_since_sort = r.steps_since_sort;
-  clock.sorted_once = r.sorted_once;
-  clock.frozen = static_cast<std::size_t>(r.frozen_particles);
-  clock.boundary_work = r.boundary_work.value_or(0.0);
-  references.pe0 = checkpoint.header.pe0;
-  references.reference_height = r.reference_height;
-  references.energy = *r.energy();
-  references.rest_timer = r.rest_timer;
-  references.time_step = r.time_step;
-  references.courant = r.courant;
-}
-
-SolverSettings ran_with(const MpmSettings& settings, double time_step, double courant) {
-  return settings_record(settings, time_step, courant);
 }
 
 // ----------------------------------------------------------------------------- history

@@ -31,20 +31,17 @@ MpmCase case_of(const Case& c, bool pure_mpm) {
   return source;
 }
 
-/// The file's header: of this case (or --other-case), and of an mpm run for a restart.
-CheckpointHeader checked_header(const Case& c, const RunOptions& options,
-                                const std::filesystem::path& path) {
-  const CheckpointHeader header = read_checkpoint_header(path);
-  if (header.case_name != c.name && !options.other_case) {
+/// The file a run starts from, but its particle rows: of this case (or --other-case),
+/// and for a restart an mpm checkpoint with a sound record.
+ParticleCheckpoint checked_start_file(const Case& c, const RunOptions& options,
+                                      const std::filesystem::path& path) {
+  ParticleCheckpoint file = read_particle_checkpoint_settings(path);
+  if (file.header.case_name != c.name && !options.other_case) {
     throw Error(
         "{}: written for case \"{}\", not for case \"{}\" of {} (--other-case to use it anyway)",
-        path.string(), header.case_name, c.name, c.file.string());
+        path.string(), file.header.case_name, c.name, c.file.string());
   }
-  if (options.restart_file && header.kind != CheckpointKind::mpm) {
-    throw Error("{}: is a {} file; --restart takes an mpm-solve checkpoint (kind mpm)",
-                path.string(), to_string(header.kind));
-  }
-  return header;
+  return file;
 }
 
 /// Refuses an end before the start, and a restart at its end: it has nothing to continue
@@ -91,10 +88,13 @@ MpmPlan plan_mpm(const Case& c, const RunOptions& options) {
   // the frames the uninterrupted run writes.
   double start_time = 0.0, stage_start = 0.0;
   if (!run.start_file.empty()) {
-    start_time = checked_header(c, options, run.start_file).time;
-    stage_start = run.start == run::Start::restart
-                      ? read_checkpoint_transfer(run.start_file).transfer_time
-                      : start_time;
+    const ParticleCheckpoint file = checked_start_file(c, options, run.start_file);
+    start_time = stage_start = file.header.time;
+    if (run.start == run::Start::restart) {
+      plan.record = read_mpm_record(file, run.start_file.string());
+      plan.stored_settings = file.solver;
+      stage_start = file.transfer.transfer_time;
+    }
   }
   const double end = std::min(c.mpm.end_time, options.until.value_or(c.mpm.end_time));
   run.schedule = run::OutputSchedule(end, c.mpm.output_every, {c.mpm.checkpoint_every},
@@ -102,12 +102,14 @@ MpmPlan plan_mpm(const Case& c, const RunOptions& options) {
   check_end(plan, start_time, options.until.has_value());
   // Every checkpoint under a name of its own (a fresh run checkpoints its start).
   run::check_checkpoint_cadence(c.mpm.checkpoint_every, "mpm.checkpoint_every");
-  run::check_checkpoint_times(c.mpm.checkpoint_times, "mpm", "mpm.checkpoint_times",
-                              {start_time});
-  run.output = {options.output_dir, "mpm", options.write_vtk,
+  run::check_checkpoint_times(c.mpm.checkpoint_times, "mpm", "mpm.checkpoint_times", {start_time});
+  run.output = {options.output_dir,
+                "mpm",
+                options.write_vtk,
                 run::choose_vtk_every(options.vtk_every, c.mpm.vtk_every, stage_start, end,
                                       c.mpm.output_every),
-                false, true};
+                false,
+                true};
   run.resume_outputs = run.start == run::Start::restart;
   run.inputs_only = options.inputs_only;
   return plan;

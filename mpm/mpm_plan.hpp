@@ -11,10 +11,11 @@
 #include <string>
 
 #include "common/geometry/mesh.hpp"
+#include "common/run/plan.hpp"
+#include "common/settings/fem_spec.hpp"
 #include "common/settings/metrics_spec.hpp"
 #include "common/settings/mpm_spec.hpp"
-#include "common/settings/fem_spec.hpp"
-#include "common/run/plan.hpp"
+#include "mpm/mpm_record.hpp"
 #include "mpm/mpm_solver.hpp"
 
 namespace slide {
@@ -62,6 +63,9 @@ struct MpmPlan {
   MpmCase source;
   MpmSettings settings;  ///< the solver's: the case's with the command line's overrides
   bool other_case = false;
+  /// A restart: the checkpoint's record, and the settings its run ran with.
+  std::optional<MpmRecord> record;
+  SolverSettings stored_settings;
 };
 
 /// Resolves the plan of a run of `c` with `options` (reading the header of the file it

@@ -46,9 +46,9 @@ void log_settings(const Logger& log, const MpmSettings& settings, const MpmSpec&
 void set_base_motion(const MpmPlan& plan, Start& start, MpmSolver& solver, const Logger& log) {
   const std::optional<MotionSpec>& spec = plan.source.motion;
   if (plan.run.start == run::Start::case_geometry && spec) {
-    start.motion = checkpoint_motion(make_ground_motion(*spec, time_step(plan.source.mpm, solver)),
-                                     std::string(to_string(spec->base)),
-                                     std::string(to_string(spec->input)));
+    start.motion =
+        checkpoint_motion(make_ground_motion(*spec, time_step(plan.source.mpm, solver)),
+                          std::string(to_string(spec->base)), std::string(to_string(spec->input)));
   }
   if (!start.motion) return;
   solver.set_base_motion(grid_motion(*start.motion), *start.motion);
@@ -150,9 +150,9 @@ void set_up(const MpmPlan& plan, Start& start, std::optional<MpmSolver>& solver,
     log_slabs(log, *domain, *solver);
   }
   const MpmSpec& spec = plan.source.mpm;
-  if (start.stored_settings) {
+  if (plan.record) {
     for (const auto& change : run::changed_settings(
-             *start.stored_settings, ran_with(plan.settings, spec.time_step, spec.courant))) {
+             plan.stored_settings, ran_with(plan.settings, spec.time_step, spec.courant))) {
       log.warning("restart with a changed setting (the case file's is used): {}", change);
     }
   }

@@ -20,12 +20,12 @@
 #include <vector>
 
 #include "common/base/error.hpp"
-#include "common/settings/mpm_spec.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/physics/constitutive.hpp"
 #include "common/physics/ground_motion.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/particles.hpp"
+#include "common/settings/mpm_spec.hpp"
 #include "mpm/domain.hpp"
 #include "mpm/grid.hpp"
 #include "mpm/kernels.hpp"

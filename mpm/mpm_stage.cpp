@@ -52,8 +52,7 @@ Start start_from_file(const MpmPlan& plan, const Logger& log, const Ranks& ranks
   start.transfer = file.transfer;
   start.motion = file.motion;
   if (restart) {
-    read_restart_state(file, path.string(), start.clock, start.references);
-    start.stored_settings = file.solver;
+    restore(*plan.record, file.header, start.clock, start.references);
     log.info("restart from {} at t = {} s (step {})", path.string(), start.clock.time,
              start.clock.step);
   } else {

@@ -23,13 +23,12 @@ namespace slide::mpm {
 
 /// What a run starts from: the particles (this rank's part), the solver's clock and the
 /// guard's references (a restart's, else set at the start), the transfer and the base
-/// motion the file records, and the settings a restart's run ran with.
+/// motion the file records.
 struct Start {
   Particles particles;
   SolverClock clock;
   RunReferences references;
   TransferSettings transfer;
-  std::optional<SolverSettings> stored_settings;
   std::optional<CheckpointMotion> motion;
 };
 

@@ -13,8 +13,8 @@
 #include "common/base/error.hpp"
 #include "common/base/log.hpp"
 #include "common/base/program.hpp"
-#include "common/io/atomic_file.hpp"
 #include "common/input/case_file.hpp"
+#include "common/io/atomic_file.hpp"
 #include "common/io/checkpoint.hpp"
 #include "transfer/transfer.hpp"
 

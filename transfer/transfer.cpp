@@ -67,7 +67,8 @@ FieldValues pack_gauss_fields(const FemCheckpoint& fem) {
     const auto i = static_cast<std::size_t>(g);
     values.row(g).segment<4>(stress_column) = fem.stress[i].transpose();
     values.row(g).segment<4>(strain_column) = fem.strain[i].transpose();
-    const MaterialState state = fem.material_state.empty() ? default_state() : fem.material_state[i];
+    const MaterialState state =
+        fem.material_state.empty() ? default_state() : fem.material_state[i];
     values(g, state_column + 0) = state.plastic_shear_strain;
     values(g, state_column + 1) = state.plastic_volumetric_strain;
     if (surfaces == 0) continue;

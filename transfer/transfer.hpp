@@ -30,8 +30,8 @@
 #include <optional>
 
 #include "common/base/log.hpp"
-#include "common/settings/transfer_spec.hpp"
 #include "common/io/checkpoint.hpp"
+#include "common/settings/transfer_spec.hpp"
 #include "transfer/particle_layout.hpp"
 #include "transfer/transfer_report.hpp"
 

@@ -2,8 +2,8 @@
 // GroundMotion both phases evaluate (common/physics/ground_motion.hpp).
 #pragma once
 
-#include "common/settings/fem_spec.hpp"
 #include "common/physics/ground_motion.hpp"
+#include "common/settings/fem_spec.hpp"
 
 namespace slide {
 

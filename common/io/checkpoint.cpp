@@ -344,8 +344,7 @@ class Writer {
               const Rows& rows, std::size_t material_count, bool surfaces) {
     const std::string_view name = field.name;
     if constexpr (std::is_same_v<T, double>) {
-      if (field.check == Check::positive)
-        require_positive(where(group, name), values, rows, name);
+      if (field.check == Check::positive) require_positive(where(group, name), values, rows, name);
       doubles(group, name, values, 0, rows, field.unit);
     } else if constexpr (std::is_same_v<T, std::int32_t>) {
       material_ids(group, values, rows, material_count);
@@ -1069,11 +1068,6 @@ CheckpointHeader read_checkpoint_header(const fs::path& path) {
   return read_header(reader.file());
 }
 
-TransferSettings read_checkpoint_transfer(const fs::path& path) {
-  const Reader reader(path);
-  return reader.file().contains("transfer") ? read_transfer(reader) : TransferSettings{};
-}
-
 FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   const Reader reader(path);
   FemCheckpoint c;
@@ -1133,7 +1127,11 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   return c;
 }
 
-ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const Part& part) {
+namespace {
+
+/// A particle checkpoint's attributes, materials, transfer, settings and motion, and the
+/// particle rows of `part` when one is given.
+ParticleCheckpoint read_particles(const fs::path& path, const std::optional<Part>& part) {
   const Reader reader(path);
   ParticleCheckpoint c;
   c.header = read_header(reader.file());
@@ -1144,17 +1142,19 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const Part& pa
   Rows particles =
       reader.define_rows("/particles/coordinates", TypeClass::floating_point, 2, "particle", "n_p");
   c.file_rows = particles.count;
-  if (part.parts > 1) {
-    const RowSpan rows = part.rows(particles.count);
-    particles.held = hdf5::RowRange{rows.first, rows.count()};
-    c.first_row = rows.first;
+  if (part) {
+    if (part->parts > 1) {
+      const RowSpan rows = part->rows(particles.count);
+      particles.held = hdf5::RowRange{rows.first, rows.count()};
+      c.first_row = rows.first;
+    }
+    // The affine velocity C_p is optional: absent (FLIP/PIC runs, fem2mpm) leaves it
+    // empty, and an APIC run then starts its particles with C_p = 0. The B_p = C_p D_p
+    // that the first APIC version wrote as /particles/affine_velocity is not read (it
+    // needs the grid to convert): such a file restarts as one without affine velocities.
+    reader.fields(particle_fields, c.particles, RowKind::particle, "/particles", particles,
+                  c.materials.size());
   }
-  // The affine velocity C_p is optional: absent (FLIP/PIC runs, fem2mpm) leaves it
-  // empty, and an APIC run then starts its particles with C_p = 0. The B_p = C_p D_p that
-  // the first APIC version wrote as /particles/affine_velocity is not read (it needs the
-  // grid to convert): such a file restarts as one without affine velocities.
-  reader.fields(particle_fields, c.particles, RowKind::particle, "/particles", particles,
-                c.materials.size());
 
   // A particle file always records its transfer; an mpm checkpoint when it came from one.
   if (c.header.kind == CheckpointKind::particles || reader.file().contains("transfer")) {
@@ -1163,6 +1163,16 @@ ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const Part& pa
   c.solver = read_solver(reader);
   c.motion = read_motion(reader);
   return c;
+}
+
+}  // namespace
+
+ParticleCheckpoint read_particle_checkpoint(const fs::path& path, const Part& part) {
+  return read_particles(path, part);
+}
+
+ParticleCheckpoint read_particle_checkpoint_settings(const fs::path& path) {
+  return read_particles(path, std::nullopt);
 }
 
 }  // namespace slide

@@ -153,10 +153,10 @@ FemCheckpoint read_fem_checkpoint(const std::filesystem::path& path);
 /// of `part` (Part::rows; their ids are then checked unique among themselves only).
 ParticleCheckpoint read_particle_checkpoint(const std::filesystem::path& path,
                                             const Part& part = {});
+/// Everything of a kind "particles" or "mpm" file but its particle rows (file_rows is
+/// set, the particles are empty): what a run decides before it reads them.
+ParticleCheckpoint read_particle_checkpoint_settings(const std::filesystem::path& path);
 /// Reads and validates only the file attributes.
 CheckpointHeader read_checkpoint_header(const std::filesystem::path& path);
-/// The /transfer group of a particle checkpoint (the defaults when it has none: an mpm
-/// checkpoint of pure MPM).
-TransferSettings read_checkpoint_transfer(const std::filesystem::path& path);
 
 }  // namespace slide

@@ -138,33 +138,43 @@ void resize(std::vector<T>& c, std::size_t n, Fill fill, Presence presence) {
   if (presence == Presence::when_used && c.empty()) return;
   c.resize(n, fill_value<T>(fill));
 }
-inline void resize(SurfaceStresses& c, std::size_t n, Fill, Presence) { c.resize(n); }
+inline void resize(SurfaceStresses& c, std::size_t n, Fill, Presence) {
+  c.resize(n);
+}
 
 template <class T>
 void shrink(std::vector<T>& c) {
   c.shrink_to_fit();
 }
-inline void shrink(SurfaceStresses& c) { c.values.shrink_to_fit(); }
+inline void shrink(SurfaceStresses& c) {
+  c.values.shrink_to_fit();
+}
 
 /// Rows the column holds (SurfaceStresses: points; 0 for an unused one).
 template <class T>
 std::size_t rows(const std::vector<T>& c) {
   return c.size();
 }
-inline std::size_t rows(const SurfaceStresses& c) { return c.points(); }
+inline std::size_t rows(const SurfaceStresses& c) {
+  return c.points();
+}
 
 /// Whether the run leaves the column unused (empty; surfaces without any per point).
 template <class T>
 bool unused(const std::vector<T>& c, Presence presence) {
   return presence == Presence::when_used && c.empty();
 }
-inline bool unused(const SurfaceStresses& c, Presence) { return c.per_point == 0; }
+inline bool unused(const SurfaceStresses& c, Presence) {
+  return c.per_point == 0;
+}
 
 template <class T>
 std::size_t bytes(const std::vector<T>& c) {
   return c.capacity() * sizeof(T);
 }
-inline std::size_t bytes(const SurfaceStresses& c) { return c.values.capacity() * sizeof(Vec4); }
+inline std::size_t bytes(const SurfaceStresses& c) {
+  return c.values.capacity() * sizeof(Vec4);
+}
 
 /// Row `from` copied to row `to` (an unused column has none).
 template <class T>

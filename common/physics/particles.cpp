@@ -4,11 +4,17 @@
 
 namespace slide {
 
-void Particles::resize(std::size_t n) { resize_rows(particle_fields, *this, RowKind::particle, n); }
+void Particles::resize(std::size_t n) {
+  resize_rows(particle_fields, *this, RowKind::particle, n);
+}
 
-void Particles::shrink_to_fit() { shrink_rows(particle_fields, *this); }
+void Particles::shrink_to_fit() {
+  shrink_rows(particle_fields, *this);
+}
 
-std::size_t Particles::bytes() const { return field_bytes(particle_fields, *this); }
+std::size_t Particles::bytes() const {
+  return field_bytes(particle_fields, *this);
+}
 
 void Particles::check_consistent_sizes() const {
   const std::size_t n = count();

@@ -37,7 +37,8 @@ struct OutputPlan {
 struct Plan {
   std::string case_name;
   Start start = Start::case_geometry;
-  std::filesystem::path start_file;  ///< the particle file or checkpoint (Start::case_geometry: none)
+  std::filesystem::path
+      start_file;  ///< the particle file or checkpoint (Start::case_geometry: none)
   OutputSchedule schedule{0.0, 0.0, {}, {}};
   OutputPlan output;
   /// The run continues outputs an earlier run wrote (history rows and VTK frames up to

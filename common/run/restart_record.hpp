@@ -137,7 +137,8 @@ Record read_record(const SolverSettings& settings, const Table& table, std::stri
             const auto* text = std::get_if<std::string>(&value);
             if (!text) throw wrong_type();
             target = *text;
-          } else if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::optional<double>>) {
+          } else if constexpr (std::is_same_v<T, double> ||
+                               std::is_same_v<T, std::optional<double>>) {
             const auto* number = std::get_if<double>(&value);
             if (!number) throw wrong_type();
             detail::check_range(entry, *number, source);
@@ -147,8 +148,8 @@ Record read_record(const SolverSettings& settings, const Table& table, std::stri
             if (!integer) throw wrong_type();
             const bool flag = std::is_same_v<T, bool>;
             if (flag && *integer != 0 && *integer != 1) {
-              throw Error("{}: /solver attribute {} = {} is out of range (expected 0 or 1)",
-                          source, entry.key, *integer);
+              throw Error("{}: /solver attribute {} = {} is out of range (expected 0 or 1)", source,
+                          entry.key, *integer);
             }
             detail::check_range(entry, static_cast<double>(*integer), source);
             target = static_cast<T>(*integer);

@@ -80,7 +80,8 @@ RunResult execute(Stage& stage, const Plan& plan, const Logger& log, const Ranks
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
   stage.finish();
   result.work = stage.work();
-  const double rate = result.wall_seconds > 0.0 ? result.work.unit_steps / result.wall_seconds : 0.0;
+  const double rate =
+      result.wall_seconds > 0.0 ? result.work.unit_steps / result.wall_seconds : 0.0;
   log.result("summary: steps={} {}s={} wall_s={:.3f} {}_steps_per_s={:.4g}", result.work.steps,
              result.work.unit, result.work.units, result.wall_seconds, result.work.unit, rate);
   return result;

@@ -115,7 +115,7 @@ ParticleCheckpoint sample_particles(const FemCheckpoint& fem) {
     p.size[g] = Vec2(0.5, 0.5);
     p.element[g] = fem.gauss_element[g];
     p.id[g] = static_cast<std::int64_t>(100 + g);
-    p.state[g] = fem.state[g];
+    p.state[g] = fem.material_state[g];
   }
   c.materials = fem.materials;
   c.transfer = {2.0, "2x2", "rbf", "linear", 0.5, 0};

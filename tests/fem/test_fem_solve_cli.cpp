@@ -109,8 +109,11 @@ void expect_identical(const fs::path& first, const fs::path& second) {
   expect_same(a.eps_q, b.eps_q, "eps_q");
   ASSERT_EQ(a.material_state.size(), b.material_state.size());
   for (std::size_t i = 0; i < a.material_state.size(); ++i) {
-    ASSERT_EQ(a.material_state[i].plastic_shear_strain, b.material_state[i].plastic_shear_strain) << i;
-    ASSERT_EQ(a.material_state[i].plastic_volumetric_strain, b.material_state[i].plastic_volumetric_strain) << i;
+    ASSERT_EQ(a.material_state[i].plastic_shear_strain, b.material_state[i].plastic_shear_strain)
+        << i;
+    ASSERT_EQ(a.material_state[i].plastic_volumetric_strain,
+              b.material_state[i].plastic_volumetric_strain)
+        << i;
     ASSERT_EQ(a.material_state[i].peak_strength, b.material_state[i].peak_strength) << i;
   }
   ASSERT_EQ(a.surface_stress.per_point, b.surface_stress.per_point);

@@ -1,28 +1,43 @@
-// The shared run loop: where it stops, what it asks the stage to write, an early end;
-// the guard's energy check at its tolerance.
+// The shared run lifecycle: where it stops, what it asks the stage to write (rows,
+// frames, checkpoints), the guard before every output, an early end; the guard's energy
+// check at its tolerance; the restart record's writer and validator.
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include "common/base/error.hpp"
+#include "common/run/restart_record.hpp"
 #include "common/run/stability_guard.hpp"
 #include "common/run/stage.hpp"
 
 namespace slide::run {
 namespace {
 
-/// A stage that records the loop's requests; it comes to rest at `rest_time`.
+/// A stage that records what the lifecycle asks of it; it comes to rest at `rest_time`,
+/// and its guard fails from `unstable_time` on.
 class RecordingStage final : public Stage {
  public:
-  explicit RecordingStage(double rest_time = std::numeric_limits<double>::infinity())
-      : rest_time_(rest_time) {}
+  explicit RecordingStage(double rest_time = std::numeric_limits<double>::infinity(),
+                          StartOutput first = StartOutput::first)
+      : rest_time_(rest_time), first_(first) {}
   double time() const override { return time_; }
+  std::int64_t step() const override { return steps_; }
+  void open_outputs(bool resume) override { opened_resumed = resume; }
+  StartOutput start() override {
+    started = true;
+    return first_;
+  }
   bool advance_to(double stop) override {
+    ++steps_;
     if (stop > rest_time_) {
       time_ = rest_time_;
       return false;
@@ -30,52 +45,151 @@ class RecordingStage final : public Stage {
     time_ = stop;
     return true;
   }
-  void write_output(bool checkpoint) override { outputs.push_back({time_, checkpoint}); }
+  std::optional<std::string> check_stability() override {
+    ++checks;
+    if (time_ >= unstable_time) return std::string("planted");
+    return std::nullopt;
+  }
+  void write_output(const OutputStep& step) override {
+    outputs.push_back({time_, !step.checkpoint.empty(), step.frame, step.checkpoint});
+  }
+  void finish() override { finished = true; }
+  Work work() const override { return {steps_, "point", 3, 3.0 * static_cast<double>(steps_)}; }
 
   struct Output {
     double time;
     bool checkpoint;
+    bool frame;
+    std::filesystem::path file;
   };
   std::vector<Output> outputs;
+  bool started = false, finished = false;
+  std::optional<bool> opened_resumed;
+  int checks = 0;
+  double unstable_time = std::numeric_limits<double>::infinity();
+  double time_ = 0.0;
 
  private:
-  double time_ = 0.0;
+  std::int64_t steps_ = 0;
   double rest_time_;
+  StartOutput first_;
 };
 
-TEST(Drive, WritesAtEveryStopWithTheCheckpointsTheScheduleHas) {
-  const OutputSchedule schedule(1.0, 0.25, {0.5}, {});
-  RecordingStage stage;
-  EXPECT_TRUE(drive(stage, schedule, true));
+std::filesystem::path scratch(const std::string& name) {
+  const auto folder = std::filesystem::path(SLIDE_BINARY_DIR) / "test-scratch" / "stage" / name;
+  std::filesystem::remove_all(folder);
+  return folder;
+}
+
+Plan plan_of(const OutputSchedule& schedule, const std::string& name, bool checkpoint_at_end,
+             bool checkpoint_at_start = false) {
+  Plan plan;
+  plan.schedule = schedule;
+  plan.output = {scratch(name), "fem", true, 0.5, checkpoint_at_end, checkpoint_at_start};
+  return plan;
+}
+
+const Logger quiet("test", true);
+
+TEST(Execute, WritesAtEveryStopWithTheCheckpointsTheScheduleHas) {
+  const Plan plan = plan_of(OutputSchedule(1.0, 0.25, {0.5}, {}), "stops", true);
+  RecordingStage stage(std::numeric_limits<double>::infinity(), StartOutput::none);
+  const RunResult result = execute(stage, plan, quiet);
+  EXPECT_TRUE(result.reached_end);
+  EXPECT_TRUE(stage.started && stage.finished);
+  EXPECT_EQ(stage.opened_resumed, false);
+  EXPECT_TRUE(std::filesystem::is_directory(plan.output.folder));
   ASSERT_EQ(stage.outputs.size(), 4U);
   const double times[] = {0.25, 0.5, 0.75, 1.0};
-  const bool checkpoints[] = {false, true, false, true};
+  const bool checkpoints[] = {false, true, false, true};  // 1.0: checkpoint_at_end
+  const bool frames[] = {false, true, false, true};       // every 0.5 s and at checkpoints
   for (std::size_t i = 0; i < 4; ++i) {
     EXPECT_EQ(stage.outputs[i].time, times[i]);
     EXPECT_EQ(stage.outputs[i].checkpoint, checkpoints[i]) << "at " << times[i];
+    EXPECT_EQ(stage.outputs[i].frame, frames[i]) << "at " << times[i];
   }
-  RecordingStage no_end_checkpoint;
-  const OutputSchedule odd_end(0.9, 0.25, {0.5}, {});
-  EXPECT_TRUE(drive(no_end_checkpoint, odd_end, false));
+  EXPECT_EQ(stage.outputs[1].file, plan.output.folder / "fem_t0.500.h5");
+  EXPECT_EQ(stage.checks, 4);  // the guard before every output
+  EXPECT_EQ(result.work.steps, 4);
+
+  RecordingStage no_end_checkpoint(std::numeric_limits<double>::infinity(), StartOutput::none);
+  execute(no_end_checkpoint, plan_of(OutputSchedule(0.9, 0.25, {0.5}, {}), "odd", false), quiet);
   EXPECT_EQ(no_end_checkpoint.outputs.back().time, 0.9);
   EXPECT_FALSE(no_end_checkpoint.outputs.back().checkpoint);
 }
 
-TEST(Drive, AStageAtRestEndsTheLoopAfterWritingItsState) {
-  const OutputSchedule schedule(1.0, 0.25, {}, {});
-  RecordingStage stage(0.6);
-  EXPECT_FALSE(drive(stage, schedule, true));
+TEST(Execute, TheFirstOutputHasAFrameAndACheckpointOnlyWhereThePlanSaysSo) {
+  const OutputSchedule schedule(1.0, 0.25, {0.5}, {});
+  RecordingStage fem_like;  // fem-solve: the start is fem_t0.000.h5 already
+  execute(fem_like, plan_of(schedule, "first-fem", true, false), quiet);
+  ASSERT_EQ(fem_like.outputs.size(), 5U);
+  EXPECT_EQ(fem_like.outputs[0].time, 0.0);
+  EXPECT_TRUE(fem_like.outputs[0].frame);
+  EXPECT_FALSE(fem_like.outputs[0].checkpoint);
+  RecordingStage mpm_like;  // mpm-solve: mpm_t<start>.h5
+  execute(mpm_like, plan_of(schedule, "first-mpm", false, true), quiet);
+  EXPECT_TRUE(mpm_like.outputs[0].frame);
+  EXPECT_TRUE(mpm_like.outputs[0].checkpoint);
+  // A restart whose history lacks its time (0.3 s, off the frame cadence and the schedule):
+  // a row like any other, no frame, no checkpoint.
+  RecordingStage row(std::numeric_limits<double>::infinity(), StartOutput::row);
+  row.time_ = 0.3;
+  execute(row, plan_of(schedule, "first-row", false, true), quiet);
+  EXPECT_EQ(row.outputs[0].time, 0.3);
+  EXPECT_FALSE(row.outputs[0].frame);
+  EXPECT_FALSE(row.outputs[0].checkpoint);
+}
+
+TEST(Execute, AStageAtRestEndsTheLoopAfterWritingItsState) {
+  RecordingStage stage(0.6, StartOutput::none);
+  const RunResult result =
+      execute(stage, plan_of(OutputSchedule(1.0, 0.25, {}, {}), "rest", true), quiet);
+  EXPECT_FALSE(result.reached_end);
+  EXPECT_TRUE(stage.finished);
   ASSERT_EQ(stage.outputs.size(), 3U);
   EXPECT_EQ(stage.outputs.back().time, 0.6);
   EXPECT_FALSE(stage.outputs.back().checkpoint);
 }
 
-TEST(Drive, AStageAtItsEndTimeWritesNothing) {
-  const OutputSchedule schedule(1.0, 0.25, {}, {});
-  RecordingStage done;
-  for (double t : {0.25, 0.5, 0.75, 1.0}) done.advance_to(t);
-  EXPECT_TRUE(drive(done, schedule, true));
+TEST(Execute, AStageAtItsEndTimeWritesNothing) {
+  RecordingStage done(std::numeric_limits<double>::infinity(), StartOutput::none);
+  done.time_ = 1.0;
+  execute(done, plan_of(OutputSchedule(1.0, 0.25, {}, {}), "done", true), quiet);
   EXPECT_TRUE(done.outputs.empty());
+}
+
+TEST(Execute, AFailedGuardStopsBeforeTheOutputNamingTheLastCheckpoint) {
+  Plan plan = plan_of(OutputSchedule(1.0, 0.25, {0.5}, {}), "guard", true);
+  RecordingStage stage(std::numeric_limits<double>::infinity(), StartOutput::none);
+  stage.unstable_time = 0.75;
+  try {
+    execute(stage, plan, quiet);
+    FAIL() << "no error";
+  } catch (const InstabilityError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("instability at t = 0.75 s (step 3): planted"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("the last good checkpoint is " +
+                           (plan.output.folder / "fem_t0.500.h5").string()),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_EQ(stage.outputs.size(), 2U);  // nothing of the failed step
+  EXPECT_FALSE(stage.finished);
+
+  plan.start = Start::restart;  // a restart's last good checkpoint is its own file
+  plan.start_file = "from.h5";
+  plan.resume_outputs = true;
+  RecordingStage restarted(std::numeric_limits<double>::infinity(), StartOutput::none);
+  restarted.unstable_time = 0.0;
+  try {
+    execute(restarted, plan, quiet);
+    FAIL() << "no error";
+  } catch (const InstabilityError& e) {
+    EXPECT_NE(std::string(e.what()).find("the last good checkpoint is from.h5"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(restarted.opened_resumed, true);
 }
 
 TEST(EnergyGrowth, TheToleranceIsFivePerCentOfTheScale) {
@@ -152,6 +266,91 @@ TEST(RemoveTemporariesOfKilledRuns, OnlyThoseOfGoneProcesses) {
   EXPECT_TRUE(fs::exists(out / "fem_t1.000.h5"));
   EXPECT_TRUE(fs::exists(out / "notes.tmp-999999999"));  // not hidden: not ours
   EXPECT_NO_THROW(remove_temporaries_of_killed_runs(out / "missing", Logger("test", true)));
+}
+
+struct TestRecord : RunRecord {
+  double step = 0.0;
+  std::int64_t count = 0;
+  bool flag = false;
+};
+constexpr std::array<RecordEntry<TestRecord>, 7> test_table{{
+    {"stage", &TestRecord::stage},
+    {"step", &TestRecord::step, 0.0},
+    {"count", &TestRecord::count, 0.0, 10.0},
+    {"flag", &TestRecord::flag, 0.0, 1.0, Need::optional},
+    {"initial_energy", &TestRecord::initial_energy, -unbounded, unbounded, Need::optional,
+     "old_initial_energy"},
+    {"energy_scale", &TestRecord::energy_scale, 0.0, unbounded, Need::optional},
+    {"boundary_work", &TestRecord::boundary_work, -unbounded, unbounded, Need::optional},
+}};
+
+TEST(RestartRecord, ReadsBackWhatItWrites) {
+  TestRecord r;
+  r.stage = "failure";
+  r.step = 1e-3;
+  r.count = 7;
+  r.flag = true;
+  r.set_energy({-5.0, 12.0});
+  const SolverSettings written = write_record(r, test_table);
+  EXPECT_EQ(written.count("boundary_work"), 0U);  // unset: not written
+  EXPECT_EQ(std::get<std::int64_t>(written.at("flag")), 1);
+  const TestRecord back = read_record(written, test_table, "x.h5", TestRecord{});
+  EXPECT_EQ(back.stage, "failure");
+  EXPECT_EQ(back.step, 1e-3);
+  EXPECT_EQ(back.count, 7);
+  EXPECT_TRUE(back.flag);
+  ASSERT_TRUE(back.energy());
+  EXPECT_EQ(back.energy()->initial_energy, -5.0);
+  EXPECT_FALSE(back.boundary_work);
+  SolverSettings old = written;  // an earlier version's key
+  old.erase("initial_energy");
+  old["old_initial_energy"] = 3.0;
+  EXPECT_EQ(read_record(old, test_table, "x.h5", TestRecord{}).initial_energy, 3.0);
+}
+
+TEST(RestartRecord, NamesAMissingWrongOrOutOfRangeEntry) {
+  TestRecord r;
+  r.stage = "s";
+  const SolverSettings good = write_record(r, test_table);
+  const auto message = [&](const SolverSettings& settings) {
+    try {
+      read_record(settings, test_table, "x.h5", TestRecord{});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  SolverSettings missing = good;
+  missing.erase("count");
+  EXPECT_EQ(message(missing).find("x.h5: /solver attribute count missing"), 0U) << message(missing);
+  SolverSettings wrong = good;
+  wrong["step"] = std::string("fast");
+  EXPECT_EQ(message(wrong), "x.h5: /solver attribute step has the wrong type");
+  for (const auto& [key, value] : std::vector<std::pair<std::string, SettingValue>>{
+           {"step", -1.0},
+           {"step", std::numeric_limits<double>::quiet_NaN()},
+           {"count", std::int64_t{11}},
+           {"flag", std::int64_t{2}},
+           {"energy_scale", -1.0},
+           {"initial_energy", std::numeric_limits<double>::infinity()}}) {
+    SolverSettings bad = good;
+    bad[key] = value;
+    EXPECT_NE(message(bad).find("/solver attribute " + key + " = "), std::string::npos)
+        << message(bad);
+    EXPECT_NE(message(bad).find("is out of range"), std::string::npos) << message(bad);
+  }
+  SolverSettings absent = good;
+  absent.erase("flag");  // optional: the default stays
+  EXPECT_EQ(message(absent), "no error");
+}
+
+TEST(ChangedSettings, ListsTheValuesARestartChanges) {
+  const SolverSettings stored{{"cell_size", 1.0}, {"shape_function", std::string("gimp")}};
+  const SolverSettings now{
+      {"cell_size", 0.5}, {"shape_function", std::string("gimp")}, {"new_key", 1.0}};
+  const auto changes = changed_settings(stored, now);
+  ASSERT_EQ(changes.size(), 1U);
+  EXPECT_EQ(changes[0], "cell_size 1 → 0.5");
 }
 
 TEST(CheckpointFileName, HasThreeDecimals) {

@@ -95,7 +95,7 @@ inline FemCheckpoint make_block(int nx, int ny, double width, double height, Ele
       fem.stress.push_back(fields.stress(xg));
       fem.strain.push_back(fields.strain(xg));
       fem.eps_q.push_back(deviatoric_strain(fem.strain.back()));
-      fem.state.push_back(fields.state(xg));
+      fem.material_state.push_back(fields.state(xg));
     }
   }
   fem.materials.push_back(soil(MaterialModel::mohr_coulomb, density));

@@ -369,9 +369,10 @@ TEST(Transfer, ElementBaselineCopiesTheNearestGaussPointOfTheOwningElement) {
       }
       EXPECT_EQ(particles.stress[p], fem.stress[g]);
       EXPECT_EQ(particles.strain[p], fem.strain[g]);
-      EXPECT_EQ(particles.state[p].plastic_shear_strain, fem.state[g].plastic_shear_strain);
+      EXPECT_EQ(particles.state[p].plastic_shear_strain,
+                fem.material_state[g].plastic_shear_strain);
       EXPECT_EQ(particles.state[p].plastic_volumetric_strain,
-                fem.state[g].plastic_volumetric_strain);
+                fem.material_state[g].plastic_volumetric_strain);
       EXPECT_DOUBLE_EQ(particles.eps_q[p], deviatoric_strain(fem.strain[g]));
     }
   }
@@ -566,7 +567,7 @@ FemCheckpoint multi_yield_column(std::optional<MaterialModel> mpm_model) {
   fem.surface_stress.per_point = 2;
   fem.surface_stress.resize(fem.stress.size());
   for (std::size_t g = 0; g < fem.stress.size(); ++g) {
-    fem.state[g].peak_strength = 1e5 + static_cast<double>(g);
+    fem.material_state[g].peak_strength = 1e5 + static_cast<double>(g);
     fem.surface_stress.values[2 * g] = Vec4(1.0, -2.0, 1.0, 3.0) * static_cast<double>(g);
     fem.surface_stress.values[2 * g + 1] = Vec4(-1.0, 0.5, 0.5, 2.0) * static_cast<double>(g);
   }
@@ -580,7 +581,7 @@ TEST(Transfer, MultiYieldStateTravelsWithTheElementWhenMpmRunsTheSameModel) {
   ASSERT_EQ(p.surface_stress.per_point, 2u);
   for (std::size_t i = 0; i < p.count(); ++i) {
     const auto g = static_cast<std::size_t>(p.element[i]);  // one Gauss point per element
-    EXPECT_EQ(p.state[i].peak_strength, fem.state[g].peak_strength) << i;
+    EXPECT_EQ(p.state[i].peak_strength, fem.material_state[g].peak_strength) << i;
     EXPECT_EQ(p.surface_stress.values[2 * i], fem.surface_stress.values[2 * g]) << i;
     EXPECT_EQ(p.surface_stress.values[2 * i + 1], fem.surface_stress.values[2 * g + 1]) << i;
   }
