@@ -69,7 +69,7 @@ void element_forces_kernel(const FemModel& model, const ElementGeometry& geometr
     [[maybe_unused]] Mat3 viscosity;  // β_K D, Pa·s
     if constexpr (VISCOUS) {
       v = gather<NPE>(connectivity + e * NPE, state.velocity);
-      viscosity = rayleigh_stiffness * model.elasticity[static_cast<std::size_t>(
+      viscosity = rayleigh_stiffness * model.elastic.matrix[static_cast<std::size_t>(
                                            model.mesh.material_id[static_cast<std::size_t>(e)])];
     }
     for (int p = 0; p < NGP; ++p) {
@@ -217,9 +217,8 @@ Index compute_geometry(const FemModel& model, std::span<const Vec2> coordinates,
     bool positive = true;
     for (std::size_t p = 0; p < n_gauss; ++p) {
       double det = 0.0;
-      geometry.gradients[e * n_gauss + p] =
-          physical_gradients(shape, x, model.gauss_local[p], &det);
-      geometry.weight[e * n_gauss + p] = model.gauss_rule_weight[p] * det;
+      geometry.gradients[e * n_gauss + p] = physical_gradients(shape, x, model.rule.local[p], &det);
+      geometry.weight[e * n_gauss + p] = model.rule.weight[p] * det;
       positive = positive && det > 0.0;
     }
     const Mat2 centre_jacobian = jacobian(shape, x, centre);
@@ -228,7 +227,7 @@ Index compute_geometry(const FemModel& model, std::span<const Vec2> coordinates,
     if (model.hourglass) {
       // The one-point rule's Gauss point is the centre.
       geometry.hourglass_vector[e] = hourglass_vector(x, geometry.gradients[e]);
-      const Mat3& c = model.elasticity[static_cast<std::size_t>(mesh.material_id[e])];
+      const Mat3& c = model.elastic.matrix[static_cast<std::size_t>(mesh.material_id[e])];
       geometry.hourglass_stiffness[e] =
           model.hourglass_coefficient * hourglass_stiffness(centre_jacobian, c);
     }
@@ -259,8 +258,9 @@ void update_stresses(const FemModel& model, const ElementGeometry& geometry,
 ElementMatrix element_stiffness(const FemModel& model, const ElementGeometry& geometry, Index e) {
   const int n = model.nodes_per_element;
   const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
-  const Mat3& c = model.elasticity[static_cast<std::size_t>(
-      model.mesh.material_id[static_cast<std::size_t>(e)])];
+  const Mat3& c =
+      model.elastic
+          .matrix[static_cast<std::size_t>(model.mesh.material_id[static_cast<std::size_t>(e)])];
   ElementMatrix k = ElementMatrix::Zero();
   for (std::size_t p = 0; p < n_gauss; ++p) {
     const std::size_t gp = static_cast<std::size_t>(e) * n_gauss + p;
@@ -299,7 +299,8 @@ double courant_time_step(const FemModel& model, std::span<const Vec2> coordinate
     }
     const double length = area_factor * std::abs(element_area(mesh.shape(), x)) / longest;
     const double c =
-        model.wave_speed[static_cast<std::size_t>(mesh.material_id[static_cast<std::size_t>(e)])];
+        model.elastic
+            .wave_speed[static_cast<std::size_t>(mesh.material_id[static_cast<std::size_t>(e)])];
     smallest = std::min(smallest, length / c);
   }
   return courant * smallest;

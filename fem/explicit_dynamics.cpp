@@ -82,18 +82,18 @@ std::size_t ExplicitSolver::return_to_yield_surface(FemState& state) const {
 
 const ElementGeometry& ExplicitSolver::geometry_for(const FemState& state) {
   if (!updated_lagrangian_) return model_.reference;
-  if (geometry_step_ != state.step) {
-    update_coordinates(model_, state, coordinates_);
-    compute_geometry(model_, coordinates_, current_);
-    geometry_step_ = state.step;
+  if (ul_.geometry_step != state.step) {
+    update_coordinates(model_, state, ul_.coordinates);
+    compute_geometry(model_, ul_.coordinates, ul_.current);
+    ul_.geometry_step = state.step;
   }
-  return current_;
+  return ul_.current;
 }
 
 double ExplicitSolver::critical_time_step(const FemState& state) {
   if (!updated_lagrangian_) return courant_time_step(model_, model_.mesh.nodes, 1.0);
-  update_coordinates(model_, state, coordinates_);
-  return courant_time_step(model_, coordinates_, 1.0);
+  update_coordinates(model_, state, ul_.coordinates);
+  return courant_time_step(model_, ul_.coordinates, 1.0);
 }
 
 double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
@@ -102,11 +102,11 @@ double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
 
 Vec2 ExplicitSolver::nodal_force(Index node) const {
   const auto n = static_cast<std::size_t>(node);
-  Vec2 force = model_.gravity_force[n];
-  const auto begin = static_cast<std::size_t>(model_.node_slot_offsets[n]);
-  const auto end = static_cast<std::size_t>(model_.node_slot_offsets[n + 1]);
+  Vec2 force = model_.lumped.gravity_force[n];
+  const auto begin = static_cast<std::size_t>(model_.adjacency.offsets[n]);
+  const auto end = static_cast<std::size_t>(model_.adjacency.offsets[n + 1]);
   for (std::size_t i = begin; i < end; ++i) {
-    force += element_force_[static_cast<std::size_t>(model_.node_slots[i])];
+    force += element_force_[static_cast<std::size_t>(model_.adjacency.slots[i])];
   }
   return force;
 }
@@ -144,7 +144,7 @@ void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vec
   if (seismic_ == nullptr) {
     for (std::size_t n = 0; n < n_nodes; ++n) {
       const auto node = static_cast<Index>(n);
-      const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], state.velocity[n],
+      const Vec2 trial = damped_trial_velocity(model_.lumped.mass[n], state.velocity[n],
                                                nodal_force(node), dt, damping_.nodal);
       velocity[n] = constrained_velocity<false>(node, state, trial, dt, Vec2::Zero(), Vec2::Zero());
     }
@@ -155,9 +155,9 @@ void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vec
   const Vec2 frame_velocity = b.frame_velocity(state.time, dt);
   const Vec2 frame_displacement = b.frame_displacement(state.time);
   const Vec2 dashpot_reference = b.dashpots_in_base_frame ? frame_velocity : Vec2::Zero();
-  trial_.resize(n_nodes);
+  scratch_.trial.resize(n_nodes);
   for (std::size_t n = 0; n < n_nodes; ++n) {
-    const double m = model_.nodal_mass[n];
+    const double m = model_.lumped.mass[n];
     const Vec2 force = nodal_force(static_cast<Index>(n)) + b.static_force[n] +
                        b.incident[n].cwiseProduct(incident_velocity);
     Vec2 trial = damped_trial_velocity(m, state.velocity[n], force, dt, damping_.nodal);
@@ -169,25 +169,25 @@ void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vec
       trial[i] =
           r + (m * (trial[i] - r) - 0.5 * c * dt * (state.velocity[n][i] - r)) / (m + 0.5 * c * dt);
     }
-    trial_[n] = trial;
+    scratch_.trial[n] = trial;
   }
   for (const auto& [i, j] : b.tied) {
     const auto a = static_cast<std::size_t>(i);
     const auto c = static_cast<std::size_t>(j);
-    const double ma = model_.nodal_mass[a];
-    const double mc = model_.nodal_mass[c];
-    const Vec2 shared = (ma * trial_[a] + mc * trial_[c]) / (ma + mc);
-    trial_[a].x() = trial_[c].x() = shared.x();
-    if (b.tie_vertical) trial_[a].y() = trial_[c].y() = shared.y();
+    const double ma = model_.lumped.mass[a];
+    const double mc = model_.lumped.mass[c];
+    const Vec2 shared = (ma * scratch_.trial[a] + mc * scratch_.trial[c]) / (ma + mc);
+    scratch_.trial[a].x() = scratch_.trial[c].x() = shared.x();
+    if (b.tie_vertical) scratch_.trial[a].y() = scratch_.trial[c].y() = shared.y();
   }
   double work = 0.0;
   for (std::size_t n = 0; n < n_nodes; ++n) {
     const auto node = static_cast<Index>(n);
-    velocity[n] =
-        constrained_velocity<true>(node, state, trial_[n], dt, frame_velocity, frame_displacement);
+    velocity[n] = constrained_velocity<true>(node, state, scratch_.trial[n], dt, frame_velocity,
+                                             frame_displacement);
     if (boundary_work == nullptr) continue;
     // The boundaries' force over the step, m (v − v*_free)/dt, times the step's motion.
-    const double m = model_.nodal_mass[n];
+    const double m = model_.lumped.mass[n];
     const Vec2 free =
         damped_trial_velocity(m, state.velocity[n], nodal_force(node), dt, damping_.nodal);
     work += m * (velocity[n] - free).dot(velocity[n]);
@@ -203,7 +203,7 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) {
     for (std::size_t n = 0; n < n_nodes; ++n) {
       const auto node = static_cast<Index>(n);
       const Vec2 previous = state.velocity[n];
-      const Vec2 trial = damped_trial_velocity(model_.nodal_mass[n], previous, nodal_force(node),
+      const Vec2 trial = damped_trial_velocity(model_.lumped.mass[n], previous, nodal_force(node),
                                                dt, damping_.nodal);
       const Vec2 velocity =
           constrained_velocity<false>(node, state, trial, dt, Vec2::Zero(), Vec2::Zero());
@@ -213,9 +213,9 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) {
     }
     return;
   }
-  nodal_velocities(state, dt, next_velocity_, &boundary_work_);
+  nodal_velocities(state, dt, scratch_.next_velocity, &boundary_work_);
   for (std::size_t n = 0; n < n_nodes; ++n) {
-    const Vec2& velocity = next_velocity_[n];
+    const Vec2& velocity = scratch_.next_velocity[n];
     state.acceleration[n] = (velocity - state.velocity[n]) / dt;
     state.velocity[n] = velocity;
     state.displacement[n] += dt * velocity;
@@ -229,23 +229,23 @@ Index ExplicitSolver::step(FemState& state, double dt) {
     update_nodes(state, dt);
     update_stresses(model_, model_.reference, models_, dt, false, state);
   } else {
-    saved_displacement_ = state.displacement;
-    saved_velocity_ = state.velocity;
-    saved_acceleration_ = state.acceleration;
+    ul_.saved_displacement = state.displacement;
+    ul_.saved_velocity = state.velocity;
+    ul_.saved_acceleration = state.acceleration;
     const double saved_work = boundary_work_;
     update_nodes(state, dt);
-    update_coordinates(model_, state, coordinates_);
-    const Index inverted = compute_geometry(model_, coordinates_, current_);
+    update_coordinates(model_, state, ul_.coordinates);
+    const Index inverted = compute_geometry(model_, ul_.coordinates, ul_.current);
     if (inverted >= 0) {
-      state.displacement.swap(saved_displacement_);
-      state.velocity.swap(saved_velocity_);
-      state.acceleration.swap(saved_acceleration_);
+      state.displacement.swap(ul_.saved_displacement);
+      state.velocity.swap(ul_.saved_velocity);
+      state.acceleration.swap(ul_.saved_acceleration);
       boundary_work_ = saved_work;
-      geometry_step_ = -1;
+      ul_.geometry_step = -1;
       return inverted;
     }
-    update_stresses(model_, current_, models_, dt, true, state);
-    geometry_step_ = state.step + 1;
+    update_stresses(model_, ul_.current, models_, dt, true, state);
+    ul_.geometry_step = state.step + 1;
   }
   state.time += dt;
   state.step += 1;

@@ -122,15 +122,21 @@ class ExplicitSolver {
   bool updated_lagrangian_;
   const SeismicBoundary* seismic_ = nullptr;
   double boundary_work_ = 0.0;
-  std::vector<Vec2> next_velocity_, trial_;  ///< scratch of the nodal update
-
+  /// Scratch of the nodal update.
+  struct NodalScratch {
+    std::vector<Vec2> next_velocity, trial;
+  };
+  NodalScratch scratch_;
   std::vector<Vec2> element_force_;  ///< n_elements × nodes_per_element
-  // Updated Lagrangian: the current geometry, valid for state step `geometry_step_`,
-  // and the nodal state saved before a step that might invert an element.
-  ElementGeometry current_;
-  Index geometry_step_ = -1;
-  std::vector<Vec2> coordinates_;
-  std::vector<Vec2> saved_displacement_, saved_velocity_, saved_acceleration_;
+  /// Updated Lagrangian: the current geometry, valid for state step `geometry_step`,
+  /// and the nodal state saved before a step that might invert an element.
+  struct CurrentGeometry {
+    ElementGeometry current;
+    Index geometry_step = -1;
+    std::vector<Vec2> coordinates;
+    std::vector<Vec2> saved_displacement, saved_velocity, saved_acceleration;
+  };
+  CurrentGeometry ul_;
 };
 
 }  // namespace slide::fem

@@ -178,7 +178,7 @@ void ExplicitStage::choose_time_step(bool announce) {
   const double reduction = courant_step / (fem.courant * critical_step);
   time_step_ = fem.time_step > 0.0 ? fem.time_step : courant_step;
   double fastest = 0.0;  // the largest p-wave speed, m/s
-  for (const double c : model_.wave_speed) fastest = std::max(fastest, c);
+  for (const double c : model_.elastic.wave_speed) fastest = std::max(fastest, c);
   run::check_step_count(
       plan_.run.end_time() - state_.time, time_step_,
       fem.time_step > 0.0 ? std::string("fem.time_step is too small")
@@ -335,8 +335,8 @@ void ExplicitStage::set_guard_limits(bool fresh_stage) {
   measures_.step = -1;  // the switch changed the stresses at the same time and step
   const Measures& m = measure();
   GuardLimits& limits = guard_.limits;
-  limits.speed_limit =
-      run::speed_limit(plan_.source.fem.speed_limit_factor, gravity_acceleration, model_.height);
+  limits.speed_limit = run::speed_limit(plan_.source.fem.speed_limit_factor, gravity_acceleration,
+                                        model_.extent.height);
   const Energies& energies = m.energies;
   limits.energy.initial_energy = total_energy(energies);
   limits.energy.energy_scale = releasable_potential_energy(model_) + energies.elastic +

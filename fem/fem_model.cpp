@@ -23,16 +23,16 @@ void add_element_mass(const Mesh& mesh, Index e, double density, std::vector<dou
 void build_node_slots(FemModel& model) {
   const auto n_nodes = static_cast<std::size_t>(model.node_count());
   const auto& connectivity = model.mesh.connectivity;
-  model.node_slot_offsets.assign(n_nodes + 1, 0);
-  for (Index node : connectivity) ++model.node_slot_offsets[static_cast<std::size_t>(node) + 1];
+  model.adjacency.offsets.assign(n_nodes + 1, 0);
+  for (Index node : connectivity) ++model.adjacency.offsets[static_cast<std::size_t>(node) + 1];
   for (std::size_t n = 0; n < n_nodes; ++n) {
-    model.node_slot_offsets[n + 1] += model.node_slot_offsets[n];
+    model.adjacency.offsets[n + 1] += model.adjacency.offsets[n];
   }
-  model.node_slots.resize(connectivity.size());
-  std::vector<Index> fill(model.node_slot_offsets.begin(), model.node_slot_offsets.end() - 1);
+  model.adjacency.slots.resize(connectivity.size());
+  std::vector<Index> fill(model.adjacency.offsets.begin(), model.adjacency.offsets.end() - 1);
   for (std::size_t slot = 0; slot < connectivity.size(); ++slot) {
     const auto node = static_cast<std::size_t>(connectivity[slot]);
-    model.node_slots[static_cast<std::size_t>(fill[node]++)] = static_cast<Index>(slot);
+    model.adjacency.slots[static_cast<std::size_t>(fill[node]++)] = static_cast<Index>(slot);
   }
 }
 
@@ -53,12 +53,12 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
   model.gauss_per_element = static_cast<int>(rule.size());
   model.hourglass = type == ElementType::quad4_1gp;
   for (const auto& point : rule) {
-    model.gauss_local.push_back(point.xi);
-    model.gauss_rule_weight.push_back(point.weight);
+    model.rule.local.push_back(point.xi);
+    model.rule.weight.push_back(point.weight);
   }
   for (const auto& material : model.materials) {
-    model.elasticity.push_back(plane_strain_elasticity(material));
-    model.wave_speed.push_back(material.p_wave_speed());
+    model.elastic.matrix.push_back(plane_strain_elasticity(material));
+    model.elastic.wave_speed.push_back(material.p_wave_speed());
   }
 
   const auto n_elements = static_cast<std::size_t>(m.element_count());
@@ -78,33 +78,33 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
         inverted);
   }
 
-  model.centre_det_reference.resize(n_elements);
-  model.volume_reference.resize(n_elements);
-  model.element_mass.resize(n_elements);
-  model.nodal_mass.assign(static_cast<std::size_t>(m.node_count()), 0.0);
+  model.elements.centre_det_reference.resize(n_elements);
+  model.elements.volume_reference.resize(n_elements);
+  model.elements.mass.resize(n_elements);
+  model.lumped.mass.assign(static_cast<std::size_t>(m.node_count()), 0.0);
   const Vec2 centre = reference_centre(m.shape());
   for (std::size_t e = 0; e < n_elements; ++e) {
     const auto ei = static_cast<Index>(e);
     const ElementNodes x = m.element_nodes(ei, m.nodes);
     const double density = model.material_of(ei).density;
-    model.centre_det_reference[e] = jacobian(m.shape(), x, centre).determinant();
-    model.volume_reference[e] = element_area(m.shape(), x);
-    model.element_mass[e] = density * model.volume_reference[e];
-    add_element_mass(m, ei, density, model.nodal_mass);
+    model.elements.centre_det_reference[e] = jacobian(m.shape(), x, centre).determinant();
+    model.elements.volume_reference[e] = element_area(m.shape(), x);
+    model.elements.mass[e] = density * model.elements.volume_reference[e];
+    add_element_mass(m, ei, density, model.lumped.mass);
   }
-  model.gravity_force.resize(model.nodal_mass.size());
-  for (std::size_t n = 0; n < model.nodal_mass.size(); ++n) {
-    if (!(model.nodal_mass[n] > 0.0)) throw Error("mesh: node {} belongs to no element", n);
-    model.gravity_force[n] = model.nodal_mass[n] * model.gravity;
+  model.lumped.gravity_force.resize(model.lumped.mass.size());
+  for (std::size_t n = 0; n < model.lumped.mass.size(); ++n) {
+    if (!(model.lumped.mass[n] > 0.0)) throw Error("mesh: node {} belongs to no element", n);
+    model.lumped.gravity_force[n] = model.lumped.mass[n] * model.gravity;
   }
 
   double y_max = -std::numeric_limits<double>::infinity();
-  model.y_min = std::numeric_limits<double>::infinity();
+  model.extent.y_min = std::numeric_limits<double>::infinity();
   for (const Vec2& x : m.nodes) {
-    model.y_min = std::min(model.y_min, x.y());
+    model.extent.y_min = std::min(model.extent.y_min, x.y());
     y_max = std::max(y_max, x.y());
   }
-  model.height = y_max - model.y_min;
+  model.extent.height = y_max - model.extent.y_min;
   build_node_slots(model);
   return model;
 }

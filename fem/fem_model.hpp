@@ -43,6 +43,44 @@ struct ElementGeometry {
   std::vector<Mat2> hourglass_stiffness;
 };
 
+/// The element rule's points on the reference element (the same for every element).
+struct QuadratureRule {
+  std::vector<Vec2> local;     ///< per Gauss point of one element: ξ of the rule
+  std::vector<double> weight;  ///< per Gauss point of one element: w of the rule
+};
+
+/// Per material: the initial elastic constants.
+struct ElasticConstants {
+  std::vector<Mat3> matrix;        ///< plane strain D
+  std::vector<double> wave_speed;  ///< c_p = sqrt(M/ρ), m/s
+};
+
+/// Per element, on the reference geometry.
+struct ElementConstants {
+  std::vector<double> centre_det_reference;  ///< det J at the centre on X
+  std::vector<double> volume_reference;      ///< V_0^e, m² (per m)
+  std::vector<double> mass;                  ///< m_e = ρ V_0^e, kg (per m)
+};
+
+/// Per node, lumped (row sums).
+struct LumpedNodes {
+  std::vector<double> mass;         ///< m_I = Σ_e ∫ N_I ρ dA, kg (per m)
+  std::vector<Vec2> gravity_force;  ///< m_I g, N (per m)
+};
+
+/// Node → element slots (e·nodes_per_element + k), CSR: the forces of node n are the
+/// slots slots[offsets[n] .. offsets[n+1]).
+struct NodeAdjacency {
+  std::vector<Index> offsets;
+  std::vector<Index> slots;
+};
+
+/// The reference elevations of the model.
+struct VerticalExtent {
+  double y_min = 0.0;   ///< lowest reference elevation, m
+  double height = 0.0;  ///< H: reference height of the model, m
+};
+
 struct FemModel {
   Mesh mesh;
   MaterialTable materials;
@@ -53,24 +91,14 @@ struct FemModel {
   int gauss_per_element = 1;
   bool hourglass = false;  ///< quad4-1gp: physical hourglass stabilisation is on
 
-  Vec2 gravity = gravity_vector();           ///< g, m/s²
-  ElementGeometry reference;                 ///< on the reference coordinates X
-  std::vector<Mat3> elasticity;              ///< per material, plane strain
-  std::vector<double> wave_speed;            ///< per material: c_p = sqrt(M/ρ), m/s
-  std::vector<Vec2> gauss_local;             ///< per Gauss point of one element: ξ of the rule
-  std::vector<double> gauss_rule_weight;     ///< per Gauss point of one element: w of the rule
-  std::vector<double> centre_det_reference;  ///< per element: det J at the centre on X
-  std::vector<double> volume_reference;      ///< per element: V_0^e, m² (per m)
-  std::vector<double> element_mass;          ///< per element: m_e = ρ V_0^e, kg (per m)
-  std::vector<double> nodal_mass;            ///< per node: lumped mass, kg (per m)
-  std::vector<Vec2> gravity_force;           ///< per node: m_I g, N (per m)
-  double y_min = 0.0;                        ///< lowest reference elevation, m
-  double height = 0.0;                       ///< H: reference height of the model, m
-
-  /// Node → element slots (e·nodes_per_element + k), CSR: the forces of node n are the
-  /// slots node_slots[node_slot_offsets[n] .. node_slot_offsets[n+1]).
-  std::vector<Index> node_slot_offsets;
-  std::vector<Index> node_slots;
+  Vec2 gravity = gravity_vector();  ///< g, m/s²
+  ElementGeometry reference;        ///< on the reference coordinates X
+  QuadratureRule rule;
+  ElasticConstants elastic;
+  ElementConstants elements;
+  LumpedNodes lumped;
+  NodeAdjacency adjacency;
+  VerticalExtent extent;
 
   Index node_count() const { return mesh.node_count(); }
   Index element_count() const { return mesh.element_count(); }

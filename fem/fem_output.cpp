@@ -33,7 +33,7 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
   checkpoint.coordinates = x;
   checkpoint.jacobian_ratio = quality.jacobian_ratio;
   checkpoint.scaled_jacobian = quality.scaled_jacobian;
-  checkpoint.volume_reference = model.volume_reference;
+  checkpoint.volume_reference = model.elements.volume_reference;
   checkpoint.volume = quality.volume;
 
   const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
@@ -46,10 +46,10 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
     const auto e = static_cast<Index>(gp / n_gauss);
     const std::size_t p = gp % n_gauss;
     checkpoint.gauss_element[gp] = e;
-    checkpoint.gauss_local_coordinates[gp] = model.gauss_local[p];
+    checkpoint.gauss_local_coordinates[gp] = model.rule.local[p];
     checkpoint.gauss_coordinates[gp] =
-        map_to_physical(model.mesh.shape(), model.mesh.element_nodes(e, x), model.gauss_local[p]);
-    checkpoint.gauss_weight[gp] = model.gauss_rule_weight[p];
+        map_to_physical(model.mesh.shape(), model.mesh.element_nodes(e, x), model.rule.local[p]);
+    checkpoint.gauss_weight[gp] = model.rule.weight[p];
   }
   checkpoint.eps_q = quality.gauss_eps_q;
   checkpoint.materials = model.materials;
@@ -159,7 +159,7 @@ void VtkSeries::write(const FemModel& model, const FemState& state,
       plastic[e] += state.material_state[gp].plastic_shear_strain / static_cast<double>(n_gauss);
       gauss_plastic[gp] = state.material_state[gp].plastic_shear_strain;
       gauss_element[gp] = static_cast<std::int64_t>(e);
-      gauss_x[gp] = map_to_physical(model.mesh.shape(), x, model.gauss_local[p]);
+      gauss_x[gp] = map_to_physical(model.mesh.shape(), x, model.rule.local[p]);
     }
     material[e] = static_cast<std::int32_t>(model.mesh.material_id[e]);
   }

@@ -123,7 +123,7 @@ Eigen::VectorXd reduced_load(const FemModel& model, const ReducedSystem& r) {
   for (std::size_t n = 0; n < r.free.size(); ++n) {
     for (int a = 0; a < r.free[n].count; ++a) {
       load[r.first_equation[n] + a] =
-          r.free[n].direction[static_cast<std::size_t>(a)].dot(model.gravity_force[n]);
+          r.free[n].direction[static_cast<std::size_t>(a)].dot(model.lumped.gravity_force[n]);
     }
   }
   return load;

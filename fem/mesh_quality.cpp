@@ -25,11 +25,11 @@ ElementQuality evaluate_quality(const FemModel& model, const FemState& state,
   for (std::size_t e = 0; e < n_elements; ++e) {
     const ElementNodes x = mesh.element_nodes(static_cast<Index>(e), coordinates);
     quality.jacobian_ratio[e] =
-        jacobian(mesh.shape(), x, centre).determinant() / model.centre_det_reference[e];
+        jacobian(mesh.shape(), x, centre).determinant() / model.elements.centre_det_reference[e];
     quality.scaled_jacobian[e] = scaled_jacobian(mesh.shape(), x);
     quality.inverted[e] = is_inverted(mesh.shape(), x) ? 1 : 0;
     quality.volume[e] = element_area(mesh.shape(), x);
-    quality.volume_reference_total += model.volume_reference[e];
+    quality.volume_reference_total += model.elements.volume_reference[e];
     double sum = 0.0;
     std::uint8_t yielded = 0;
     for (std::size_t p = 0; p < n_gauss; ++p) {
@@ -96,7 +96,7 @@ Energies compute_energies(const FemModel& model, const ElementGeometry& geometry
     }
     mean_velocity *= inverse_nodes;
     mean_position *= inverse_nodes;
-    const double mass = model.element_mass[ei];
+    const double mass = model.elements.mass[ei];
     energies.kinetic += 0.5 * mass * mean_velocity.squaredNorm();
     // −m g·x, written so that g = (0, −9.81) gives (m 9.81) y exactly as before.
     energies.potential += -(mass * model.gravity.y()) * mean_position.y() -
@@ -122,8 +122,8 @@ double releasable_potential_energy(const FemModel& model) {
     for (Index node : mesh.element(e))
       mean_elevation += mesh.nodes[static_cast<std::size_t>(node)].y();
     mean_elevation /= model.nodes_per_element;
-    energy += model.element_mass[static_cast<std::size_t>(e)] * gravity_acceleration *
-              (mean_elevation - model.y_min);
+    energy += model.elements.mass[static_cast<std::size_t>(e)] * gravity_acceleration *
+              (mean_elevation - model.extent.y_min);
   }
   return energy;
 }

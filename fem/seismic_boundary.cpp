@@ -42,7 +42,7 @@ std::map<Index, double> tributary_lengths(const Mesh& mesh, const NodeSet& set) 
 /// The material of the first element at a node.
 const Material& material_at(const FemModel& model, Index node) {
   const auto n = static_cast<std::size_t>(node);
-  const auto slot = model.node_slots[static_cast<std::size_t>(model.node_slot_offsets[n])];
+  const auto slot = model.adjacency.slots[static_cast<std::size_t>(model.adjacency.offsets[n])];
   return model.material_of(slot / model.nodes_per_element);
 }
 
@@ -69,10 +69,10 @@ std::vector<Vec2> support_reactions(const FemModel& model, const FemState& state
   compute_element_forces(model, model.reference, at_rest, element_force);
   std::vector<Vec2> reactions(static_cast<std::size_t>(model.node_count()));
   for (std::size_t n = 0; n < reactions.size(); ++n) {
-    Vec2 force = model.gravity_force[n];
-    for (auto i = model.node_slot_offsets[n]; i < model.node_slot_offsets[n + 1]; ++i) {
-      force +=
-          element_force[static_cast<std::size_t>(model.node_slots[static_cast<std::size_t>(i)])];
+    Vec2 force = model.lumped.gravity_force[n];
+    for (auto i = model.adjacency.offsets[n]; i < model.adjacency.offsets[n + 1]; ++i) {
+      force += element_force[static_cast<std::size_t>(
+          model.adjacency.slots[static_cast<std::size_t>(i)])];
     }
     reactions[n] = -force;
   }
@@ -143,7 +143,7 @@ SeismicBoundary make_seismic_boundary(const FemModel& model, const MotionSpec& s
   }
   // Tied: pair nodes at equal elevation (within 1e-6 of the model's height).
   boundary.tie_vertical = spec.lateral == LateralBoundary::tied;
-  const double tolerance = 1e-6 * std::max(model.height, 1.0);
+  const double tolerance = 1e-6 * std::max(model.extent.height, 1.0);
   std::size_t j = 0;
   std::vector<std::uint8_t> paired(n_nodes, 0);
   for (const auto& [y, node] : left_nodes) {

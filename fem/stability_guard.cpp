@@ -30,7 +30,7 @@ std::string check_finite(const FemModel& model, const FemState& state,
     if (!finite(state.stress[gp])) {
       const auto e = static_cast<Index>(gp / n_gauss);
       const Vec2 x = map_to_physical(model.mesh.shape(), model.mesh.element_nodes(e, coordinates),
-                                     model.gauss_local[gp % n_gauss]);
+                                     model.rule.local[gp % n_gauss]);
       return fmt::format(
           "non-finite stress at Gauss point {} of element {} (x = {:.3f}, {:.3f}) at {}", gp, e,
           x.x(), x.y(), when);

@@ -146,7 +146,7 @@ StepReport MpmSolver::step(double dt) {
   const MpmSettings& s = settings_;
   exited_this_step_ = 0;
   size_affine_velocity();  // the settings may have switched to APIC since the start
-  if (base_motion_) follow_base(dt);
+  if (base_.motion) follow_base(dt);
 
   const bool sorting = !clock_.sorted_once || clock_.steps_since_sort >= s.sort_interval;
   if (subdomain_) exchange_particles(sorting);
@@ -241,16 +241,16 @@ void MpmSolver::exchange_particles(bool sorting) {
 }
 
 void MpmSolver::set_base_motion(GroundMotion motion, const CheckpointMotion& record) {
-  base_motion_ = std::move(motion);
-  motion_record_ = record;
+  base_.motion = std::move(motion);
+  base_.record = record;
   settings_.boundaries.moving = true;
-  resting_origin_ = settings_.grid.origin;
+  base_.resting_origin = settings_.grid.origin;
   settings_.grid.origin = grid_origin_at(clock_.time);
   located_ = false;
 }
 
 Vec2 MpmSolver::grid_origin_at(double time) const {
-  return base_motion_ ? resting_origin_ + base_position(motion_record_, *base_motion_, time)
+  return base_.motion ? base_.resting_origin + base_position(base_.record, *base_.motion, time)
                       : settings_.grid.origin;
 }
 
@@ -262,7 +262,7 @@ void MpmSolver::follow_base(double dt) {
     settings_.grid.origin = origin;
     located_ = false;  // the last pass located the particles on the grid where it was
   }
-  settings_.boundaries.frame_velocity = base_motion_->step_velocity(clock_.time, dt);
+  settings_.boundaries.frame_velocity = base_.motion->step_velocity(clock_.time, dt);
 }
 
 Energies MpmSolver::energies() const {

@@ -115,10 +115,10 @@ class MpmSolver {
   void set_base_motion(GroundMotion motion, const CheckpointMotion& record);
   /// The base's displacement at `time` (the grid's shift from its resting origin; zero
   /// without a motion): positions measured from the base are positions minus this.
-  Vec2 base_shift(double time) const { return grid_origin_at(time) - resting_origin_; }
+  Vec2 base_shift(double time) const { return grid_origin_at(time) - base_.resting_origin; }
   /// Where the grid's origin is at `time` (the settings' origin without a motion).
   Vec2 grid_origin_at(double time) const;
-  const std::optional<GroundMotion>& base_motion() const { return base_motion_; }
+  const std::optional<GroundMotion>& base_motion() const { return base_.motion; }
 
   /// The models the stress update uses: the materials' own (default) or linear elastic
   /// with the same constants (gravity stage of pure MPM).
@@ -202,9 +202,13 @@ class MpmSolver {
   double mass_floor_ = 0.0;
   double last_kinetic_energy_ = 0.0;
   std::size_t exited_this_step_ = 0;
-  std::optional<GroundMotion> base_motion_;
-  Vec2 resting_origin_ = Vec2::Zero();  ///< the grid's origin with the base at rest
-  CheckpointMotion motion_record_;
+  /// The base motion the grid follows (none: a static base).
+  struct MovingBase {
+    std::optional<GroundMotion> motion;
+    Vec2 resting_origin = Vec2::Zero();  ///< the grid's origin with the base at rest
+    CheckpointMotion record;
+  };
+  MovingBase base_;
 
   void follow_base(double dt);
   /// On several ranks: particles to their owners (and re-cut slabs at sorting time).

@@ -209,7 +209,7 @@ TEST(Model, LumpedMassIsTheRowSumAndAddsUpToTheTotalMass) {
   for (const auto type : all_types) {
     const FemModel model = distorted_model(type);
     double total = 0.0;
-    for (double m : model.nodal_mass) total += m;
+    for (double m : model.lumped.mass) total += m;
     EXPECT_NEAR(total, soil().density * 12.0, 1e-9 * total);
   }
 }

@@ -419,15 +419,15 @@ double sliding_distance(ElementType type, double v0, double mu, double& stop_tim
     solver.step(state, dt);
     double momentum = 0.0, mass = 0.0;
     for (std::size_t n = 0; n < state.velocity.size(); ++n) {
-      momentum += model.nodal_mass[n] * state.velocity[n].x();
-      mass += model.nodal_mass[n];
+      momentum += model.lumped.mass[n] * state.velocity[n].x();
+      mass += model.lumped.mass[n];
     }
     if (stop_time < 0.0 && momentum / mass < 1e-3 * v0) stop_time = state.time;
   }
   double distance = 0.0, mass = 0.0;
   for (std::size_t n = 0; n < state.displacement.size(); ++n) {
-    distance += model.nodal_mass[n] * state.displacement[n].x();
-    mass += model.nodal_mass[n];
+    distance += model.lumped.mass[n] * state.displacement[n].x();
+    mass += model.lumped.mass[n];
   }
   return distance / mass;
 }

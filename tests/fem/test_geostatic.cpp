@@ -47,7 +47,7 @@ ColumnErrors geostatic_errors(const FemModel& model, const BoundaryTable& bounda
   solve_geostatic(model, make_constraints(model.mesh, boundaries, "test"), state);
   const Material& m = model.materials[0];
   const double rho_g = m.density * gravity_acceleration;
-  const double height = model.height;
+  const double height = model.extent.height;
   const auto exact = [&](double y) {
     const double syy = -rho_g * (height - y);
     return Vec4(m.k0() * syy, syy, m.k0() * syy, 0.0);
@@ -61,7 +61,7 @@ ColumnErrors geostatic_errors(const FemModel& model, const BoundaryTable& bounda
     Vec2 centroid = Vec2::Zero();
     for (std::size_t p = 0; p < n_gauss; ++p) {
       const std::size_t gp = static_cast<std::size_t>(e) * n_gauss + p;
-      const Vec2 xg = map_to_physical(model.mesh.shape(), x, model.gauss_local[p]);
+      const Vec2 xg = map_to_physical(model.mesh.shape(), x, model.rule.local[p]);
       const Vec4 error = state.stress[gp] - exact(xg.y());
       errors.gauss = std::max(errors.gauss, testing::max_abs(error.head<3>()));
       errors.shear = std::max(errors.shear, std::abs(state.stress[gp][3]));

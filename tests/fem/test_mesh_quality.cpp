@@ -41,7 +41,7 @@ TEST(MeshQuality, JacobianRatioAndEpsQOfAHomogeneousDeformation) {
         evaluate_quality(model, state, current_coordinates(model, state));
     for (std::size_t e = 0; e < quality.jacobian_ratio.size(); ++e) {
       EXPECT_NEAR(quality.jacobian_ratio[e], 0.99, 1e-14);
-      EXPECT_NEAR(quality.volume[e], 0.99 * model.volume_reference[e], 1e-14);
+      EXPECT_NEAR(quality.volume[e], 0.99 * model.elements.volume_reference[e], 1e-14);
       EXPECT_NEAR(quality.eps_q[e], std::sqrt(0.08 / 3.0), 1e-15);
     }
   }

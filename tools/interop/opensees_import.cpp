@@ -36,12 +36,12 @@ std::size_t recorded_points(std::string_view element_class) {
 /// whatever either order becomes.
 std::vector<std::size_t> point_order(const fem::FemModel& model, std::string_view element_class) {
   const std::size_t n = recorded_points(element_class);
-  std::vector<std::size_t> order(model.gauss_local.size(), 0);
+  std::vector<std::size_t> order(model.rule.local.size(), 0);
   if (n == 1) return order;
   constexpr std::array<std::array<double, 2>, 4> opensees_signs{
       {{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}};
   for (std::size_t p = 0; p < order.size(); ++p) {
-    const Vec2& xi = model.gauss_local[p];
+    const Vec2& xi = model.rule.local[p];
     for (std::size_t q = 0; q < n; ++q) {
       if (std::signbit(xi.x()) == (opensees_signs[q][0] < 0.0) &&
           std::signbit(xi.y()) == (opensees_signs[q][1] < 0.0)) {
