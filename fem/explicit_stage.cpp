@@ -9,7 +9,6 @@
 #include "common/input/motion.hpp"
 #include "common/io/atomic_file.hpp"
 #include "fem/element_kernels.hpp"
-#include "fem/fem_solver.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_quality.hpp"
 

@@ -27,7 +27,21 @@
 
 namespace slide::fem {
 
-struct FemRunSummary;
+struct FemRunSummary {
+  Index steps = 0;  ///< time steps taken by this run
+  Index elements = 0;
+  double wall_seconds = 0.0;
+  double end_time = 0.0;
+  /// From the whole history (including the rows before a restart):
+  std::optional<double> last_time_in_zone;  ///< last output time inside the zone
+  std::optional<double> zone_exit_time;     ///< first output time outside it
+  /// First output time with an inverted element (is_inverted: det J < 0 at a corner, or zero area).
+  std::optional<double> first_time_inverted;
+  std::optional<double> first_time_jacobian_ratio_negative;  ///< (|J_t|/|J_0|)_min < 0
+  double ke_over_pe0_max = 0.0;
+  double ke_over_pe0_max_time = 0.0;
+  std::vector<std::filesystem::path> checkpoints;  ///< written by this run
+};
 
 /// What fem-solve writes besides the loop's rows and frames: its checkpoints (with the
 /// restart record), the recorders, and the state at the last output inside the

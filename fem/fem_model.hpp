@@ -1,7 +1,8 @@
 // The finite element model of the FE phase (docs/method.md §3): the mesh with everything the
 // kernels precompute from it, and the state that the stages advance.
 //
-//  - FemModel: constant during a run. Reference geometry per Gauss point (shape-function
+//  - FemModel: constant during a run (made by make_model, fem/model_setup.hpp). Reference geometry
+//  per Gauss point (shape-function
 //    gradients ∂N/∂x and integration weights w·det J), hourglass data of one-point quads,
 //    the lumped (row-sum) nodal masses m_I = Σ_e ∫ N_I ρ dA, gravity loads m_I g and the
 //    node → element adjacency used to gather nodal forces.
@@ -107,11 +108,6 @@ struct FemModel {
     return materials[static_cast<std::size_t>(mesh.material_id[static_cast<std::size_t>(element)])];
   }
 };
-
-/// Precomputes everything from a validated mesh. Throws Error when an element has
-/// det J ≤ 0 at a Gauss point of its rule or when a material id is out of range.
-FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
-                    double hourglass_coefficient, const Vec2& gravity = gravity_vector());
 
 /// The evolving state (common/physics/fe_fields.hpp: what checkpoints carry) with its
 /// clock and the yield flags of the last update.

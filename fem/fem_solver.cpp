@@ -2,6 +2,7 @@
 
 #include "fem/explicit_stage.hpp"
 #include "fem/fem_model.hpp"
+#include "fem/model_setup.hpp"
 
 namespace slide::fem {
 

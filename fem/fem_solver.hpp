@@ -18,25 +18,10 @@
 
 #include "common/base/log.hpp"
 #include "common/base/types.hpp"
+#include "fem/explicit_stage.hpp"
 #include "fem/fem_plan.hpp"
 
 namespace slide::fem {
-
-struct FemRunSummary {
-  Index steps = 0;  ///< time steps taken by this run
-  Index elements = 0;
-  double wall_seconds = 0.0;
-  double end_time = 0.0;
-  /// From the whole history (including the rows before a restart):
-  std::optional<double> last_time_in_zone;  ///< last output time inside the zone
-  std::optional<double> zone_exit_time;     ///< first output time outside it
-  /// First output time with an inverted element (is_inverted: det J < 0 at a corner, or zero area).
-  std::optional<double> first_time_inverted;
-  std::optional<double> first_time_jacobian_ratio_negative;  ///< (|J_t|/|J_0|)_min < 0
-  double ke_over_pe0_max = 0.0;
-  double ke_over_pe0_max_time = 0.0;
-  std::vector<std::filesystem::path> checkpoints;  ///< written by this run
-};
 
 /// Runs the FE phase as `plan` says (fem_plan.hpp): the stage (explicit_stage.hpp) handed
 /// to the shared run lifecycle (run::execute: outputs, the guard, the loop, the summary

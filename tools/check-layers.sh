@@ -2,7 +2,10 @@
 # The include rules of the source tree (common/README.md), checked by the test
 # style.layers: common/ is layered base < geometry < physics < settings < io < input < run, and a
 # file may include only its own layer and the ones below; fem/, transfer/ and mpm/
-# include common/ and never each other. Prints every include that breaks a rule, and
+# include common/ and never each other; no file-level loop (a module, a .hpp with its
+# .cpp, includes a module that includes it back, at any remove); no solver or stage
+# header includes the case reader (common/input/case_file*.hpp: the stages take typed
+# settings, only the plans read a case). Prints every include that breaks a rule, and
 # with --picture the folder-to-folder include counts. Exit 1 on any violation.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,11 +21,17 @@ rank() {
 
 violations=0
 declare -A edges
+modules=()
 while IFS= read -r file; do
   from=${file%/*}
   while IFS= read -r included; do
     to=${included%/*}
     edges["$from -> $to"]=$((${edges["$from -> $to"]:-0} + 1))
+    [[ ${file%.*} == "${included%.*}" ]] || modules+=("${file%.*} ${included%.*}")
+    if [[ $file =~ ^(fem|mpm|transfer)/.*\.hpp$ && $included == common/input/case_file*.hpp ]]; then
+      echo "$file includes $included: a stage takes typed settings, not the case file"
+      violations=$((violations + 1))
+    fi
     if [[ $from == common/* && $to == common/* ]]; then
       a=$(rank "${from#common/}")
       b=$(rank "${to#common/}")
@@ -39,6 +48,12 @@ while IFS= read -r file; do
     fi
   done < <(sed -n 's/^#include "\([a-z_/]*\.hpp\)".*/\1/p' "$file")
 done < <(find common fem mpm transfer -name '*.[ch]pp' | sort)
+
+# File-level loops: tsort orders the modules, or names a loop it finds.
+if ! loops=$(printf '%s\n' "${modules[@]}" | tsort 2>&1 >/dev/null) || [[ -n $loops ]]; then
+  echo "a loop of includes between modules: ${loops//$'\n'/; }"
+  violations=$((violations + 1))
+fi
 
 if [[ ${1:-} == --picture ]]; then
   for edge in "${!edges[@]}"; do

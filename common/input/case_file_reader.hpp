@@ -19,7 +19,12 @@
 
 #include "common/base/error.hpp"
 #include "common/base/numeric.hpp"
-#include "common/input/case_file.hpp"
+#include "common/physics/material.hpp"
+#include "common/settings/fem_spec.hpp"
+#include "common/settings/mesh_spec.hpp"
+#include "common/settings/metrics_spec.hpp"
+#include "common/settings/mpm_spec.hpp"
+#include "common/settings/transfer_spec.hpp"
 
 namespace slide::case_reader {
 

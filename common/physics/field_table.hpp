@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "common/base/types.hpp"
-#include "common/physics/constitutive.hpp"
+#include "common/physics/material_state.hpp"
 
 namespace slide {
 

@@ -36,8 +36,8 @@
 #include <span>
 
 #include "common/base/types.hpp"
-#include "common/physics/constitutive.hpp"
 #include "common/physics/material.hpp"
+#include "common/physics/material_state.hpp"
 
 namespace slide::multi_yield {
 

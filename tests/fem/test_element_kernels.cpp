@@ -13,6 +13,7 @@
 
 #include "fem/element_kernels.hpp"
 #include "fem/fem_model.hpp"
+#include "fem/model_setup.hpp"
 #include "tests/support/eigen_checks.hpp"
 #include "tests/support/meshes.hpp"
 #include "tests/support/soil.hpp"

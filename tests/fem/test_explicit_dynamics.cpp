@@ -11,6 +11,7 @@
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_quality.hpp"
+#include "fem/model_setup.hpp"
 #include "tests/support/meshes.hpp"
 #include "tests/support/soil.hpp"
 

@@ -13,6 +13,7 @@
 #include "fem/fem_model.hpp"
 #include "fem/fem_output.hpp"
 #include "fem/mesh_quality.hpp"
+#include "fem/model_setup.hpp"
 #include "tests/support/meshes.hpp"
 #include "tests/support/soil.hpp"
 

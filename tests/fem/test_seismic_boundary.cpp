@@ -5,6 +5,7 @@
 #include "common/base/error.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"
+#include "fem/model_setup.hpp"
 #include "fem/seismic_boundary.hpp"
 #include "tests/support/meshes.hpp"
 #include "tests/support/soil.hpp"

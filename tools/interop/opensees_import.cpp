@@ -14,6 +14,7 @@
 #include "fem/fem_model.hpp"
 #include "fem/fem_output.hpp"
 #include "fem/mesh_quality.hpp"
+#include "fem/model_setup.hpp"
 
 namespace slide::interop {
 namespace {

@@ -24,6 +24,7 @@
 #include "fem/explicit_dynamics.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"
+#include "fem/model_setup.hpp"
 
 namespace {
 

@@ -1,0 +1,112 @@
+#include "fem/model_setup.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <string>
+
+#include "common/base/error.hpp"
+#include "fem/element_kernels.hpp"
+
+namespace slide::fem {
+
+namespace {
+
+void add_element_mass(const Mesh& mesh, Index e, double density, std::vector<double>& nodal_mass) {
+  const ShapeValues mass =
+      lumped_element_mass(mesh.shape(), mesh.element_nodes(e, mesh.nodes), density);
+  const auto nodes = mesh.element(e);
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    nodal_mass[static_cast<std::size_t>(nodes[k])] += mass[k];
+  }
+}
+
+void build_node_slots(FemModel& model) {
+  const auto n_nodes = static_cast<std::size_t>(model.node_count());
+  const auto& connectivity = model.mesh.connectivity;
+  model.adjacency.offsets.assign(n_nodes + 1, 0);
+  for (Index node : connectivity) ++model.adjacency.offsets[static_cast<std::size_t>(node) + 1];
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    model.adjacency.offsets[n + 1] += model.adjacency.offsets[n];
+  }
+  model.adjacency.slots.resize(connectivity.size());
+  std::vector<Index> fill(model.adjacency.offsets.begin(), model.adjacency.offsets.end() - 1);
+  for (std::size_t slot = 0; slot < connectivity.size(); ++slot) {
+    const auto node = static_cast<std::size_t>(connectivity[slot]);
+    model.adjacency.slots[static_cast<std::size_t>(fill[node]++)] = static_cast<Index>(slot);
+  }
+}
+
+}  // namespace
+
+FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
+                    double hourglass_coefficient, const Vec2& gravity) {
+  FemModel model;
+  model.gravity = gravity;
+  model.mesh = std::move(mesh);
+  model.materials = std::move(materials);
+  model.kinematics = kinematics;
+  model.hourglass_coefficient = hourglass_coefficient;
+  const Mesh& m = model.mesh;
+  const ElementType type = m.element_type;
+  model.nodes_per_element = m.nodes_per_element();
+  const auto rule = quadrature_rule(type);
+  model.gauss_per_element = static_cast<int>(rule.size());
+  model.hourglass = type == ElementType::quad4_1gp;
+  for (const auto& point : rule) {
+    model.rule.local.push_back(point.xi);
+    model.rule.weight.push_back(point.weight);
+  }
+  for (const auto& material : model.materials) {
+    model.elastic.matrix.push_back(plane_strain_elasticity(material));
+    model.elastic.wave_speed.push_back(material.p_wave_speed());
+  }
+
+  const auto n_elements = static_cast<std::size_t>(m.element_count());
+  for (std::size_t e = 0; e < n_elements; ++e) {
+    const auto id = m.material_id[e];
+    if (id < 0 || static_cast<std::size_t>(id) >= model.materials.size()) {
+      throw Error("mesh: element {} has material id {} but there are {} materials", e, id,
+                  model.materials.size());
+    }
+  }
+
+  const Index inverted = compute_geometry(model, m.nodes, model.reference);
+  if (inverted >= 0) {
+    throw Error(
+        "mesh: element {} is inverted or degenerate (det J ≤ 0 in the reference "
+        "configuration)",
+        inverted);
+  }
+
+  model.elements.centre_det_reference.resize(n_elements);
+  model.elements.volume_reference.resize(n_elements);
+  model.elements.mass.resize(n_elements);
+  model.lumped.mass.assign(static_cast<std::size_t>(m.node_count()), 0.0);
+  const Vec2 centre = reference_centre(m.shape());
+  for (std::size_t e = 0; e < n_elements; ++e) {
+    const auto ei = static_cast<Index>(e);
+    const ElementNodes x = m.element_nodes(ei, m.nodes);
+    const double density = model.material_of(ei).density;
+    model.elements.centre_det_reference[e] = jacobian(m.shape(), x, centre).determinant();
+    model.elements.volume_reference[e] = element_area(m.shape(), x);
+    model.elements.mass[e] = density * model.elements.volume_reference[e];
+    add_element_mass(m, ei, density, model.lumped.mass);
+  }
+  model.lumped.gravity_force.resize(model.lumped.mass.size());
+  for (std::size_t n = 0; n < model.lumped.mass.size(); ++n) {
+    if (!(model.lumped.mass[n] > 0.0)) throw Error("mesh: node {} belongs to no element", n);
+    model.lumped.gravity_force[n] = model.lumped.mass[n] * model.gravity;
+  }
+
+  double y_max = -std::numeric_limits<double>::infinity();
+  model.extent.y_min = std::numeric_limits<double>::infinity();
+  for (const Vec2& x : m.nodes) {
+    model.extent.y_min = std::min(model.extent.y_min, x.y());
+    y_max = std::max(y_max, x.y());
+  }
+  model.extent.height = y_max - model.extent.y_min;
+  build_node_slots(model);
+  return model;
+}
+
+}  // namespace slide::fem
