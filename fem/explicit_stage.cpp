@@ -554,16 +554,12 @@ run::Work ExplicitStage::work() const {
           static_cast<double>(model_.element_count() * steps_)};
 }
 
-FemRunSummary ExplicitStage::summary(const run::RunResult& result) const {
-  FemRunSummary summary;
-  summary.steps = steps_;
-  summary.elements = model_.element_count();
-  summary.end_time = state_.time;
-  summary.checkpoints = outputs_.written();
-  summary.wall_seconds = result.wall_seconds;
-  // Zone, inversion and KE peak from the whole history (also the rows before a restart).
+namespace {
+
+/// Zone, inversion and KE peak from the whole history (also the rows before a restart).
+void read_history(const std::vector<HistoryRow>& rows, FemRunSummary& summary) {
   bool exited = false;
-  for (const auto& row : outputs_.history().rows()) {
+  for (const auto& row : rows) {
     if (!exited && row.inside_zone()) summary.last_time_in_zone = row.time;
     if (!exited && !row.inside_zone()) {
       exited = true;
@@ -578,48 +574,59 @@ FemRunSummary ExplicitStage::summary(const run::RunResult& result) const {
       summary.ke_over_pe0_max_time = row.time;
     }
   }
+}
+
+std::string at(double t) {
+  return fmt::format("t = {:.3f} s", t);
+}
+
+/// "last inside at t = …, left at t = …" and the like: the recommended zone over the run.
+std::string zone_text(const FemRunSummary& summary) {
+  if (summary.last_time_in_zone && summary.zone_exit_time) {
+    return fmt::format("last inside at {}, left at {}", at(*summary.last_time_in_zone),
+                       at(*summary.zone_exit_time));
+  }
+  if (summary.last_time_in_zone) {
+    return fmt::format("inside at every output step, to {}", at(*summary.last_time_in_zone));
+  }
+  if (summary.zone_exit_time) return fmt::format("outside from {} on", at(*summary.zone_exit_time));
+  return "no output step";
+}
+
+/// When an element first inverted, or that none did.
+std::string inversion_text(const FemRunSummary& summary) {
+  const auto first = [](const std::optional<double>& t) {
+    return t ? fmt::format("first at {}", at(*t)) : std::string("never");
+  };
+  if (!summary.first_time_inverted && !summary.first_time_jacobian_ratio_negative) {
+    return "no element inverted (det J > 0 at every corner at every output step)";
+  }
+  return fmt::format(
+      "element inverted (det J < 0 at a corner or zero area) {}, (|J_t|/|J_0|)_min < 0 {}",
+      first(summary.first_time_inverted), first(summary.first_time_jacobian_ratio_negative));
+}
+
+}  // namespace
+
+FemRunSummary ExplicitStage::summary(const run::RunResult& result) const {
+  FemRunSummary summary;
+  summary.steps = steps_;
+  summary.elements = model_.element_count();
+  summary.end_time = state_.time;
+  summary.checkpoints = outputs_.written();
+  summary.wall_seconds = result.wall_seconds;
+  read_history(outputs_.history().rows(), summary);
   if (plan_.source.fem.failure_stage) {
-    const auto at = [](double t) { return fmt::format("t = {:.3f} s", t); };
-    std::string zone;
-    if (summary.last_time_in_zone && summary.zone_exit_time) {
-      zone = fmt::format("last inside at {}, left at {}", at(*summary.last_time_in_zone),
-                         at(*summary.zone_exit_time));
-    } else if (summary.last_time_in_zone) {
-      zone = fmt::format("inside at every output step, to {}", at(*summary.last_time_in_zone));
-    } else if (summary.zone_exit_time) {
-      zone = fmt::format("outside from {} on", at(*summary.zone_exit_time));
-    } else {
-      zone = "no output step";
-    }
     log_.info("recommended transfer zone ((|J_t|/|J_0|)_avg ≥ {}, εq,avg ≤ {}): {}",
-              zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, zone);
-    const auto first = [&](const std::optional<double>& t) {
-      return t ? fmt::format("first at {}", at(*t)) : std::string("never");
-    };
-    const std::string inversion =
-        summary.first_time_inverted || summary.first_time_jacobian_ratio_negative
-            ? fmt::format(
-                  "element inverted (det J < 0 at a corner or zero area) {}, (|J_t|/|J_0|)_min < 0 "
-                  "{}",
-                  first(summary.first_time_inverted),
-                  first(summary.first_time_jacobian_ratio_negative))
-            : std::string("no element inverted (det J > 0 at every corner at every output step)");
-    log_.info("{}; KE/PE0 peak {:.5f} at {}", inversion, summary.ke_over_pe0_max,
+              zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, zone_text(summary));
+    log_.info("{}; KE/PE0 peak {:.5f} at {}", inversion_text(summary), summary.ke_over_pe0_max,
               at(summary.ke_over_pe0_max_time));
   }
   const std::string text = fmt::format(
       "# fem-solve summary of case {} (times in s; docs/method.md §3)\n"
-      "element = {}\n"
-      "kinematics = {}\n"
-      "end_time = {:.6g}\n"
-      "steps = {}\n"
-      "elements = {}\n"
-      "last_time_in_zone = {}\n"
-      "zone_exit_time = {}\n"
-      "first_time_jacobian_ratio_negative = {}\n"
-      "first_time_inverted = {}\n"
-      "ke_over_pe0_max = {:.6g}\n"
-      "ke_over_pe0_max_time = {:.6g}\n"
+      "element = {}\nkinematics = {}\nend_time = {:.6g}\nsteps = {}\nelements = {}\n"
+      "last_time_in_zone = {}\nzone_exit_time = {}\nfirst_time_jacobian_ratio_negative = {}\n"
+      "first_time_inverted = {}\nke_over_pe0_max = {:.6g}\nke_over_pe0_max_time = {:.6g}\n"
       "wall_s = {:.3f}\n",
       plan_.source.name, to_string(model_.mesh.element_type), to_string(model_.kinematics),
       summary.end_time, state_.step, summary.elements, format_time(summary.last_time_in_zone),

@@ -19,50 +19,67 @@
 #include "fem/fem_plan.hpp"
 #include "fem/fem_solver.hpp"
 
+namespace {
+
+using namespace slide;
+
+/// The command line as given (what needs no conversion goes to the options directly).
+struct CommandLine {
+  std::string case_file, element, kinematics, restart;
+  fem::FemOptions options;
+  double until = 0.0, vtk_every = 0.0;
+  bool quiet = false, no_vtk = false;
+};
+
+void add_options(CLI::App& app, CommandLine& c) {
+  app.add_option("case", c.case_file, "case file (case.toml)")->required();
+  app.add_option("-o,--output", c.options.output_dir, "output folder")->required();
+  app.add_option("--until", c.until, "end time in s (instead of fem.end_time)");
+  app.add_option("--restart", c.restart, "continue from this kind \"fem\" checkpoint");
+  app.add_option("--checkpoint-every", c.options.checkpoint_every,
+                 "also write a checkpoint every DT s");
+  app.add_flag("--checkpoint-at-zone-exit", c.options.checkpoint_at_zone_exit,
+               "write a checkpoint of the last output state inside the recommended transfer zone");
+  app.add_option("--element", c.element, "element type instead of mesh.element")
+      ->check(CLI::IsMember({"quad4-1gp", "quad4-2x2", "tri3"}));
+  app.add_option("--kinematics", c.kinematics, "kinematics instead of fem.kinematics")
+      ->check(CLI::IsMember({"small-strain", "updated-lagrangian"}));
+  app.add_flag("--no-vtk", c.no_vtk, "write no VTK files");
+  app.add_option("--vtk-every", c.vtk_every,
+                 "VTK frames every this many seconds, a multiple of fem.output_every (0: every "
+                 "output step; default: fem.vtk_every, else about 100 frames a run)")
+      ->check(non_negative_number());
+  app.add_flag("-q,--quiet", c.quiet, "print only warnings, errors and the summary line");
+}
+
+fem::FemOptions options_of(const CLI::App& app, const CommandLine& c) {
+  fem::FemOptions options = c.options;
+  if (app.count("--until") > 0) options.until = c.until;
+  if (!c.restart.empty()) options.restart = c.restart;
+  if (!c.element.empty()) options.element = parse_element_type(c.element, "--element");
+  if (!c.kinematics.empty()) {
+    options.kinematics = c.kinematics == "updated-lagrangian" ? Kinematics::updated_lagrangian
+                                                              : Kinematics::small_strain;
+  }
+  options.write_vtk = !c.no_vtk;
+  if (app.count("--vtk-every") > 0) options.vtk_every = c.vtk_every;
+  return options;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using namespace slide;
   CLI::App app{
       "fem-solve: the finite element phase (geostatic stage, failure stage, mesh "
       "quality, checkpoints)",
       "fem-solve"};
-  std::string case_file, element, kinematics;
-  fem::FemOptions options;
-  double until = 0.0, vtk_every = 0.0;
-  std::string restart;
-  bool quiet = false;
-  bool no_vtk = false;
-  app.add_option("case", case_file, "case file (case.toml)")->required();
-  app.add_option("-o,--output", options.output_dir, "output folder")->required();
-  app.add_option("--until", until, "end time in s (instead of fem.end_time)");
-  app.add_option("--restart", restart, "continue from this kind \"fem\" checkpoint");
-  app.add_option("--checkpoint-every", options.checkpoint_every,
-                 "also write a checkpoint every DT s");
-  app.add_flag("--checkpoint-at-zone-exit", options.checkpoint_at_zone_exit,
-               "write a checkpoint of the last output state inside the recommended transfer zone");
-  app.add_option("--element", element, "element type instead of mesh.element")
-      ->check(CLI::IsMember({"quad4-1gp", "quad4-2x2", "tri3"}));
-  app.add_option("--kinematics", kinematics, "kinematics instead of fem.kinematics")
-      ->check(CLI::IsMember({"small-strain", "updated-lagrangian"}));
-  app.add_flag("--no-vtk", no_vtk, "write no VTK files");
-  app.add_option("--vtk-every", vtk_every,
-                 "VTK frames every this many seconds, a multiple of fem.output_every (0: every "
-                 "output step; default: fem.vtk_every, else about 100 frames a run)")
-      ->check(non_negative_number());
-  app.add_flag("-q,--quiet", quiet, "print only warnings, errors and the summary line");
+  CommandLine command;
+  add_options(app, command);
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 
   return run_main("fem-solve", [&] {
-    const Logger logger("fem-solve", quiet);
-    const Case c = load_case(case_file);
-    if (app.count("--until") > 0) options.until = until;
-    if (!restart.empty()) options.restart = restart;
-    if (!element.empty()) options.element = parse_element_type(element, "--element");
-    if (!kinematics.empty()) {
-      options.kinematics = kinematics == "updated-lagrangian" ? Kinematics::updated_lagrangian
-                                                              : Kinematics::small_strain;
-    }
-    options.write_vtk = !no_vtk;
-    if (app.count("--vtk-every") > 0) options.vtk_every = vtk_every;
-    fem::run_fem(fem::plan_fem(c, options), logger);  // ends with the summary line
+    const Logger logger("fem-solve", command.quiet);
+    const Case c = load_case(command.case_file);
+    fem::run_fem(fem::plan_fem(c, options_of(app, command)), logger);  // ends with the summary
   });
 }

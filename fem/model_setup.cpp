@@ -36,48 +36,21 @@ void build_node_slots(FemModel& model) {
   }
 }
 
-}  // namespace
-
-FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
-                    double hourglass_coefficient, const Vec2& gravity) {
-  FemModel model;
-  model.gravity = gravity;
-  model.mesh = std::move(mesh);
-  model.materials = std::move(materials);
-  model.kinematics = kinematics;
-  model.hourglass_coefficient = hourglass_coefficient;
-  const Mesh& m = model.mesh;
-  const ElementType type = m.element_type;
-  model.nodes_per_element = m.nodes_per_element();
-  const auto rule = quadrature_rule(type);
-  model.gauss_per_element = static_cast<int>(rule.size());
-  model.hourglass = type == ElementType::quad4_1gp;
-  for (const auto& point : rule) {
-    model.rule.local.push_back(point.xi);
-    model.rule.weight.push_back(point.weight);
-  }
-  for (const auto& material : model.materials) {
-    model.elastic.matrix.push_back(plane_strain_elasticity(material));
-    model.elastic.wave_speed.push_back(material.p_wave_speed());
-  }
-
-  const auto n_elements = static_cast<std::size_t>(m.element_count());
-  for (std::size_t e = 0; e < n_elements; ++e) {
-    const auto id = m.material_id[e];
-    if (id < 0 || static_cast<std::size_t>(id) >= model.materials.size()) {
-      throw Error("mesh: element {} has material id {} but there are {} materials", e, id,
+/// Every element's material is one of the model's.
+void check_material_ids(const FemModel& model) {
+  const auto& ids = model.mesh.material_id;
+  for (std::size_t e = 0; e < ids.size(); ++e) {
+    if (ids[e] < 0 || static_cast<std::size_t>(ids[e]) >= model.materials.size()) {
+      throw Error("mesh: element {} has material id {} but there are {} materials", e, ids[e],
                   model.materials.size());
     }
   }
+}
 
-  const Index inverted = compute_geometry(model, m.nodes, model.reference);
-  if (inverted >= 0) {
-    throw Error(
-        "mesh: element {} is inverted or degenerate (det J ≤ 0 in the reference "
-        "configuration)",
-        inverted);
-  }
-
+/// Per element det J at the centre, V_0^e and m_e; per node the lumped mass and m_I g.
+void compute_masses(FemModel& model) {
+  const Mesh& m = model.mesh;
+  const auto n_elements = static_cast<std::size_t>(m.element_count());
   model.elements.centre_det_reference.resize(n_elements);
   model.elements.volume_reference.resize(n_elements);
   model.elements.mass.resize(n_elements);
@@ -97,14 +70,53 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
     if (!(model.lumped.mass[n] > 0.0)) throw Error("mesh: node {} belongs to no element", n);
     model.lumped.gravity_force[n] = model.lumped.mass[n] * model.gravity;
   }
+}
 
+VerticalExtent vertical_extent(const std::vector<Vec2>& nodes) {
+  VerticalExtent extent;
   double y_max = -std::numeric_limits<double>::infinity();
-  model.extent.y_min = std::numeric_limits<double>::infinity();
-  for (const Vec2& x : m.nodes) {
-    model.extent.y_min = std::min(model.extent.y_min, x.y());
+  extent.y_min = std::numeric_limits<double>::infinity();
+  for (const Vec2& x : nodes) {
+    extent.y_min = std::min(extent.y_min, x.y());
     y_max = std::max(y_max, x.y());
   }
-  model.extent.height = y_max - model.extent.y_min;
+  extent.height = y_max - extent.y_min;
+  return extent;
+}
+
+}  // namespace
+
+FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
+                    double hourglass_coefficient, const Vec2& gravity) {
+  FemModel model;
+  model.gravity = gravity;
+  model.mesh = std::move(mesh);
+  model.materials = std::move(materials);
+  model.kinematics = kinematics;
+  model.hourglass_coefficient = hourglass_coefficient;
+  const ElementType type = model.mesh.element_type;
+  model.nodes_per_element = model.mesh.nodes_per_element();
+  const auto rule = quadrature_rule(type);
+  model.gauss_per_element = static_cast<int>(rule.size());
+  model.hourglass = type == ElementType::quad4_1gp;
+  for (const auto& point : rule) {
+    model.rule.local.push_back(point.xi);
+    model.rule.weight.push_back(point.weight);
+  }
+  for (const auto& material : model.materials) {
+    model.elastic.matrix.push_back(plane_strain_elasticity(material));
+    model.elastic.wave_speed.push_back(material.p_wave_speed());
+  }
+  check_material_ids(model);
+  const Index inverted = compute_geometry(model, model.mesh.nodes, model.reference);
+  if (inverted >= 0) {
+    throw Error(
+        "mesh: element {} is inverted or degenerate (det J ≤ 0 in the reference "
+        "configuration)",
+        inverted);
+  }
+  compute_masses(model);
+  model.extent = vertical_extent(model.mesh.nodes);
   build_node_slots(model);
   return model;
 }

@@ -23,59 +23,77 @@
 #include "mpm/mpm_plan.hpp"
 #include "mpm/mpm_run.hpp"
 
-int main(int argc, char** argv) {
-  using namespace slide;
-  // MPI build: the ranks of `mpirun -np N mpm-solve …` (docs/parallel.md); one otherwise.
-  const RankSession session(argc, argv);
-  CLI::App app{"mpm-solve: material point runout phase (sequential hybrid FEM → MPM)", "mpm-solve"};
+namespace {
+
+using namespace slide;
+
+/// The command line as given.
+struct CommandLine {
   std::string case_file, output_dir, particles, restart, shape, scheme;
   double until = 0.0, vtk_every = 0.0;
   int threads = 0;
-  bool quiet = false, no_vtk = false;
-  app.add_option("case", case_file, "case file (case.toml)")->required();
-  app.add_option("-o,--output", output_dir, "output folder")->required();
-  app.add_option("--particles", particles, "particle file to start from (fem2mpm output)");
-  app.add_option("--until", until, "stop at this time (s) instead of the case's end time");
-  app.add_option("--restart", restart, "continue from an mpm checkpoint (mpm_t<T>.h5)");
-  app.add_option("--threads", threads,
+  bool quiet = false, no_vtk = false, other_case = false;
+};
+
+void add_options(CLI::App& app, CommandLine& c) {
+  app.add_option("case", c.case_file, "case file (case.toml)")->required();
+  app.add_option("-o,--output", c.output_dir, "output folder")->required();
+  app.add_option("--particles", c.particles, "particle file to start from (fem2mpm output)");
+  app.add_option("--until", c.until, "stop at this time (s) instead of the case's end time");
+  app.add_option("--restart", c.restart, "continue from an mpm checkpoint (mpm_t<T>.h5)");
+  app.add_option("--threads", c.threads,
                  "OpenMP threads (default: all cores; under mpirun, the cores over the ranks "
                  "on the machine)")
       ->check(positive_number());
-  app.add_option("--shape-function", shape, "override the case: gimp or linear")
+  app.add_option("--shape-function", c.shape, "override the case: gimp or linear")
       ->check(CLI::IsMember({"gimp", "linear"}));
-  app.add_option("--update-scheme", scheme, "override the case: musl or usl")
+  app.add_option("--update-scheme", c.scheme, "override the case: musl or usl")
       ->check(CLI::IsMember({"musl", "usl"}));
-  app.add_flag("--no-vtk", no_vtk, "write no VTK files");
-  app.add_option("--vtk-every", vtk_every,
+  app.add_flag("--no-vtk", c.no_vtk, "write no VTK files");
+  app.add_option("--vtk-every", c.vtk_every,
                  "VTK frames every this many seconds, a multiple of mpm.output_every (0: every "
                  "output step; default: mpm.vtk_every, else about 100 frames a run)")
       ->check(non_negative_number());
-  bool other_case = false;
-  app.add_flag("--other-case", other_case,
+  app.add_flag("--other-case", c.other_case,
                "accept a --particles or --restart file written for another case (warns)");
-  app.add_flag("-q,--quiet", quiet, "print warnings, errors and the summary line only");
+  app.add_flag("-q,--quiet", c.quiet, "print warnings, errors and the summary line only");
+}
+
+mpm::RunOptions options_of(const CLI::App& app, const CommandLine& c) {
+  mpm::RunOptions options;
+  options.output_dir = c.output_dir;
+  if (!c.particles.empty()) options.particles_file = c.particles;
+  if (!c.restart.empty()) options.restart_file = c.restart;
+  if (app.count("--until") > 0) options.until = c.until;
+  options.write_vtk = !c.no_vtk;
+  options.other_case = c.other_case;
+  if (app.count("--vtk-every") > 0) options.vtk_every = c.vtk_every;
+  if (!c.shape.empty())
+    options.shape_function = c.shape == "gimp" ? ShapeFunction::gimp : ShapeFunction::linear;
+  if (!c.scheme.empty())
+    options.update_scheme = c.scheme == "musl" ? UpdateScheme::musl : UpdateScheme::usl;
+  return options;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // MPI build: the ranks of `mpirun -np N mpm-solve …` (docs/parallel.md); one otherwise.
+  const RankSession session(argc, argv);
+  CLI::App app{"mpm-solve: material point runout phase (sequential hybrid FEM → MPM)", "mpm-solve"};
+  CommandLine command;
+  add_options(app, command);
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 
   return run_main_on_ranks("mpm-solve", [&] {
     const Ranks& ranks = Ranks::world();
     // Ranks on one machine share its cores: by default each takes its share of them.
+    int threads = command.threads;
     if (threads == 0 && ranks.on_this_machine() > 1)
       threads = std::max(1, omp_get_num_procs() / ranks.on_this_machine());
     if (threads > 0) omp_set_num_threads(threads);
-    const Logger log("mpm-solve", quiet, !ranks.root());
-    const Case c = load_case(case_file);
-    mpm::RunOptions options;
-    options.output_dir = output_dir;
-    if (!particles.empty()) options.particles_file = particles;
-    if (!restart.empty()) options.restart_file = restart;
-    if (app.count("--until") > 0) options.until = until;
-    options.write_vtk = !no_vtk;
-    options.other_case = other_case;
-    if (app.count("--vtk-every") > 0) options.vtk_every = vtk_every;
-    if (!shape.empty())
-      options.shape_function = shape == "gimp" ? ShapeFunction::gimp : ShapeFunction::linear;
-    if (!scheme.empty())
-      options.update_scheme = scheme == "musl" ? UpdateScheme::musl : UpdateScheme::usl;
-    mpm::run_mpm(mpm::plan_mpm(c, options), log);  // ends with the summary line
+    const Logger log("mpm-solve", command.quiet, !ranks.root());
+    const Case c = load_case(command.case_file);
+    mpm::run_mpm(mpm::plan_mpm(c, options_of(app, command)), log);  // ends with the summary line
   });
 }

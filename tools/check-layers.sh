@@ -5,8 +5,9 @@
 # include common/ and never each other; no file-level loop (a module, a .hpp with its
 # .cpp, includes a module that includes it back, at any remove); no solver or stage
 # header includes the case reader (common/input/case_file*.hpp: the stages take typed
-# settings, only the plans read a case). Prints every include that breaks a rule, and
-# with --picture the folder-to-folder include counts. Exit 1 on any violation.
+# settings, only the plans read a case). Prints every include that breaks a rule; with
+# --picture the folder-to-folder include counts, with --readme checks common/README.md's
+# copy of them. Exit 1 on any violation.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -55,13 +56,33 @@ if ! loops=$(printf '%s\n' "${modules[@]}" | tsort 2>&1 >/dev/null) || [[ -n $lo
   violations=$((violations + 1))
 fi
 
-if [[ ${1:-} == --picture ]]; then
-  for edge in "${!edges[@]}"; do
-    from=${edge% -> *}
-    to=${edge#* -> }
-    [[ $from == "$to" ]] || echo "$edge (${edges[$edge]})"
-  done | sort
-fi
+# The folder-to-folder include counts, one line per including folder in layer order,
+# its targets in layer order: the picture common/README.md shows (--readme checks it).
+picture() {
+  local order=(common/base common/geometry common/physics common/settings common/io common/input
+    common/run fem transfer mpm)
+  local from to line
+  for from in "${order[@]}"; do
+    line=""
+    for to in "${order[@]}"; do
+      [[ $from == "$to" || -z ${edges["$from -> $to"]:-} ]] && continue
+      line+="${line:+, }$to (${edges["$from -> $to"]})"
+    done
+    [[ -n $line ]] && printf '%-15s -> %s\n' "$from" "$line"
+  done
+  return 0
+}
+case ${1:-} in
+  --picture) picture ;;
+  --readme)
+    # The README's block after "include counts" must be the picture of this tree.
+    if ! diff <(picture) <(sed -n '/^The include counts between folders/,/^```$/p' common/README.md |
+      sed -n '/^```$/,/^```$/p' | sed '1d;$d'); then
+      echo "common/README.md's include counts are not this tree's (tools/check-layers.sh --picture)"
+      violations=$((violations + 1))
+    fi
+    ;;
+esac
 if ((violations > 0)); then
   echo "$violations include(s) break the layer rules (common/README.md)"
   exit 1

@@ -1068,21 +1068,12 @@ CheckpointHeader read_checkpoint_header(const fs::path& path) {
   return read_header(reader.file());
 }
 
-FemCheckpoint read_fem_checkpoint(const fs::path& path) {
-  const Reader reader(path);
-  FemCheckpoint c;
-  c.header = read_header(reader.file());
-  require_kind(reader, c.header.kind, {CheckpointKind::fem}, "fem");
-  c.materials = read_materials(reader);
+namespace {
 
-  // Row counts come from the defining datasets; every other dataset must match them.
-  const Rows nodes = reader.define_rows("/nodes/reference_coordinates", TypeClass::floating_point,
-                                        2, "node", "n_nodes");
-  c.mesh.nodes = reader.vectors<2>("/nodes/reference_coordinates", nodes);
-  c.coordinates = reader.vectors<2>("/nodes/coordinates", nodes);
-  reader.fields(fe_fields, c, RowKind::node, "/nodes", nodes, c.materials.size());
-
-  // The element type: `integration` names the rule, `type` the shape it must agree with.
+/// /elements of a fem checkpoint: the element type (`integration` names the rule, `type`
+/// the shape it must agree with), connectivity, materials, quality and volumes, and the
+/// element fields of the state. Returns the element rows.
+Rows read_fem_elements(const Reader& reader, FemCheckpoint& c, const Rows& nodes) {
   const hdf5::Dataset connectivity = reader.file().open_dataset("elements/connectivity");
   c.mesh.element_type =
       parse_element_type(connectivity.read_string_attribute("integration"),
@@ -1109,7 +1100,12 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
                    "reference volume");
   c.volume = reader.doubles("/elements/volume", 0, elements);
   reader.fields(fe_fields, c, RowKind::element, "/elements", elements, c.materials.size());
+  return elements;
+}
 
+/// /gauss_points of a fem checkpoint: where they are, their weights, εq and the Gauss-point
+/// fields of the state.
+void read_fem_gauss_points(const Reader& reader, FemCheckpoint& c, const Rows& elements) {
   const Rows gauss =
       reader.define_rows("/gauss_points/element", TypeClass::integer, 0, "Gauss point", "n_gp");
   c.gauss_element =
@@ -1120,6 +1116,25 @@ FemCheckpoint read_fem_checkpoint(const fs::path& path) {
   require_positive(reader.where("/gauss_points/weight"), c.gauss_weight, gauss, "weight");
   c.eps_q = reader.doubles("/gauss_points/eps_q", 0, gauss);
   reader.fields(fe_fields, c, RowKind::gauss_point, "/gauss_points", gauss, c.materials.size());
+}
+
+}  // namespace
+
+FemCheckpoint read_fem_checkpoint(const fs::path& path) {
+  const Reader reader(path);
+  FemCheckpoint c;
+  c.header = read_header(reader.file());
+  require_kind(reader, c.header.kind, {CheckpointKind::fem}, "fem");
+  c.materials = read_materials(reader);
+
+  // Row counts come from the defining datasets; every other dataset must match them.
+  const Rows nodes = reader.define_rows("/nodes/reference_coordinates", TypeClass::floating_point,
+                                        2, "node", "n_nodes");
+  c.mesh.nodes = reader.vectors<2>("/nodes/reference_coordinates", nodes);
+  c.coordinates = reader.vectors<2>("/nodes/coordinates", nodes);
+  reader.fields(fe_fields, c, RowKind::node, "/nodes", nodes, c.materials.size());
+  const Rows elements = read_fem_elements(reader, c, nodes);
+  read_fem_gauss_points(reader, c, elements);
 
   read_boundary(reader, c, nodes);
   c.solver = read_solver(reader);
