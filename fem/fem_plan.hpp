@@ -24,21 +24,11 @@ struct Case;  // common/input/case_file.hpp: only plan_fem reads it
 namespace slide::fem {
 
 /// The command line's part of a run.
-struct FemOptions {
-  std::filesystem::path output_dir;
-  std::optional<double> until;                   ///< end time instead of fem.end_time
-  std::optional<std::filesystem::path> restart;  ///< a kind "fem" checkpoint
-  double checkpoint_every = 0.0;                 ///< extra checkpoint cadence, s (0: none)
+struct FemOptions : run::CommonOptions {
+  double checkpoint_every = 0.0;  ///< extra checkpoint cadence, s (0: none)
   bool checkpoint_at_zone_exit = false;
-  bool write_vtk = true;
-  /// --vtk-every: VTK frames every this many seconds (0: at every output step); none:
-  /// the case's fem.vtk_every, else run::automatic_vtk_every.
-  std::optional<double> vtk_every;
   std::optional<ElementType> element;    ///< overrides mesh.element
   std::optional<Kinematics> kinematics;  ///< overrides fem.kinematics
-  /// Read and check the case and the mesh, or the restart checkpoint, then return before
-  /// the first file is written (the fuzz drivers, tests/fuzz/).
-  bool inputs_only = false;
 };
 
 /// The stages of fem-solve, as its checkpoints' restart records name them.

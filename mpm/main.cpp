@@ -63,7 +63,7 @@ mpm::RunOptions options_of(const CLI::App& app, const CommandLine& c) {
   mpm::RunOptions options;
   options.output_dir = c.output_dir;
   if (!c.particles.empty()) options.particles_file = c.particles;
-  if (!c.restart.empty()) options.restart_file = c.restart;
+  if (!c.restart.empty()) options.restart = c.restart;
   if (app.count("--until") > 0) options.until = c.until;
   options.write_vtk = !c.no_vtk;
   options.other_case = c.other_case;

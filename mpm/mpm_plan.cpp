@@ -70,16 +70,16 @@ MpmPlan plan_mpm(const Case& c, const RunOptions& options) {
   if (options.until && !std::isfinite(*options.until)) {
     throw Error("--until {} is not admissible (expected a finite end time in s)", *options.until);
   }
-  if (options.particles_file && options.restart_file) {
+  if (options.particles_file && options.restart) {
     throw Error("--particles and --restart exclude each other (a restart carries its particles)");
   }
   MpmPlan plan;
   run::Plan& run = plan.run;
   run.case_name = c.name;
-  run.start = options.restart_file     ? run::Start::restart
+  run.start = options.restart          ? run::Start::restart
               : options.particles_file ? run::Start::particle_file
                                        : run::Start::case_geometry;
-  run.start_file = options.restart_file.value_or(options.particles_file.value_or(""));
+  run.start_file = options.restart.value_or(options.particles_file.value_or(""));
   plan.source = case_of(c, run.start == run::Start::case_geometry);
   plan.settings = settings_for(c, options);
   plan.other_case = options.other_case;

@@ -25,24 +25,14 @@ struct Case;  // common/input/case_file.hpp: only plan_mpm reads it
 namespace slide::mpm {
 
 /// The command line's part of a run.
-struct RunOptions {
-  std::filesystem::path output_dir;
+struct RunOptions : run::CommonOptions {
   std::optional<std::filesystem::path> particles_file;  ///< --particles
-  std::optional<std::filesystem::path> restart_file;    ///< --restart
-  std::optional<double> until;                          ///< --until: stop earlier than the case
-  bool write_vtk = true;
   /// --other-case: a particle file or checkpoint of another case is used (with a
   /// warning) instead of refused.
   bool other_case = false;
-  /// --vtk-every: VTK frames every this many seconds (0: at every output step, as the
-  /// history); none: the case's mpm.vtk_every, else run::automatic_vtk_every.
-  std::optional<double> vtk_every;
   std::optional<ShapeFunction> shape_function;  ///< overrides the case
   std::optional<UpdateScheme> update_scheme;    ///< overrides the case
   std::optional<int> sort_interval;             ///< overrides the default (benchmarks)
-  /// Read and check the case and the particles (file, restart or case geometry), then
-  /// return before the initial stresses and the first file (the fuzz drivers, tests/fuzz/).
-  bool inputs_only = false;
 };
 
 /// What the run needs of the case file.

@@ -13,6 +13,20 @@
 
 namespace slide::run {
 
+/// The options of the command line every stage has (each stage's options add theirs).
+struct CommonOptions {
+  std::filesystem::path output_dir;
+  std::optional<double> until;                   ///< --until: end earlier than the case
+  std::optional<std::filesystem::path> restart;  ///< --restart: a checkpoint of the stage
+  bool write_vtk = true;                         ///< not --no-vtk
+  /// --vtk-every: VTK frames every this many seconds (0: at every output step); none:
+  /// the case's vtk_every, else automatic_vtk_every.
+  std::optional<double> vtk_every;
+  /// Read and check every input, then stop before the first file is written (the fuzz
+  /// drivers, tests/fuzz/).
+  bool inputs_only = false;
+};
+
 /// Where a run's state comes from.
 enum class Start {
   case_geometry,  ///< the case's mesh: fem-solve's geostatic stage, pure MPM

@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace slide;
   const Case& c = fuzz::fixture_case("fuzz-checkpoints");
   mpm::RunOptions options = fuzz::mpm_solve_inputs_only();
-  options.restart_file = fuzz::write_input({data, size}, "mpm.h5");
+  options.restart = fuzz::write_input({data, size}, "mpm.h5");
   const bool accepted =
       fuzz::accepts([&] { mpm::run_mpm(mpm::plan_mpm(c, options), fuzz::quiet_logger()); });
   fuzz::finish_hdf5_input("mpm-solve --restart");
