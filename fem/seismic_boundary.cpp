@@ -79,77 +79,68 @@ std::vector<Vec2> support_reactions(const FemModel& model, const FemState& state
   return reactions;
 }
 
-SeismicBoundary make_seismic_boundary(const FemModel& model, const MotionSpec& spec,
-                                      const GroundMotion& motion,
-                                      const std::vector<Vec2>& reactions) {
-  const Mesh& mesh = model.mesh;
-  const auto n_nodes = static_cast<std::size_t>(model.node_count());
-  SeismicBoundary boundary;
-  boundary.base = spec.base;
-  boundary.motion = &motion;
-  boundary.dashpot.assign(n_nodes, Vec2::Zero());
-  boundary.incident.assign(n_nodes, Vec2::Zero());
-  boundary.static_force.assign(n_nodes, Vec2::Zero());
-  boundary.dashpots_in_base_frame = spec.base == SeismicBase::rigid;
+namespace {
 
-  std::vector<std::uint8_t> on_base(n_nodes, 0);
-  if (spec.base == SeismicBase::compliant) {
-    const NodeSet& base = node_set(mesh, "base");
-    const double impedance_s = spec.rock_density * spec.rock_shear_wave_speed;
-    const double impedance_p = spec.rock_density * spec.rock_p_wave_speed;
-    // The incident wave is the motion (incident input) or half of it (outcrop).
-    const double incident_factor = spec.input == MotionInput::incident ? 2.0 : 1.0;
-    for (const auto& [node, length] : tributary_lengths(mesh, base)) {
-      const auto n = static_cast<std::size_t>(node);
-      on_base[n] = 1;
-      boundary.dashpot[n].x() = impedance_s * length;
-      boundary.incident[n].x() = incident_factor * impedance_s * length;
-      if (spec.vertical) {
-        boundary.dashpot[n].y() = impedance_p * length;
-        boundary.incident[n].y() = incident_factor * impedance_p * length;
-        boundary.static_force[n].y() = reactions[n].y();
-      }
-    }
-  } else {
+/// The base: a compliant one's dashpots and incident forces (and the vertical static
+/// reactions, when a vertical motion releases them) on its nodes. Returns which nodes are
+/// on the base.
+std::vector<std::uint8_t> set_up_base(const FemModel& model, const MotionSpec& spec,
+                                      const std::vector<Vec2>& reactions,
+                                      SeismicBoundary& boundary) {
+  const Mesh& mesh = model.mesh;
+  std::vector<std::uint8_t> on_base(static_cast<std::size_t>(model.node_count()), 0);
+  if (spec.base != SeismicBase::compliant) {
     for (const Index node : node_set(mesh, "base").nodes)
       on_base[static_cast<std::size_t>(node)] = 1;
+    return on_base;
   }
-  if (spec.lateral == LateralBoundary::boundaries) return boundary;
+  const double impedance_s = spec.rock_density * spec.rock_shear_wave_speed;
+  const double impedance_p = spec.rock_density * spec.rock_p_wave_speed;
+  // The incident wave is the motion (incident input) or half of it (outcrop).
+  const double incident_factor = spec.input == MotionInput::incident ? 2.0 : 1.0;
+  for (const auto& [node, length] : tributary_lengths(mesh, node_set(mesh, "base"))) {
+    const auto n = static_cast<std::size_t>(node);
+    on_base[n] = 1;
+    boundary.dashpot[n].x() = impedance_s * length;
+    boundary.incident[n].x() = incident_factor * impedance_s * length;
+    if (spec.vertical) {
+      boundary.dashpot[n].y() = impedance_p * length;
+      boundary.incident[n].y() = incident_factor * impedance_p * length;
+      boundary.static_force[n].y() = reactions[n].y();
+    }
+  }
+  return on_base;
+}
 
-  const NodeSet& left = node_set(mesh, "left");
-  const NodeSet& right = node_set(mesh, "right");
-  const auto left_length = tributary_lengths(mesh, left);
-  const auto right_length = tributary_lengths(mesh, right);
-  // A rigid base prescribes its nodes: its corners belong to no pair.
-  const auto side_nodes = [&](const std::map<Index, double>& lengths) {
-    std::vector<std::pair<double, Index>> nodes;
-    for (const auto& [node, length] : lengths) {
-      if (spec.base == SeismicBase::rigid && on_base[static_cast<std::size_t>(node)]) continue;
+/// One lateral edge: its nodes by elevation (a rigid base prescribes its nodes: its
+/// corners belong to no pair) and each node's tributary length.
+struct Side {
+  std::map<Index, double> length;
+  std::vector<std::pair<double, Index>> nodes;
+
+  Side(const Mesh& mesh, const char* name, const std::vector<std::uint8_t>& on_base, bool rigid)
+      : length(tributary_lengths(mesh, node_set(mesh, name))) {
+    for (const auto& [node, l] : length) {
+      if (rigid && on_base[static_cast<std::size_t>(node)]) continue;
       nodes.emplace_back(mesh.nodes[static_cast<std::size_t>(node)].y(), node);
     }
     std::ranges::sort(nodes);
-    return nodes;
-  };
-  const auto left_nodes = side_nodes(left_length);
-  const auto right_nodes = side_nodes(right_length);
-  if (spec.lateral == LateralBoundary::viscous) {
-    for (const auto& [y, node] : left_nodes) {
-      make_viscous(model, node, left_length.at(node), reactions, boundary);
-    }
-    for (const auto& [y, node] : right_nodes) {
-      make_viscous(model, node, right_length.at(node), reactions, boundary);
-    }
-    return boundary;
   }
-  // Tied: pair nodes at equal elevation (within 1e-6 of the model's height).
+};
+
+/// Tied sides: nodes at equal elevation (within 1e-6 of the model's height) paired, each
+/// pair keeping its static horizontal reactions. Returns which nodes are paired.
+std::vector<std::uint8_t> tie_sides(const FemModel& model, const MotionSpec& spec, const Side& left,
+                                    const Side& right, const std::vector<Vec2>& reactions,
+                                    SeismicBoundary& boundary) {
   boundary.tie_vertical = spec.lateral == LateralBoundary::tied;
   const double tolerance = 1e-6 * std::max(model.extent.height, 1.0);
   std::size_t j = 0;
-  std::vector<std::uint8_t> paired(n_nodes, 0);
-  for (const auto& [y, node] : left_nodes) {
-    while (j < right_nodes.size() && right_nodes[j].first < y - tolerance) ++j;
-    if (j < right_nodes.size() && std::abs(right_nodes[j].first - y) <= tolerance) {
-      const Index partner = right_nodes[j].second;
+  std::vector<std::uint8_t> paired(static_cast<std::size_t>(model.node_count()), 0);
+  for (const auto& [y, node] : left.nodes) {
+    while (j < right.nodes.size() && right.nodes[j].first < y - tolerance) ++j;
+    if (j < right.nodes.size() && std::abs(right.nodes[j].first - y) <= tolerance) {
+      const Index partner = right.nodes[j].second;
       boundary.tied.emplace_back(node, partner);
       paired[static_cast<std::size_t>(node)] = paired[static_cast<std::size_t>(partner)] = 1;
       for (const Index n : {node, partner}) {
@@ -165,14 +156,38 @@ SeismicBoundary make_seismic_boundary(const FemModel& model, const MotionSpec& s
         "of the right edge",
         to_string(spec.lateral));
   }
-  for (const auto& [y, node] : left_nodes) {
-    if (!paired[static_cast<std::size_t>(node)]) {
-      make_viscous(model, node, left_length.at(node), reactions, boundary);
-    }
+  return paired;
+}
+
+}  // namespace
+
+SeismicBoundary make_seismic_boundary(const FemModel& model, const MotionSpec& spec,
+                                      const GroundMotion& motion,
+                                      const std::vector<Vec2>& reactions) {
+  const auto n_nodes = static_cast<std::size_t>(model.node_count());
+  SeismicBoundary boundary;
+  boundary.base = spec.base;
+  boundary.motion = &motion;
+  boundary.dashpot.assign(n_nodes, Vec2::Zero());
+  boundary.incident.assign(n_nodes, Vec2::Zero());
+  boundary.static_force.assign(n_nodes, Vec2::Zero());
+  boundary.dashpots_in_base_frame = spec.base == SeismicBase::rigid;
+  const std::vector<std::uint8_t> on_base = set_up_base(model, spec, reactions, boundary);
+  if (spec.lateral == LateralBoundary::boundaries) return boundary;
+
+  const bool rigid = spec.base == SeismicBase::rigid;
+  const Side left(model.mesh, "left", on_base, rigid);
+  const Side right(model.mesh, "right", on_base, rigid);
+  // Viscous sides, and the nodes of tied sides without a partner, get Lysmer dashpots.
+  std::vector<std::uint8_t> paired(n_nodes, 0);
+  if (spec.lateral != LateralBoundary::viscous) {
+    paired = tie_sides(model, spec, left, right, reactions, boundary);
   }
-  for (const auto& [y, node] : right_nodes) {
-    if (!paired[static_cast<std::size_t>(node)]) {
-      make_viscous(model, node, right_length.at(node), reactions, boundary);
+  for (const Side* side : {&left, &right}) {
+    for (const auto& [y, node] : side->nodes) {
+      if (!paired[static_cast<std::size_t>(node)]) {
+        make_viscous(model, node, side->length.at(node), reactions, boundary);
+      }
     }
   }
   return boundary;

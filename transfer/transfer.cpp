@@ -112,11 +112,8 @@ void check_finite(const std::vector<T>& field, std::string_view dataset) {
   }
 }
 
-void validate(const FemCheckpoint& fem) {
-  if (fem.header.kind != CheckpointKind::fem) {
-    throw Error("expected an FE checkpoint (kind \"fem\"), got kind \"{}\"",
-                to_string(fem.header.kind));
-  }
+/// Every field the transfer uses has a row per node, element or Gauss point.
+void validate_sizes(const FemCheckpoint& fem) {
   const Mesh& mesh = fem.mesh;
   const std::size_t nodes = mesh.nodes.size();
   const auto elements = static_cast<std::size_t>(mesh.element_count());
@@ -140,8 +137,12 @@ void validate(const FemCheckpoint& fem) {
   check_size(fem.stress, gauss, "/gauss_points/stress");
   check_size(fem.strain, gauss, "/gauss_points/strain");
   if (!fem.material_state.empty()) check_size(fem.material_state, gauss, "/gauss_points/state");
-  for (std::size_t e = 0; e < elements; ++e) {
-    const auto id = mesh.material_id[e];
+}
+
+/// Every element's material exists, with a density the masses can come from.
+void validate_materials(const FemCheckpoint& fem) {
+  for (std::size_t e = 0; e < fem.mesh.material_id.size(); ++e) {
+    const auto id = fem.mesh.material_id[e];
     if (id < 0 || static_cast<std::size_t>(id) >= fem.materials.size()) {
       throw Error("FE checkpoint: element {} has material {} of {}", e, id, fem.materials.size());
     }
@@ -153,7 +154,13 @@ void validate(const FemCheckpoint& fem) {
                   rho);
     }
   }
-  for (std::size_t e = 0; e < elements; ++e) {
+}
+
+/// Finite values, positive reference volumes, and a positive current volume wherever the
+/// element is not inverted: a positive geometry needs a positive V_t^e (the particles
+/// take their volume from it); an inverted element's V_t^e is not used (transfer.hpp).
+void validate_values(const FemCheckpoint& fem) {
+  for (std::size_t e = 0; e < fem.volume_reference.size(); ++e) {
     if (!(fem.volume_reference[e] > 0.0)) {
       throw Error("FE checkpoint: /elements/volume_reference of element {} is {} (expected > 0)", e,
                   fem.volume_reference[e]);
@@ -170,8 +177,7 @@ void validate(const FemCheckpoint& fem) {
   check_finite(fem.stress, "/gauss_points/stress");
   check_finite(fem.strain, "/gauss_points/strain");
   check_finite(fem.material_state, "/gauss_points/state");
-  // A positive geometry needs a positive V_t^e (the particles take their volume from it);
-  // an inverted element's V_t^e is not used (transfer.hpp).
+  const Mesh& mesh = fem.mesh;
   for (Index e = 0; e < mesh.element_count(); ++e) {
     const double volume = fem.volume[static_cast<std::size_t>(e)];
     if (!(volume > 0.0) && !is_inverted(mesh.shape(), mesh.element_nodes(e, fem.coordinates))) {
@@ -181,11 +187,21 @@ void validate(const FemCheckpoint& fem) {
           e, volume);
     }
   }
+}
+
+void validate(const FemCheckpoint& fem) {
+  if (fem.header.kind != CheckpointKind::fem) {
+    throw Error("expected an FE checkpoint (kind \"fem\"), got kind \"{}\"",
+                to_string(fem.header.kind));
+  }
+  validate_sizes(fem);
+  validate_materials(fem);
+  validate_values(fem);
   // The reference mesh is the one fem-solve meshed: counter-clockwise elements, every node
   // used, node sets in range. An element inverted there is a damaged file, which
   // --allow-inverted (for elements the run inverted) does not cover; fem-solve --restart
   // refuses the same file.
-  validate_mesh(mesh, "FE checkpoint (reference mesh)", fem.materials.size());
+  validate_mesh(fem.mesh, "FE checkpoint (reference mesh)", fem.materials.size());
 }
 
 /// Gauss points of each element as offsets into a list sorted by element (stable, so
@@ -237,13 +253,16 @@ struct LimitedCounts {
   std::size_t stress = 0;
 };
 
-LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_index,
-                              const FieldValues& gauss_values,
-                              std::span<const Index> particle_element, FieldValues& at_particles) {
-  const Mesh& mesh = fem.mesh;
+/// Per element the range of every column over its patch (the element and every element
+/// sharing a node with it): `lo` and `hi`, n_elements × columns.
+struct PatchRange {
+  Eigen::MatrixXd lo, hi;
+};
+
+PatchRange patch_ranges(const Mesh& mesh, const GaussIndex& gauss_index,
+                        const FieldValues& gauss_values) {
   const auto elements = static_cast<std::size_t>(mesh.element_count());
-  const Eigen::Index columns = gauss_values.cols();
-  // Node → elements (CSR), then the per-element range of each column over its patch.
+  // Node → elements (CSR).
   std::vector<std::size_t> node_offsets(mesh.nodes.size() + 1, 0);
   for (std::size_t e = 0; e < elements; ++e) {
     for (const Index n : mesh.element(static_cast<Index>(e)))
@@ -256,9 +275,10 @@ LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_
     for (const Index n : mesh.element(static_cast<Index>(e)))
       node_elements[fill[static_cast<std::size_t>(n)]++] = e;
   }
-  const auto element_rows = static_cast<Eigen::Index>(elements);
+  // Each element's own range, then the patch's.
   Eigen::MatrixXd own_lo =
-      Eigen::MatrixXd::Constant(element_rows, columns, std::numeric_limits<double>::infinity());
+      Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(elements), gauss_values.cols(),
+                                std::numeric_limits<double>::infinity());
   Eigen::MatrixXd own_hi = -own_lo;
   for (std::size_t e = 0; e < elements; ++e) {
     for (std::size_t k = gauss_index.offsets[e]; k < gauss_index.offsets[e + 1]; ++k) {
@@ -268,18 +288,27 @@ LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_
       own_hi.row(row) = own_hi.row(row).cwiseMax(gauss_values.row(g));
     }
   }
-  Eigen::MatrixXd lo = own_lo, hi = own_hi;
+  PatchRange range{own_lo, own_hi};
   for (std::size_t e = 0; e < elements; ++e) {
     const auto row = static_cast<Eigen::Index>(e);
     for (const Index n : mesh.element(static_cast<Index>(e))) {
       const auto nn = static_cast<std::size_t>(n);
       for (std::size_t k = node_offsets[nn]; k < node_offsets[nn + 1]; ++k) {
         const auto other = static_cast<Eigen::Index>(node_elements[k]);
-        lo.row(row) = lo.row(row).cwiseMin(own_lo.row(other));
-        hi.row(row) = hi.row(row).cwiseMax(own_hi.row(other));
+        range.lo.row(row) = range.lo.row(row).cwiseMin(own_lo.row(other));
+        range.hi.row(row) = range.hi.row(row).cwiseMax(own_hi.row(other));
       }
     }
   }
+  return range;
+}
+
+LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_index,
+                              const FieldValues& gauss_values,
+                              std::span<const Index> particle_element, FieldValues& at_particles) {
+  const PatchRange range = patch_ranges(fem.mesh, gauss_index, gauss_values);
+  const Eigen::MatrixXd& lo = range.lo;
+  const Eigen::MatrixXd& hi = range.hi;
   // Rounding-level excursions (a constant column, a linear field at a boundary) are left
   // alone: only an excess beyond 1e-9 of the field's magnitude is an overshoot. The
   // magnitude is the field's (all four stress or strain components together), since
@@ -292,7 +321,7 @@ LimitedCounts limit_overshoot(const FemCheckpoint& fem, const GaussIndex& gauss_
   for (Eigen::Index p = 0; p < at_particles.rows(); ++p) {
     const auto row = static_cast<Eigen::Index>(particle_element[static_cast<std::size_t>(p)]);
     bool changed = false, stress_changed = false;
-    for (Eigen::Index c = 0; c < columns; ++c) {
+    for (Eigen::Index c = 0; c < gauss_values.cols(); ++c) {
       const double margin = 0.5 * (hi(row, c) - lo(row, c)) + tolerance(c);
       const double bounded =
           std::clamp(at_particles(p, c), lo(row, c) - margin, hi(row, c) + margin);

@@ -259,6 +259,76 @@ CheckpointKind parse_kind(std::string_view text, std::string_view where) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Attributes of a struct, listed once for the writer and the reader
+
+template <class T>
+struct Attribute {
+  std::string_view name;
+  std::variant<double T::*, std::string T::*, std::int64_t T::*> member;
+};
+
+/// A material's numbers (its names and the multi-yield constants are written apart).
+constexpr std::array<Attribute<Material>, 7> material_numbers{{
+    {"density", &Material::density},
+    {"youngs_modulus", &Material::youngs_modulus},
+    {"poisson_ratio", &Material::poisson_ratio},
+    {"friction_angle", &Material::friction_angle},
+    {"cohesion", &Material::cohesion},
+    {"dilation_angle", &Material::dilation_angle},
+    {"tension_cutoff", &Material::tension_cutoff},
+}};
+
+/// How fem2mpm made the particles (/transfer).
+constexpr std::array<Attribute<TransferSettings>, 6> transfer_attributes{{
+    {"transfer_time", &TransferSettings::transfer_time},
+    {"particles_per_element", &TransferSettings::particles_per_element},
+    {"stress_interpolation", &TransferSettings::stress_interpolation},
+    {"rbf_polynomial", &TransferSettings::rbf_polynomial},
+    {"rbf_shape", &TransferSettings::rbf_shape},
+    {"rbf_neighbours", &TransferSettings::rbf_neighbours},
+}};
+
+template <class T, std::size_t N>
+void write_attributes(hdf5::Group& group, const T& object,
+                      const std::array<Attribute<T>, N>& attributes) {
+  for (const Attribute<T>& a : attributes) {
+    std::visit(
+        [&](auto member) {
+          const auto& value = object.*member;
+          using V = std::remove_cvref_t<decltype(value)>;
+          if constexpr (std::is_same_v<V, double>) {
+            group.write_double_attribute(a.name, value);
+          } else if constexpr (std::is_same_v<V, std::string>) {
+            group.write_string_attribute(a.name, value);
+          } else {
+            group.write_int_attribute(a.name, value);
+          }
+        },
+        a.member);
+  }
+}
+
+template <class T, std::size_t N>
+void read_attributes(const hdf5::Group& group, T& object,
+                     const std::array<Attribute<T>, N>& attributes) {
+  for (const Attribute<T>& a : attributes) {
+    std::visit(
+        [&](auto member) {
+          auto& value = object.*member;
+          using V = std::remove_cvref_t<decltype(value)>;
+          if constexpr (std::is_same_v<V, double>) {
+            value = group.read_double_attribute(a.name);
+          } else if constexpr (std::is_same_v<V, std::string>) {
+            value = group.read_string_attribute(a.name);
+          } else {
+            value = group.read_int_attribute(a.name);
+          }
+        },
+        a.member);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
 // Writing
 
 class Writer {
@@ -429,13 +499,7 @@ void write_materials(Writer& writer, const MaterialTable& materials) {
       g.write_double_attribute("peak_shear_strain", m.peak_shear_strain);
       g.write_int_attribute("yield_surfaces", m.yield_surfaces);
     }
-    g.write_double_attribute("density", m.density);
-    g.write_double_attribute("youngs_modulus", m.youngs_modulus);
-    g.write_double_attribute("poisson_ratio", m.poisson_ratio);
-    g.write_double_attribute("friction_angle", m.friction_angle);
-    g.write_double_attribute("cohesion", m.cohesion);
-    g.write_double_attribute("dilation_angle", m.dilation_angle);
-    g.write_double_attribute("tension_cutoff", m.tension_cutoff);
+    write_attributes(g, m, material_numbers);
   }
 }
 
@@ -566,12 +630,7 @@ void write_transfer(Writer& writer, const TransferSettings& t) {
                 writer.target());
   }
   hdf5::Group group = writer.file().create_group("transfer");
-  group.write_double_attribute("transfer_time", t.transfer_time);
-  group.write_string_attribute("particles_per_element", t.particles_per_element);
-  group.write_string_attribute("stress_interpolation", t.stress_interpolation);
-  group.write_string_attribute("rbf_polynomial", t.rbf_polynomial);
-  group.write_double_attribute("rbf_shape", t.rbf_shape);
-  group.write_int_attribute("rbf_neighbours", t.rbf_neighbours);
+  write_attributes(group, t, transfer_attributes);
 }
 
 bool is_default(const TransferSettings& t) {
@@ -820,13 +879,7 @@ MaterialTable read_materials(const Reader& reader) {
     m.name = g.read_string_attribute("name");
     m.model = parse_material_model(g.read_string_attribute("model"),
                                    fmt::format("{}: attribute model", g.where()));
-    m.density = g.read_double_attribute("density");
-    m.youngs_modulus = g.read_double_attribute("youngs_modulus");
-    m.poisson_ratio = g.read_double_attribute("poisson_ratio");
-    m.friction_angle = g.read_double_attribute("friction_angle");
-    m.cohesion = g.read_double_attribute("cohesion");
-    m.dilation_angle = g.read_double_attribute("dilation_angle");
-    m.tension_cutoff = g.read_double_attribute("tension_cutoff");
+    read_attributes(g, m, material_numbers);
     // Files of schema version 1 name one model for both phases.
     if (g.has_attribute("mpm_model")) {
       const MaterialModel mpm = parse_material_model(
@@ -954,12 +1007,7 @@ std::optional<CheckpointMotion> read_motion(const Reader& reader) {
 TransferSettings read_transfer(const Reader& reader) {
   const hdf5::Group group = reader.file().open_group("transfer");
   TransferSettings t;
-  t.transfer_time = group.read_double_attribute("transfer_time");
-  t.particles_per_element = group.read_string_attribute("particles_per_element");
-  t.stress_interpolation = group.read_string_attribute("stress_interpolation");
-  t.rbf_polynomial = group.read_string_attribute("rbf_polynomial");
-  t.rbf_shape = group.read_double_attribute("rbf_shape");
-  t.rbf_neighbours = group.read_int_attribute("rbf_neighbours");
+  read_attributes(group, t, transfer_attributes);
   if (!std::isfinite(t.transfer_time) || !std::isfinite(t.rbf_shape)) {
     throw Error("{}: attributes transfer_time and rbf_shape must be finite", group.where());
   }

@@ -220,20 +220,10 @@ double courant_step(const MpmSpec& mpm, double courant, const Particles& p,
   return courant * mpm.cell_size / std::sqrt(fastest);
 }
 
-}  // namespace
-
-CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
-                        const CbGeoExportOptions& options) {
-  const Particles& p = checkpoint.particles;
-  const MaterialTable& materials = checkpoint.materials;
-  const Grid g = grid_of(c.mpm);
-  CbGeoInput input;
-  auto& notes = input.notes;
-  if (p.count() == 0) throw Error("mpm2cbgeo: the particle file holds no particle");
-
-  // Every particle inside the grid: CB-Geo stops at the first it cannot locate.
-  const Vec2 lo = c.mpm.domain_min;
-  const Vec2 hi = c.mpm.domain_max;
+/// Every particle inside the grid: CB-Geo stops at the first it cannot locate.
+void check_inside_grid(const Particles& p, const MpmSpec& mpm) {
+  const Vec2 lo = mpm.domain_min;
+  const Vec2 hi = mpm.domain_max;
   for (std::size_t i = 0; i < p.count(); ++i) {
     const Vec2& x = p.coordinates[i];
     if (!((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())) {
@@ -243,8 +233,21 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
           p.id[i], x.x(), x.y(), lo.x(), lo.y(), hi.x(), hi.y());
     }
   }
+}
 
-  // Particles material by material (one CB-Geo file generator each), file order within.
+/// What the particle files hold, for mpm.json and the notes.
+struct ParticleFiles {
+  Json generators = Json::array();
+  Json materials = Json::array();
+  double largest_volume_change = 0.0;
+  double speed = 0.0;
+  double largest_strain = 0.0;
+};
+
+/// The particle files: material by material (one CB-Geo file generator each), file order
+/// within; their stresses and volumes in CB-Geo's particle order; the resume table.
+ParticleFiles write_particle_files(const Particles& p, const MaterialTable& materials,
+                                   const Grid& g, CbGeoInput& input) {
   std::vector<std::vector<std::size_t>> by_material(materials.size());
   for (std::size_t i = 0; i < p.count(); ++i) {
     by_material[static_cast<std::size_t>(p.material_id[i])].push_back(i);
@@ -254,12 +257,8 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
       "{}\n",
       p.count());
   std::string volumes = "# particle id (CB-Geo's, 0-based) and volume, m^3 per m\n";
-  Json generators = Json::array();
-  Json material_list = Json::array();
+  ParticleFiles files;
   long cbgeo_id = 0;
-  double largest_volume_change = 0.0;
-  double speed = 0.0;
-  double largest_strain = 0.0;
   for (std::size_t m = 0; m < materials.size(); ++m) {
     if (by_material[m].empty()) continue;
     const double density = materials[m].density;
@@ -275,87 +274,104 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
       volumes += fmt::format("{} {}\n", cbgeo_id, exact(volume));
       input.resume_particles.push_back(table_row(p, i, cbgeo_id, volume, g));
       ++cbgeo_id;
-      largest_volume_change = std::max(largest_volume_change, std::abs(volume / p.volume[i] - 1.0));
-      speed = std::max(speed, p.velocity[i].norm());
-      largest_strain = std::max(largest_strain, p.strain[i].cwiseAbs().maxCoeff());
+      files.largest_volume_change =
+          std::max(files.largest_volume_change, std::abs(volume / p.volume[i] - 1.0));
+      files.speed = std::max(files.speed, p.velocity[i].norm());
+      files.largest_strain = std::max(files.largest_strain, p.strain[i].cwiseAbs().maxCoeff());
     }
     input.files.emplace_back(name, coordinates);
-    generators.push_back({{"generator",
-                           {{"type", "file"},
-                            {"io_type", "Ascii2D"},
-                            {"location", name},
-                            {"check_duplicates", true},
-                            {"pset_id", static_cast<int>(m)},
-                            {"particle_type", "P2D"},
-                            {"material_id", static_cast<int>(m)}}}});
-    material_list.push_back(material_json(materials[m], static_cast<int>(m), notes));
+    files.generators.push_back({{"generator",
+                                 {{"type", "file"},
+                                  {"io_type", "Ascii2D"},
+                                  {"location", name},
+                                  {"check_duplicates", true},
+                                  {"pset_id", static_cast<int>(m)},
+                                  {"particle_type", "P2D"},
+                                  {"material_id", static_cast<int>(m)}}}});
+    files.materials.push_back(material_json(materials[m], static_cast<int>(m), input.notes));
   }
   input.files.emplace_back("particles-stresses.txt", stresses);
   input.files.emplace_back("particles-volumes.txt", volumes);
-  input.files.emplace_back("mesh.txt", mesh_text(g));
-  input.files.emplace_back("entity_sets.json", entity_sets(g).dump(2) + "\n");
-  if (largest_volume_change > 1e-12) {
+  return files;
+}
+
+/// What the particle files cannot carry.
+void add_particle_notes(const ParticleFiles& files, std::vector<std::string>& notes) {
+  if (files.largest_volume_change > 1e-12) {
     notes.push_back(
         fmt::format("volumes: written as M_p/ρ so that CB-Geo's masses are the "
                     "particles'; they differ from the particles' V_p by up to {:.3g} %",
-                    100.0 * largest_volume_change));
+                    100.0 * files.largest_volume_change));
   }
-  if (speed > 0.0 || largest_strain > 0.0) {
+  if (files.speed > 0.0 || files.largest_strain > 0.0) {
     notes.push_back(fmt::format(
         "velocities (fastest {:.3g} m/s) and strains: carried by the resume file; CB-Geo's ASCII "
         "input has neither, so with analysis.resume.resume = false the particles start at rest "
         "and unstrained",
-        speed));
+        files.speed));
   }
   notes.push_back(
       "plastic state: CB-Geo initialises its Mohr–Coulomb state variables, the "
       "accumulated plastic strains are not carried (no softening, so no effect)");
+}
 
-  // The analysis: CB-Geo's clock starts at 0 at the particles' time.
+/// CB-Geo's step and step count (into `input`) and its output interval in steps. CB-Geo
+/// writes its state at the steps that are multiples of output_steps and, resumed from
+/// step 0, runs steps 1 … nsteps − 1: the output interval is shortened to divide the
+/// duration, the step is the Courant step shortened to divide the interval, and
+/// nsteps − 1 steps make the duration, so that the last output is the end time.
+long choose_steps(const Case& c, const CbGeoExportOptions& options,
+                  const ParticleCheckpoint& checkpoint, CbGeoInput& input) {
+  // CB-Geo's clock starts at 0 at the particles' time.
   const double start = checkpoint.header.time;
   const double end = options.end_time > 0.0 ? options.end_time : c.mpm.end_time;
   if (!(end > start)) {
     throw Error("mpm2cbgeo: end time {} s is not after the particles' time {} s (give --end-time)",
                 end, start);
   }
-  // CB-Geo writes its state at the steps that are multiples of output_steps and, resumed
-  // from step 0, runs steps 1 … nsteps − 1: the output interval is shortened to divide
-  // the duration, the step is the Courant step shortened to divide the interval, and
-  // nsteps − 1 steps make the duration, so that the last output is the end time.
   const double duration = end - start;
   const double asked = std::min(duration, options.output_every > 0.0     ? options.output_every
                                           : c.mpm.checkpoint_every > 0.0 ? c.mpm.checkpoint_every
                                                                          : duration);
   const double every = duration / std::ceil(duration / asked - 1e-9);
-  const double courant = courant_step(c.mpm, options.courant, p, materials);
+  const double courant =
+      courant_step(c.mpm, options.courant, checkpoint.particles, checkpoint.materials);
   const double per_output = std::ceil(every / courant - 1e-9);
   if (!(per_output * std::ceil(duration / every) < 1e9)) {
     throw Error("mpm2cbgeo: {} s in steps of {} s is more than 10⁹ steps", duration, courant);
   }
   input.time_step = every / per_output;
-  const auto output_steps = static_cast<long>(per_output);
   input.steps = std::lround(duration / input.time_step) + 1;
-  const std::string& scheme = options.scheme;
-  if (c.mpm.update_scheme == UpdateScheme::musl || scheme == "usf") {
+  return static_cast<long>(per_output);
+}
+
+/// The algorithms CB-Geo has not, and what they are written as.
+void add_scheme_notes(const MpmSpec& mpm, const std::string& scheme,
+                      std::vector<std::string>& notes) {
+  if (mpm.update_scheme == UpdateScheme::musl || scheme == "usf") {
     notes.push_back(fmt::format("update scheme: {} written as CB-Geo's {} (CB-Geo has USF and USL)",
-                                c.mpm.update_scheme == UpdateScheme::musl ? "MUSL" : "USL",
+                                mpm.update_scheme == UpdateScheme::musl ? "MUSL" : "USL",
                                 scheme == "usf" ? "USF" : "USL"));
   }
-  if (c.mpm.shape_function == ShapeFunction::gimp) {
+  if (mpm.shape_function == ShapeFunction::gimp) {
     notes.push_back(
         "shape functions: uGIMP written as CB-Geo's linear ED2Q4 cells (its GIMP "
         "element needs a 16-node connectivity this export does not write)");
   }
-  if (c.mpm.velocity_transfer == VelocityTransfer::apic) {
+  if (mpm.velocity_transfer == VelocityTransfer::apic) {
     notes.push_back("velocity transfer: APIC written as FLIP (CB-Geo has FLIP and PIC)");
   }
-  if (c.mpm.volumetric_smoothing == VolumetricSmoothing::cell) {
+  if (mpm.volumetric_smoothing == VolumetricSmoothing::cell) {
     notes.push_back("cell volumetric smoothing: written as CB-Geo's pressure_smoothing");
   }
+}
 
+/// mpm.json: mesh and particle files, materials, gravity, the analysis, its outputs.
+Json analysis_json(const Case& c, const ParticleCheckpoint& checkpoint, const ParticleFiles& files,
+                   const std::string& scheme, const CbGeoInput& input, long output_steps) {
   Json mpm;
-  mpm["title"] =
-      fmt::format("{}: particles at t = {} s from {}", c.name, start, checkpoint.header.producer);
+  mpm["title"] = fmt::format("{}: particles at t = {} s from {}", c.name, checkpoint.header.time,
+                             checkpoint.header.producer);
   mpm["mesh"] = {{"mesh", "mesh.txt"},
                  {"entity_sets", "entity_sets.json"},
                  {"particles_volumes", "particles-volumes.txt"},
@@ -365,9 +381,9 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
                  {"isoparametric", false},
                  {"node_type", "N2D"},
                  {"cell_type", "ED2Q4"},
-                 {"boundary_conditions", boundary_conditions(c.mpm, notes)}};
-  mpm["particles"] = generators;
-  mpm["materials"] = material_list;
+                 {"boundary_conditions", Json()}};
+  mpm["particles"] = files.generators;
+  mpm["materials"] = files.materials;
   mpm["external_loading_conditions"] = {{"gravity", {0.0, -gravity_acceleration}}};
   mpm["analysis"] = {
       {"type", "MPMExplicit2D"},
@@ -383,6 +399,26 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
       {"resume", {{"resume", true}, {"uuid", c.name}, {"step", 0}}}};
   mpm["post_processing"] = {
       {"path", "results/"}, {"output_steps", output_steps}, {"vtk", Json::array()}};
+  return mpm;
+}
+
+}  // namespace
+
+CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
+                        const CbGeoExportOptions& options) {
+  const Particles& p = checkpoint.particles;
+  if (p.count() == 0) throw Error("mpm2cbgeo: the particle file holds no particle");
+  check_inside_grid(p, c.mpm);
+  const Grid g = grid_of(c.mpm);
+  CbGeoInput input;
+  const ParticleFiles files = write_particle_files(p, checkpoint.materials, g, input);
+  input.files.emplace_back("mesh.txt", mesh_text(g));
+  input.files.emplace_back("entity_sets.json", entity_sets(g).dump(2) + "\n");
+  add_particle_notes(files, input.notes);
+  const long output_steps = choose_steps(c, options, checkpoint, input);
+  add_scheme_notes(c.mpm, options.scheme, input.notes);
+  Json mpm = analysis_json(c, checkpoint, files, options.scheme, input, output_steps);
+  mpm["mesh"]["boundary_conditions"] = boundary_conditions(c.mpm, input.notes);
   input.files.emplace_back("mpm.json", mpm.dump(2) + "\n");
   // CB-Geo names its outputs with as many digits as nsteps has.
   const auto digits = static_cast<int>(std::to_string(input.steps).size());

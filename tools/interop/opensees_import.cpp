@@ -222,6 +222,96 @@ const OpenSeesImportSpec& import_spec(const Case& c) {
   return *c.opensees;
 }
 
+/// The nodal recorders' displacement, velocity and acceleration (optional) into `state`.
+void read_nodal_state(const OpenSeesImportSpec& spec, const RecorderSet& recorders,
+                      const NodeColumns& nodes, fem::FemState& state) {
+  const std::string layout = node_layout(nodes.recorded());
+  state.displacement =
+      nodes.vectors(recorders.read(spec.displacement, 2 * nodes.recorded(), layout, true));
+  state.velocity =
+      nodes.vectors(recorders.read(spec.velocity, 2 * nodes.recorded(), layout, false));
+  if (!spec.acceleration.empty()) {
+    state.acceleration =
+        nodes.vectors(recorders.read(spec.acceleration, 2 * nodes.recorded(), layout, false));
+  }
+}
+
+/// The element recorders' stresses (σzz of plane strain from the in-plane ones where they
+/// lack it) and strains (else the elastic kernel's of the displacements) into `state`,
+/// with the hourglass forces of that displacement.
+void read_gauss_state(const OpenSeesImportSpec& spec, const RecorderSet& recorders,
+                      const fem::FemModel& model, const std::string& element_class,
+                      fem::FemState& state) {
+  const std::size_t elements = static_cast<std::size_t>(model.element_count());
+  const std::size_t recorded = recorded_points(element_class);
+  const std::vector<std::size_t> order = point_order(model, element_class);
+  const std::string element_layout = fmt::format(
+      "{} values (xx, yy, xy) at each of the {} point(s) of each of the model's {} {} elements, in "
+      "increasing tag order",
+      components, recorded, elements, element_class);
+  const Rows stress_rows = recorders.read(spec.stress, any_columns, element_layout, false);
+  const std::size_t width =
+      stress_width(stress_rows, spec.stress, elements * recorded, element_layout);
+  state.stress = gauss_values(stress_rows, order, recorded, elements, width);
+  if (width == components) {
+    const auto n_gauss = order.size();
+    for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
+      const double nu = model.material_of(static_cast<Index>(gp / n_gauss)).poisson_ratio;
+      state.stress[gp][2] = nu * (state.stress[gp][0] + state.stress[gp][1]);
+    }
+  }
+  ElasticResponse response = elastic_response(model, state.displacement);
+  state.strain = spec.strain.empty()
+                     ? std::move(response.strain)
+                     : gauss_values(recorders.read(spec.strain, elements * recorded * components,
+                                                   element_layout, true),
+                                    order, recorded, elements, components);
+  state.hourglass_force = std::move(response.hourglass_force);
+}
+
+/// What the checkpoint records besides the state: PE_0 of the imported state, the
+/// boundaries and the /solver record of the stage it is in, and where it came from.
+fem::CheckpointContext import_context(const Case& c, const fem::FemModel& model,
+                                      const fem::FemState& state, const std::string& element_class,
+                                      double time) {
+  const OpenSeesImportSpec& spec = *c.opensees;
+  fem::CheckpointContext context;
+  context.case_name = c.name;
+  const std::vector<Vec2> no_velocity(static_cast<std::size_t>(model.node_count()), Vec2::Zero());
+  context.pe0 =
+      fem::compute_energies(model, model.reference, state, no_velocity, model.mesh.nodes).potential;
+  const bool failure = c.fem.failure_stage && state.time > 0.0;
+  context.boundary_conditions = fem::node_set_conditions(
+      model.mesh, failure ? c.fem.failure_boundaries : c.fem.geostatic_boundaries);
+  context.friction_coefficient = c.fem.friction_coefficient;
+  context.solver["stage"] = std::string(failure ? "failure" : "geostatic");
+  context.solver["source"] = std::string("opensees");
+  context.solver["opensees_model"] = c.mesh.opensees_file.string();
+  context.solver["opensees_element_class"] = element_class;
+  context.solver["opensees_time"] = time;
+  context.solver["opensees_start_time"] = spec.start_time;
+  if (spec.reference_time) context.solver["opensees_reference_time"] = *spec.reference_time;
+  context.solver["kinematics"] = std::string(to_string(model.kinematics));
+  context.solver["element_type"] = std::string(to_string(model.mesh.element_type));
+  context.solver["hourglass_coefficient"] = model.hourglass_coefficient;
+  return context;
+}
+
+void log_import(const Logger* logger, const Case& c, const fem::FemModel& model,
+                const OpenSeesMesh& tags, double time) {
+  if (logger == nullptr) return;
+  std::string ignored;
+  for (const auto& [type, count] : tags.ignored)
+    ignored += fmt::format(", {} {} ignored", count, type);
+  logger->info("{}: {} nodes, {} {} elements → {}{}", c.mesh.opensees_file.string(),
+               model.node_count(), model.element_count(), tags.element_class,
+               to_string(model.mesh.element_type), ignored);
+  logger->info("reading the recorders at t = {} s{}", time,
+               c.opensees->reference_time
+                   ? fmt::format(" (reference state at t = {} s)", *c.opensees->reference_time)
+                   : std::string());
+}
+
 }  // namespace
 
 FemCheckpoint import_opensees(const Case& c, double time, const Logger* logger) {
@@ -238,86 +328,19 @@ FemCheckpoint import_opensees(const Case& c, double time, const Logger* logger) 
       c.mesh.opensees_file, c.mesh.opensees_materials, c.mesh.ignore_elements, c.materials);
   const fem::FemModel model =
       fem::make_model(std::move(mesh), c.materials, c.fem.kinematics, c.fem.hourglass_coefficient);
-  if (logger != nullptr) {
-    std::string ignored;
-    for (const auto& [type, count] : model_tags.ignored) {
-      ignored += fmt::format(", {} {} ignored", count, type);
-    }
-    logger->info("{}: {} nodes, {} {} elements → {}{}", c.mesh.opensees_file.string(),
-                 model.node_count(), model.element_count(), model_tags.element_class,
-                 to_string(model.mesh.element_type), ignored);
-    logger->info("reading the recorders at t = {} s{}", time,
-                 spec.reference_time
-                     ? fmt::format(" (reference state at t = {} s)", *spec.reference_time)
-                     : std::string());
-  }
+  log_import(logger, c, model, model_tags, time);
 
   const RecorderSet recorders(time, spec.reference_time, logger);
-  const NodeColumns nodes(model_tags);
-  const std::string layout = node_layout(nodes.recorded());
   fem::FemState state = fem::make_rest_state(model);
   state.time = time - t0;
   state.step = 0;
-  state.displacement =
-      nodes.vectors(recorders.read(spec.displacement, 2 * nodes.recorded(), layout, true));
-  state.velocity =
-      nodes.vectors(recorders.read(spec.velocity, 2 * nodes.recorded(), layout, false));
-  if (!spec.acceleration.empty()) {
-    state.acceleration =
-        nodes.vectors(recorders.read(spec.acceleration, 2 * nodes.recorded(), layout, false));
-  }
+  read_nodal_state(spec, recorders, NodeColumns(model_tags), state);
   const std::vector<double> pore_pressure =
       pore_pressures(model_tags, spec.pore_pressure, recorders);
+  read_gauss_state(spec, recorders, model, model_tags.element_class, state);
 
-  const std::size_t elements = static_cast<std::size_t>(model.element_count());
-  const std::size_t recorded = recorded_points(model_tags.element_class);
-  const std::vector<std::size_t> order = point_order(model, model_tags.element_class);
-  const std::string element_layout = fmt::format(
-      "{} values (xx, yy, xy) at each of the {} point(s) of each of the model's {} {} elements, in "
-      "increasing tag order",
-      components, recorded, elements, model_tags.element_class);
-  const std::size_t element_columns = elements * recorded * components;
-  const Rows stress_rows = recorders.read(spec.stress, any_columns, element_layout, false);
-  const std::size_t width =
-      stress_width(stress_rows, spec.stress, elements * recorded, element_layout);
-  state.stress = gauss_values(stress_rows, order, recorded, elements, width);
-  if (width == components) {
-    // σzz of plane strain from the in-plane stresses, with the point's Poisson ratio.
-    const auto n_gauss = order.size();
-    for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
-      const double nu = model.material_of(static_cast<Index>(gp / n_gauss)).poisson_ratio;
-      state.stress[gp][2] = nu * (state.stress[gp][0] + state.stress[gp][1]);
-    }
-  }
-  ElasticResponse response = elastic_response(model, state.displacement);
-  state.strain =
-      spec.strain.empty()
-          ? std::move(response.strain)
-          : gauss_values(recorders.read(spec.strain, element_columns, element_layout, true), order,
-                         recorded, elements, components);
-  state.hourglass_force = std::move(response.hourglass_force);
-
-  fem::CheckpointContext context;
-  context.case_name = c.name;
-  const std::vector<Vec2> no_velocity(static_cast<std::size_t>(model.node_count()), Vec2::Zero());
-  context.pe0 =
-      fem::compute_energies(model, model.reference, state, no_velocity, model.mesh.nodes).potential;
-  const bool failure = c.fem.failure_stage && state.time > 0.0;
-  context.boundary_conditions = fem::node_set_conditions(
-      model.mesh, failure ? c.fem.failure_boundaries : c.fem.geostatic_boundaries);
-  context.friction_coefficient = c.fem.friction_coefficient;
-  context.solver["stage"] = std::string(failure ? "failure" : "geostatic");
-  context.solver["source"] = std::string("opensees");
-  context.solver["opensees_model"] = c.mesh.opensees_file.string();
-  context.solver["opensees_element_class"] = model_tags.element_class;
-  context.solver["opensees_time"] = time;
-  context.solver["opensees_start_time"] = t0;
-  if (spec.reference_time) context.solver["opensees_reference_time"] = *spec.reference_time;
-  context.solver["kinematics"] = std::string(to_string(model.kinematics));
-  context.solver["element_type"] = std::string(to_string(model.mesh.element_type));
-  context.solver["hourglass_coefficient"] = model.hourglass_coefficient;
-
-  FemCheckpoint checkpoint = fem::make_checkpoint(model, state, context);
+  FemCheckpoint checkpoint = fem::make_checkpoint(
+      model, state, import_context(c, model, state, model_tags.element_class, time));
   checkpoint.header.producer = "opensees2fem (" + version_string() + ")";
   checkpoint.pore_pressure = pore_pressure;
   return checkpoint;

@@ -82,6 +82,8 @@ MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer
 
 }  // namespace
 
+namespace {
+
 /// The per-message costs of the weak-scaling model (docs/parallel.md): the mean time of
 /// one all-reduce of a double and of one exchange of a halo band (`bytes`) with both
 /// neighbours, over `repeat` of each, in µs.
@@ -114,44 +116,127 @@ struct RankFigures {
   double particles = 0.0;
 };
 
+/// The command line. The defaults are those of the runout cases: uGIMP, MUSL, APIC, cell
+/// smoothing.
+struct Options {
+  int steps = 500, repeat = 3, sort_interval = 10, skip = 0, widen = 1;
+  double pic_fraction = 0.0;
+  std::string threads = "1,2", shape = "gimp", scheme = "musl", transfer = "apic",
+              smoothing = "cell";
+
+  void add_to(CLI::App& app) {
+    app.add_option("--steps", steps, "timed steps per run");
+    app.add_option("--repeat", repeat, "runs per thread count (the best is reported)");
+    app.add_option("--threads", threads, "comma-separated thread counts");
+    app.add_option("--shape", shape, "gimp or linear");
+    app.add_option("--scheme", scheme, "musl or usl");
+    app.add_option("--transfer", transfer, "grid-to-particle velocity transfer: flip-pic or apic")
+        ->check(CLI::IsMember({"flip-pic", "apic"}));
+    app.add_option("--pic-fraction", pic_fraction, "PIC share of flip-pic (0: pure FLIP)");
+    app.add_option("--smoothing", smoothing, "volumetric smoothing: none or cell")
+        ->check(CLI::IsMember({"none", "cell"}));
+    app.add_option("--sort-interval", sort_interval, "steps between two sorts by cell");
+    app.add_option("--skip", skip, "untimed steps before timing");
+    app.add_option("--widen", widen, "column and grid this many times as long (weak scaling)")
+        ->check(CLI::PositiveNumber);
+  }
+  MpmSolver column(const Ranks& ranks) const {
+    return make_column(shape == "linear" ? ShapeFunction::linear : ShapeFunction::gimp,
+                       scheme == "usl" ? UpdateScheme::usl : UpdateScheme::musl,
+                       transfer == "apic" ? VelocityTransfer::apic : VelocityTransfer::flip_pic,
+                       pic_fraction,
+                       smoothing == "cell" ? VolumetricSmoothing::cell : VolumetricSmoothing::none,
+                       sort_interval, widen, ranks);
+  }
+  std::vector<int> thread_counts() const {
+    std::vector<int> counts;
+    std::stringstream list(threads);
+    for (std::string item; std::getline(list, item, ',');) counts.push_back(std::stoi(item));
+    return counts;
+  }
+};
+
+/// The best of `repeat` timed runs on the current thread count.
+struct Best {
+  double rate = 0.0, wall = 0.0;
+  std::size_t particles = 0;
+  MpmSolver::Memory memory;
+  std::vector<RankFigures> figures;
+};
+
+Best time_runs(const Options& o, const Ranks& ranks) {
+  Best best;
+  for (int r = 0; r < o.repeat; ++r) {
+    MpmSolver solver = o.column(ranks);
+    solver.distribute(ranks);
+    const double dt = solver.courant_time_step(0.5);
+    for (int s = 0; s < o.skip; ++s) solver.step(dt);
+    const Subdomain* domain = solver.subdomain();
+    const double exchanged_before = domain ? domain->exchange_seconds : 0.0;
+    const auto sent_before = domain ? domain->bytes_sent : 0;
+    ranks.barrier();
+    const auto begin = std::chrono::steady_clock::now();
+    for (int s = 0; s < o.steps; ++s) solver.step(dt);
+    const double wall =
+        ranks.max(std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
+    best.particles =
+        static_cast<std::size_t>(ranks.sum(static_cast<double>(solver.active_count())));
+    const double rate = static_cast<double>(best.particles) * static_cast<double>(o.steps) / wall;
+    if (rate > best.rate) {
+      best.rate = rate;
+      best.wall = wall;
+      const RankFigures mine{domain ? domain->exchange_seconds - exchanged_before : 0.0,
+                             domain ? static_cast<double>(domain->bytes_sent - sent_before) : 0.0,
+                             static_cast<double>(solver.active_count())};
+      best.figures = Ranks::values_of<RankFigures>(
+          ranks.gather_to_root(Ranks::bytes_of(std::span<const RankFigures>(&mine, 1))));
+    }
+    best.memory = solver.memory();
+  }
+  return best;
+}
+
+/// The lines of one thread count: the rate, per rank the exchanges, the memory.
+std::string report(const Best& best, int threads, double rate_one, const Options& o,
+                   const Ranks& ranks) {
+  const double n = static_cast<double>(best.particles);
+  auto per = [n](std::size_t bytes) { return static_cast<double>(bytes) / n; };
+  std::string text = fmt::format(
+      "{}threads={} particles={} particle_steps_per_s={:.4g} wall_per_step_ms={:.4g}{}\n",
+      ranks.distributed() ? fmt::format("ranks={} ", ranks.size()) : "", threads, best.particles,
+      best.rate, 1e3 * best.wall / o.steps,
+      threads > 1 && rate_one > 0 ? fmt::format(" speedup={:.2f}", best.rate / rate_one) : "");
+  // Per rank and step: the halo and migration traffic and the time it took.
+  for (std::size_t r = 0; ranks.distributed() && r < best.figures.size(); ++r) {
+    const RankFigures& f = best.figures[r];
+    text += fmt::format(
+        "  rank {}: particles={:.0f} exchange_ms_per_step={:.4g} ({:.1f} % of the step) "
+        "kB_sent_per_step={:.4g}\n",
+        r, f.particles, 1e3 * f.exchange_seconds / o.steps, 100 * f.exchange_seconds / best.wall,
+        f.bytes_sent / 1e3 / o.steps);
+  }
+  // The windows keep their widest capacity, so this is the peak of the steps run.
+  if (!ranks.distributed()) {
+    const MpmSolver::Memory& m = best.memory;
+    text += fmt::format(
+        "  bytes/particle: arrays {:.0f} + sort peak {:.0f} + grid/windows {:.0f} = {:.0f}\n",
+        per(m.particle_arrays), per(m.sort_peak), per(m.grid), per(m.total()));
+  }
+  return text;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   const RankSession session(argc, argv);
   const Ranks& ranks = Ranks::world();
   CLI::App app{"bench_mpm: particle-steps per second of the MPM step loop (column-short)"};
-  int steps = 500, repeat = 3, sort_interval = 10, skip = 0, widen = 1;
-  double pic_fraction = 0.0;
-  // The defaults are those of the runout cases: uGIMP, MUSL, APIC, cell smoothing.
-  std::string threads_list = "1,2", shape = "gimp", scheme = "musl", transfer = "apic",
-              smoothing = "cell";
-  app.add_option("--steps", steps, "timed steps per run");
-  app.add_option("--repeat", repeat, "runs per thread count (the best is reported)");
-  app.add_option("--threads", threads_list, "comma-separated thread counts");
-  app.add_option("--shape", shape, "gimp or linear");
-  app.add_option("--scheme", scheme, "musl or usl");
-  app.add_option("--transfer", transfer, "grid-to-particle velocity transfer: flip-pic or apic")
-      ->check(CLI::IsMember({"flip-pic", "apic"}));
-  app.add_option("--pic-fraction", pic_fraction, "PIC share of flip-pic (0: pure FLIP)");
-  app.add_option("--smoothing", smoothing, "volumetric smoothing: none or cell")
-      ->check(CLI::IsMember({"none", "cell"}));
-  app.add_option("--sort-interval", sort_interval, "steps between two sorts by cell");
-  app.add_option("--skip", skip, "untimed steps before timing");
-  app.add_option("--widen", widen, "column and grid this many times as long (weak scaling)")
-      ->check(CLI::PositiveNumber);
+  Options o;
+  o.add_to(app);
   CLI11_PARSE(app, argc, argv);
-  const ShapeFunction shape_function =
-      shape == "linear" ? ShapeFunction::linear : ShapeFunction::gimp;
-  const UpdateScheme update_scheme = scheme == "usl" ? UpdateScheme::usl : UpdateScheme::musl;
-  const VelocityTransfer velocity_transfer =
-      transfer == "apic" ? VelocityTransfer::apic : VelocityTransfer::flip_pic;
-  const VolumetricSmoothing volumetric_smoothing =
-      smoothing == "cell" ? VolumetricSmoothing::cell : VolumetricSmoothing::none;
-
-  std::vector<int> threads;
-  std::stringstream list(threads_list);
-  for (std::string item; std::getline(list, item, ',');) threads.push_back(std::stoi(item));
-
   const std::string transfer_name =
-      transfer == "apic" ? transfer : fmt::format("{} (PIC share {})", transfer, pic_fraction);
+      o.transfer == "apic" ? o.transfer
+                           : fmt::format("{} (PIC share {})", o.transfer, o.pic_fraction);
   // Only the root prints (the other ranks' figures reach it through gather_to_root).
   auto print = [&](const std::string& line) {
     if (ranks.root()) std::fputs(line.c_str(), stdout);
@@ -159,8 +244,8 @@ int main(int argc, char** argv) {
   print(fmt::format(
       "bench_mpm: column-short{}, {}, {}, {}, smoothing {}, sort every {} steps, {} timed steps "
       "(after {}){}\n",
-      widen > 1 ? fmt::format(" widened ×{}", widen) : "", shape, scheme, transfer_name, smoothing,
-      sort_interval, steps, skip,
+      o.widen > 1 ? fmt::format(" widened ×{}", o.widen) : "", o.shape, o.scheme, transfer_name,
+      o.smoothing, o.sort_interval, o.steps, o.skip,
       ranks.distributed() ? fmt::format(", {} ranks", ranks.size()) : ""));
   if (ranks.distributed()) {
     // A halo band of column-short: 3 node columns × 48 rows of NodeSums (5 doubles).
@@ -169,62 +254,10 @@ int main(int argc, char** argv) {
                       reduce_us, exchange_us));
   }
   double rate_one = 0.0;
-  for (int t : threads) {
+  for (int t : o.thread_counts()) {
     omp_set_num_threads(t);
-    double best = 0.0, best_wall = 0.0;
-    std::size_t particles = 0;
-    MpmSolver::Memory memory;
-    std::vector<RankFigures> figures;
-    for (int r = 0; r < repeat; ++r) {
-      MpmSolver solver = make_column(shape_function, update_scheme, velocity_transfer, pic_fraction,
-                                     volumetric_smoothing, sort_interval, widen, ranks);
-      solver.distribute(ranks);
-      const double dt = solver.courant_time_step(0.5);
-      for (int s = 0; s < skip; ++s) solver.step(dt);
-      const Subdomain* domain = solver.subdomain();
-      const double exchanged_before = domain ? domain->exchange_seconds : 0.0;
-      const auto sent_before = domain ? domain->bytes_sent : 0;
-      ranks.barrier();
-      const auto begin = std::chrono::steady_clock::now();
-      for (int s = 0; s < steps; ++s) solver.step(dt);
-      const double wall = ranks.max(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
-      particles = static_cast<std::size_t>(ranks.sum(static_cast<double>(solver.active_count())));
-      const double rate = static_cast<double>(particles) * static_cast<double>(steps) / wall;
-      if (rate > best) {
-        best = rate;
-        best_wall = wall;
-        const RankFigures mine{domain ? domain->exchange_seconds - exchanged_before : 0.0,
-                               domain ? static_cast<double>(domain->bytes_sent - sent_before) : 0.0,
-                               static_cast<double>(solver.active_count())};
-        figures = Ranks::values_of<RankFigures>(
-            ranks.gather_to_root(Ranks::bytes_of(std::span<const RankFigures>(&mine, 1))));
-      }
-      memory = solver.memory();
-    }
-    if (t == 1) rate_one = best;
-    const double n = static_cast<double>(particles);
-    auto per = [n](std::size_t bytes) { return static_cast<double>(bytes) / n; };
-    print(fmt::format(
-        "{}threads={} particles={} particle_steps_per_s={:.4g} wall_per_step_ms={:.4g}{}\n",
-        ranks.distributed() ? fmt::format("ranks={} ", ranks.size()) : "", t, particles, best,
-        1e3 * best_wall / steps,
-        t > 1 && rate_one > 0 ? fmt::format(" speedup={:.2f}", best / rate_one) : ""));
-    // Per rank and step: the halo and migration traffic and the time it took.
-    for (std::size_t r = 0; ranks.distributed() && r < figures.size(); ++r) {
-      print(fmt::format(
-          "  rank {}: particles={:.0f} exchange_ms_per_step={:.4g} ({:.1f} % of the step) "
-          "kB_sent_per_step={:.4g}\n",
-          r, figures[r].particles, 1e3 * figures[r].exchange_seconds / steps,
-          100 * figures[r].exchange_seconds / best_wall, figures[r].bytes_sent / 1e3 / steps));
-    }
-    // The windows keep their widest capacity, so this is the peak of the steps run.
-    if (!ranks.distributed()) {
-      print(
-          fmt::format("  bytes/particle: arrays {:.0f} + sort peak {:.0f} + grid/windows {:.0f} "
-                      "= {:.0f}\n",
-                      per(memory.particle_arrays), per(memory.sort_peak), per(memory.grid),
-                      per(memory.total())));
-    }
+    const Best best = time_runs(o, ranks);
+    if (t == 1) rate_one = best.rate;
+    print(report(best, t, rate_one, o, ranks));
   }
 }
