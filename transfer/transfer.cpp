@@ -10,7 +10,7 @@
 
 #include "common/base/error.hpp"
 #include "common/base/program.hpp"
-#include "common/input/mesh_generation.hpp"
+#include "common/geometry/mesh.hpp"
 #include "transfer/rbf_interpolation.hpp"
 
 namespace slide::transfer {

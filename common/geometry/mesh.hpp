@@ -3,6 +3,7 @@
 // it (mesher or Gmsh import), checkpoints carry it, the transfer reads it back.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <string>
 #include <string_view>
@@ -55,5 +56,10 @@ struct Mesh {
   /// The node set called `name`, or nullptr.
   const NodeSet* find_node_set(std::string_view name) const;
 };
+
+/// Throws Error naming `source` and the first offending element or node: inverted or
+/// zero-area elements (det J ≤ 0 at a corner), nodes no element references, node sets
+/// that are empty or not straight, material ids out of range.
+void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t material_count);
 
 }  // namespace slide

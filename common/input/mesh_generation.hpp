@@ -47,9 +47,4 @@ std::optional<std::string> block_corners_problem(const MeshBlock& block);
 /// before any mesh is built, to name the block's line in the case file.
 std::optional<std::string> shared_edge_mismatch(const MeshBlock& a, const MeshBlock& b);
 
-/// Throws Error naming `source` and the first offending element or node: inverted or
-/// zero-area elements (det J ≤ 0 at a corner), nodes no element references, node sets
-/// that are empty or not straight, material ids out of range.
-void validate_mesh(const Mesh& mesh, std::string_view source, std::size_t material_count);
-
 }  // namespace slide
