@@ -16,15 +16,15 @@
 #include "fem/model_setup.hpp"
 #include "tests/support/eigen_checks.hpp"
 #include "tests/support/meshes.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide::fem {
 namespace {
 
+using synthetic::soil;
 using testing::distort_interior;
 using testing::max_abs;
 using testing::rectangle_mesh;
-using testing::soil;
 
 const std::array<ElementType, 3> all_types{ElementType::quad4_1gp, ElementType::quad4_2x2,
                                            ElementType::tri3};

@@ -13,13 +13,13 @@
 #include "fem/mesh_quality.hpp"
 #include "fem/model_setup.hpp"
 #include "tests/support/meshes.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide::fem {
 namespace {
 
+using synthetic::soil;
 using testing::rectangle_mesh;
-using testing::soil;
 
 const std::array<ElementType, 3> all_types{ElementType::quad4_1gp, ElementType::quad4_2x2,
                                            ElementType::tri3};

@@ -31,7 +31,7 @@
 #include "tests/support/programs.hpp"
 #include "tests/support/pvd.hpp"
 #include "tests/support/small_disk.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide::fem {
 namespace {
@@ -682,7 +682,7 @@ TEST_F(FemSolveBadInput, RestartFromAParticleFile) {
   particles.particles.volume[0] = 1.0;
   particles.particles.mass[0] = 1700.0;
   particles.particles.size[0] = Vec2(1.0, 1.0);
-  particles.materials = {testing::soil(MaterialModel::mohr_coulomb)};
+  particles.materials = {synthetic::soil(MaterialModel::mohr_coulomb)};
   const fs::path file = dir_ / "particles.h5";
   write_checkpoint(file, particles);
   expect_one_line_error(run_case(ColumnCase{}.text(), "--restart " + file.string()),

@@ -29,7 +29,7 @@
 #include "fem/model_setup.hpp"
 #include "tests/support/eigen_checks.hpp"
 #include "tests/support/meshes.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide::fem {
 namespace {
@@ -129,7 +129,7 @@ TEST(Geostatic, GaussPointErrorConvergesAtFirstOrder) {
     for (int refinement : {1, 2, 4}) {
       Mesh mesh = testing::rectangle_mesh(type, 4 * refinement, 8 * refinement, 2.0, 4.0);
       const FemModel model =
-          make_model(std::move(mesh), {testing::soil()}, Kinematics::small_strain, 1.0);
+          make_model(std::move(mesh), {synthetic::soil()}, Kinematics::small_strain, 1.0);
       const BoundaryTable rollers{{"left", BoundaryCondition::roller},
                                   {"right", BoundaryCondition::roller},
                                   {"base", BoundaryCondition::roller}};
@@ -147,7 +147,7 @@ TEST(Geostatic, GaussPointErrorConvergesAtFirstOrder) {
 TEST(Geostatic, FreeRigidBodyMotionIsAnError) {
   Mesh mesh = testing::rectangle_mesh(ElementType::quad4_1gp, 2, 2, 2.0, 2.0);
   const FemModel model =
-      make_model(std::move(mesh), {testing::soil()}, Kinematics::small_strain, 1.0);
+      make_model(std::move(mesh), {synthetic::soil()}, Kinematics::small_strain, 1.0);
   FemState state = make_rest_state(model);
   // Only the base roller: the column may slide sideways.
   const BoundaryTable base_only{{"base", BoundaryCondition::roller}};

@@ -15,13 +15,13 @@
 #include "fem/mesh_quality.hpp"
 #include "fem/model_setup.hpp"
 #include "tests/support/meshes.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide::fem {
 namespace {
 
 FemModel block(ElementType type) {
-  return make_model(testing::rectangle_mesh(type, 4, 2, 4.0, 2.0), {testing::soil()},
+  return make_model(testing::rectangle_mesh(type, 4, 2, 4.0, 2.0), {synthetic::soil()},
                     Kinematics::small_strain, 1.0);
 }
 

@@ -8,7 +8,7 @@
 #include "fem/model_setup.hpp"
 #include "fem/seismic_boundary.hpp"
 #include "tests/support/meshes.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide::fem {
 namespace {
@@ -23,7 +23,7 @@ struct Column {
 /// rollers, and a motion at rest (the boundaries do not depend on it).
 Column column() {
   Column c{make_model(testing::rectangle_mesh(ElementType::quad4_1gp, 4, 8, 2.0, 4.0),
-                      {testing::soil()}, Kinematics::small_strain, 1.0),
+                      {synthetic::soil()}, Kinematics::small_strain, 1.0),
            {},
            GroundMotion(AccelerationRecord{{0.0, 1.0}, {0.0, 0.0}}, {}, 0.0, 0.1, false)};
   c.geostatic = make_rest_state(c.model);

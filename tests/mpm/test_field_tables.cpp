@@ -25,7 +25,7 @@
 #include "common/physics/particles.hpp"
 #include "mpm/domain.hpp"
 #include "mpm/kernels.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide {
 namespace {
@@ -204,7 +204,7 @@ TEST(ParticleFieldTable, EveryFieldGoesThroughTheCheckpoint) {
   ParticleCheckpoint c;
   c.header.kind = CheckpointKind::mpm;
   c.header.case_name = "fields";
-  const Material soil = testing::soil(MaterialModel::mohr_coulomb);
+  const Material soil = synthetic::soil(MaterialModel::mohr_coulomb);
   c.materials = {soil, soil};
   c.materials[1].name = "other";
   c.particles = planted_particles(40);  // within the schema's magnitudes and signs

@@ -8,7 +8,7 @@
 #include "common/physics/material.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide::mpm::testing {
 
@@ -26,7 +26,7 @@ inline Material elastic_soil(double density = 1700.0, double youngs_modulus = 23
 /// The case soil in Mohr–Coulomb without a tension cut-off (the Material default, +∞):
 /// the soil the mpm tests have always run, not the case-file default at the apex.
 inline Material frictional_soil() {
-  Material m = slide::testing::soil(MaterialModel::mohr_coulomb);
+  Material m = slide::synthetic::soil(MaterialModel::mohr_coulomb);
   m.tension_cutoff = std::numeric_limits<double>::infinity();
   return m;
 }

@@ -14,8 +14,8 @@
 #include "common/input/case_file.hpp"
 #include "common/io/opensees_reader.hpp"
 #include "tests/support/errors.hpp"
-#include "tests/support/soil.hpp"
 #include "tools/interop/opensees_import.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide {
 namespace {
@@ -73,7 +73,7 @@ std::string two_quads(const std::string& type = "FourNodeQuad", int ndf = 2) {
 
 /// The reader needs the materials' names only.
 MaterialTable soil() {
-  return {slide::testing::soil()};
+  return {slide::synthetic::soil()};
 }
 
 const std::map<std::string, std::string> tag_3_is_soil{{"3", "soil"}};

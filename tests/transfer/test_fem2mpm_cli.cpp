@@ -19,8 +19,8 @@
 #include <unistd.h>
 
 #include "common/io/checkpoint.hpp"
-#include "tests/support/fem_checkpoints.hpp"
 #include "tests/support/programs.hpp"
+#include "tools/synthetic/fem_checkpoints.hpp"
 
 namespace slide {
 namespace {
@@ -78,10 +78,10 @@ class Fem2mpm : public ::testing::Test {
 };
 
 FemCheckpoint geostatic_checkpoint() {
-  testing::BlockFields fields;
-  fields.stress = testing::geostatic_stress(1700.0, 0.23, 2.0);
+  synthetic::BlockFields fields;
+  fields.stress = synthetic::geostatic_stress(1700.0, 0.23, 2.0);
   fields.velocity = [](const Vec2& x) { return Vec2(0.1 * x.y(), 0.0); };
-  return testing::make_block(8, 8, 2.0, 2.0, ElementType::quad4_1gp, fields);
+  return synthetic::make_block(8, 8, 2.0, 2.0, ElementType::quad4_1gp, fields);
 }
 
 TEST_F(Fem2mpm, WritesTheParticleFileAndTheReport) {
@@ -202,7 +202,7 @@ TEST_F(Fem2mpm, RefusesNanStressesInOneLine) {
 }
 
 TEST_F(Fem2mpm, RefusesAnInvertedElementUnlessAllowed) {
-  FemCheckpoint fem = testing::make_block(3, 3, 3.0, 3.0, ElementType::quad4_1gp);
+  FemCheckpoint fem = synthetic::make_block(3, 3, 3.0, 3.0, ElementType::quad4_1gp);
   const auto top_right = static_cast<std::size_t>(fem.mesh.element(4)[2]);
   fem.coordinates[top_right] = Vec2(0.5, 0.5);
   fem.displacement[top_right] = fem.coordinates[top_right] - fem.mesh.nodes[top_right];

@@ -9,14 +9,14 @@
 #include <gtest/gtest.h>
 
 #include "common/base/error.hpp"
-#include "tests/support/fem_checkpoints.hpp"
+#include "tools/synthetic/fem_checkpoints.hpp"
 #include "transfer/transfer.hpp"
 
 namespace slide::transfer {
 namespace {
 
-using testing::BlockFields;
-using testing::make_block;
+using synthetic::BlockFields;
+using synthetic::make_block;
 
 constexpr double rho = 1700.0;
 constexpr double nu = 0.23;
@@ -27,7 +27,7 @@ const double rho_g_h = rho * gravity_acceleration * column_height;
 /// the exact geostatic stress at its Gauss points.
 FemCheckpoint geostatic_column() {
   BlockFields fields;
-  fields.stress = testing::geostatic_stress(rho, nu, column_height);
+  fields.stress = synthetic::geostatic_stress(rho, nu, column_height);
   FemCheckpoint fem = make_block(16, 16, 4.0, column_height, ElementType::quad4_1gp, fields, rho);
   fem.header.time = 0.0;
   return fem;
@@ -141,7 +141,7 @@ TEST(Transfer, RbfAndRbfLocalAgreeOnTheGeostaticColumn) {
 
 TEST(Transfer, MassAndVolumeAreConservedExactlyForEveryElementAndLayout) {
   BlockFields fields;
-  fields.displacement = testing::distortion(0.12);
+  fields.displacement = synthetic::distortion(0.12);
   struct Case {
     ElementType type;
     std::vector<std::string> layouts;
@@ -190,7 +190,7 @@ TEST(Transfer, LinearStressOnADistortedMeshIsReproducedWithTheLinearPolynomial) 
   const Vec4 b(3.0e3, 1.7e4, 5.0e3, 2.0e3);
   auto linear = [=](const Vec2& x) -> Vec4 { return s0 + x.x() * a + x.y() * b; };
   BlockFields fields;
-  fields.displacement = testing::distortion(0.15);
+  fields.displacement = synthetic::distortion(0.15);
   fields.stress = linear;
   for (auto type : {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3}) {
     const FemCheckpoint fem = make_block(10, 6, 5.0, 3.0, type, fields);
@@ -303,7 +303,7 @@ TEST(Transfer, RigidBodyVelocityIsReproducedExactly) {
     return v0 + omega * Vec2(-(x.y() - centre.y()), x.x() - centre.x());
   };
   BlockFields fields;
-  fields.displacement = testing::distortion(0.1);
+  fields.displacement = synthetic::distortion(0.1);
   fields.velocity = rigid;
   for (auto type : {ElementType::quad4_1gp, ElementType::tri3}) {
     const FemCheckpoint fem = make_block(6, 4, 3.0, 2.0, type, fields);
@@ -324,7 +324,7 @@ TEST(Transfer, RigidBodyVelocityIsReproducedExactly) {
 
 TEST(Transfer, ParticlesSitInsideTheirDeformedElementWithNodalFieldsByShapeFunctions) {
   BlockFields fields;
-  fields.displacement = testing::distortion(0.12);
+  fields.displacement = synthetic::distortion(0.12);
   fields.velocity = [](const Vec2& x) { return Vec2(x.x() * x.y(), -x.x()); };
   const FemCheckpoint fem = make_block(4, 3, 2.0, 1.5, ElementType::quad4_2x2, fields);
   const TransferResult result = transfer(fem, with(StressInterpolation::element));
@@ -348,7 +348,7 @@ TEST(Transfer, ParticlesSitInsideTheirDeformedElementWithNodalFieldsByShapeFunct
 
 TEST(Transfer, ElementBaselineCopiesTheNearestGaussPointOfTheOwningElement) {
   BlockFields fields;
-  fields.displacement = testing::distortion(0.1);
+  fields.displacement = synthetic::distortion(0.1);
   fields.stress = [](const Vec2& x) { return Vec4(x.x(), x.y(), x.x() * x.y(), 1.0); };
   fields.state = [](const Vec2& x) { return MaterialState{0.01 * x.x(), -0.002 * x.y()}; };
   fields.strain = [](const Vec2& x) { return Vec4(1e-3 * x.x(), -2e-3 * x.y(), 0.0, 5e-4); };
@@ -380,7 +380,7 @@ TEST(Transfer, ElementBaselineCopiesTheNearestGaussPointOfTheOwningElement) {
 
 TEST(Transfer, FillsTheParticleFileHeaderAndSettings) {
   BlockFields fields;
-  fields.stress = testing::geostatic_stress(rho, nu, 2.0);
+  fields.stress = synthetic::geostatic_stress(rho, nu, 2.0);
   const FemCheckpoint fem = make_block(4, 4, 2.0, 2.0, ElementType::quad4_1gp, fields);
   TransferOptions options = with(StressInterpolation::rbf_local);
   options.particles = parse_particles_per_element("3x2", "test");
@@ -407,7 +407,7 @@ TEST(Transfer, FillsTheParticleFileHeaderAndSettings) {
 
 TEST(Transfer, IsDeterministic) {
   BlockFields fields;
-  fields.displacement = testing::distortion(0.1);
+  fields.displacement = synthetic::distortion(0.1);
   fields.stress = [](const Vec2& x) {
     return Vec4(std::sin(x.x()), std::cos(x.y()), x.x(), x.y());
   };

@@ -27,7 +27,7 @@
 
 #include "common/base/error.hpp"
 #include "common/io/checkpoint.hpp"
-#include "tests/support/fem_checkpoints.hpp"
+#include "tools/synthetic/fem_checkpoints.hpp"
 #include "transfer/rbf_interpolation.hpp"
 #include "transfer/transfer.hpp"
 
@@ -68,12 +68,12 @@ Vec4 smooth_stress(const Vec2& x, double height, double wavelength) {
 }
 
 FemCheckpoint smooth_block(int nx, int ny, double h, double wavelength) {
-  testing::BlockFields fields;
-  fields.displacement = testing::distortion(0.1 * h);
+  synthetic::BlockFields fields;
+  fields.displacement = synthetic::distortion(0.1 * h);
   const double height = ny * h;
   fields.stress = [=](const Vec2& x) { return smooth_stress(x, height, wavelength); };
   fields.velocity = [](const Vec2& x) { return Vec2(0.5 + 0.01 * x.y(), -0.02 * x.x()); };
-  return testing::make_block(nx, ny, nx * h, height, ElementType::quad4_1gp, fields, density);
+  return synthetic::make_block(nx, ny, nx * h, height, ElementType::quad4_1gp, fields, density);
 }
 
 struct StressError {
@@ -216,10 +216,10 @@ void dense(int gauss_points) {
 /// position and the σyy error over ρgH of the plain multiquadric (rbf, default c).
 void geostatic(const std::string& csv) {
   const double height = 4.0;
-  testing::BlockFields fields;
-  fields.stress = testing::geostatic_stress(density, 0.23, height);
+  synthetic::BlockFields fields;
+  fields.stress = synthetic::geostatic_stress(density, 0.23, height);
   const FemCheckpoint fem =
-      testing::make_block(16, 16, 4.0, height, ElementType::quad4_1gp, fields, density);
+      synthetic::make_block(16, 16, 4.0, height, ElementType::quad4_1gp, fields, density);
   const transfer::TransferResult result = transfer::transfer(fem, transfer::TransferOptions{});
   const Particles& particles = result.particles.particles;
   std::ofstream out(csv);

@@ -1,4 +1,5 @@
-// FE checkpoints built in memory for the transfer tests and benchmarks: a rectangular
+// FE checkpoints built in memory for the transfer tests and benchmarks (tools/synthetic:
+// inputs made in code, which both may use): a rectangular
 // block of nx × ny cells (quads, or each cell split into two triangles), optionally
 // deformed by a displacement field, with analytic nodal velocities and Gauss-point
 // stresses and strains. Everything a checkpoint holds is filled consistently (current
@@ -13,9 +14,9 @@
 #include "common/geometry/element.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/physics/constitutive.hpp"
-#include "tests/support/soil.hpp"
+#include "tools/synthetic/soil.hpp"
 
-namespace slide::testing {
+namespace slide::synthetic {
 
 struct BlockFields {
   /// u(X) of the reference position; zero by default.
@@ -123,4 +124,4 @@ inline std::function<Vec4(const Vec2&)> geostatic_stress(double density, double 
   };
 }
 
-}  // namespace slide::testing
+}  // namespace slide::synthetic

@@ -1,9 +1,11 @@
-// The soil of the cases (docs/method.md §7), built by hand for the tests of every stage.
+// The soil of the cases (docs/method.md §7), built by hand for the tests of every stage and
+// the benchmarks (tools/synthetic: inputs made in code, which both may use; the tests'
+// own helpers are in tests/support/).
 #pragma once
 
 #include "common/physics/material.hpp"
 
-namespace slide::testing {
+namespace slide::synthetic {
 
 /// column-short's soil: ρ = 1700 kg/m³ unless given, E = 23.8 MPa, ν = 0.23, φ = 22.2°,
 /// c = 1 kPa, ψ = 0, the tension cut-off at the Mohr–Coulomb apex (the case-file default).
@@ -21,4 +23,4 @@ inline Material soil(MaterialModel model = MaterialModel::linear_elastic, double
   return m;
 }
 
-}  // namespace slide::testing
+}  // namespace slide::synthetic
