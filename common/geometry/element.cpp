@@ -6,37 +6,38 @@
 #include <utility>
 
 #include "common/base/error.hpp"
+#include "common/base/names.hpp"
 
 namespace slide {
 
+namespace {
+
+constexpr std::array<Named<ElementType>, 3> element_type_names{{
+    {"quad4-1gp", ElementType::quad4_1gp},
+    {"quad4-2x2", ElementType::quad4_2x2},
+    {"tri3", ElementType::tri3},
+}};
+constexpr std::array<Named<ElementShape>, 2> element_shape_names{{
+    {"quad4", ElementShape::quad4},
+    {"tri3", ElementShape::tri3},
+}};
+
+}  // namespace
+
 std::string_view to_string(ElementType type) {
-  switch (type) {
-    case ElementType::quad4_1gp:
-      return "quad4-1gp";
-    case ElementType::quad4_2x2:
-      return "quad4-2x2";
-    case ElementType::tri3:
-      return "tri3";
-  }
-  return "unknown";
+  return name_of(element_type_names, type);
 }
 
 ElementType parse_element_type(std::string_view text, std::string_view where) {
-  for (auto type : {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3}) {
-    if (text == to_string(type)) return type;
-  }
-  throw Error("{}: unknown element type \"{}\" (expected \"quad4-1gp\", \"quad4-2x2\" or \"tri3\")",
-              where, text);
+  return parse_name(element_type_names, text, where, "element type");
 }
 
 std::string_view to_string(ElementShape shape) {
-  return shape == ElementShape::quad4 ? "quad4" : "tri3";
+  return name_of(element_shape_names, shape);
 }
 
 ElementShape parse_element_shape(std::string_view text, std::string_view where) {
-  if (text == "quad4") return ElementShape::quad4;
-  if (text == "tri3") return ElementShape::tri3;
-  throw Error("{}: unknown element shape \"{}\" (expected \"quad4\" or \"tri3\")", where, text);
+  return parse_name(element_shape_names, text, where, "element shape");
 }
 
 ElementShape shape_of(ElementType type) {

@@ -5,32 +5,27 @@
 #include <span>
 
 #include "common/base/error.hpp"
+#include "common/base/names.hpp"
 
 namespace slide {
 
+namespace {
+
+constexpr std::array<Named<BoundaryCondition>, 4> boundary_condition_names{{
+    {"free", BoundaryCondition::free},
+    {"roller", BoundaryCondition::roller},
+    {"fixed", BoundaryCondition::fixed},
+    {"friction", BoundaryCondition::friction},
+}};
+
+}  // namespace
+
 std::string_view to_string(BoundaryCondition condition) {
-  switch (condition) {
-    case BoundaryCondition::free:
-      return "free";
-    case BoundaryCondition::roller:
-      return "roller";
-    case BoundaryCondition::fixed:
-      return "fixed";
-    case BoundaryCondition::friction:
-      return "friction";
-  }
-  return "unknown";
+  return name_of(boundary_condition_names, condition);
 }
 
 BoundaryCondition parse_boundary_condition(std::string_view text, std::string_view where) {
-  for (auto c : {BoundaryCondition::free, BoundaryCondition::roller, BoundaryCondition::fixed,
-                 BoundaryCondition::friction}) {
-    if (text == to_string(c)) return c;
-  }
-  throw Error(
-      "{}: unknown boundary condition \"{}\" (expected \"free\", \"roller\", \"fixed\" or "
-      "\"friction\")",
-      where, text);
+  return parse_name(boundary_condition_names, text, where, "boundary condition");
 }
 
 ElementNodes Mesh::element_nodes(Index e, std::span<const Vec2> coordinates) const {

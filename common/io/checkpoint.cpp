@@ -25,21 +25,24 @@
 #include <variant>
 
 #include "common/base/error.hpp"
+#include "common/base/names.hpp"
 #include "common/io/atomic_file.hpp"
 #include "common/io/hdf5_file.hpp"
 
 namespace slide {
 
+namespace {
+
+constexpr std::array<Named<CheckpointKind>, 3> kind_names{{
+    {"fem", CheckpointKind::fem},
+    {"particles", CheckpointKind::particles},
+    {"mpm", CheckpointKind::mpm},
+}};
+
+}  // namespace
+
 std::string_view to_string(CheckpointKind kind) {
-  switch (kind) {
-    case CheckpointKind::fem:
-      return "fem";
-    case CheckpointKind::particles:
-      return "particles";
-    case CheckpointKind::mpm:
-      return "mpm";
-  }
-  return "unknown";
+  return name_of(kind_names, kind);
 }
 
 namespace {
@@ -251,11 +254,10 @@ bool with_surfaces(const Table& table, const Owner& owner, RowKind kind) {
 }
 
 CheckpointKind parse_kind(std::string_view text, std::string_view where) {
-  for (auto kind : {CheckpointKind::fem, CheckpointKind::particles, CheckpointKind::mpm}) {
-    if (text == to_string(kind)) return kind;
+  for (const auto& [name, kind] : kind_names) {
+    if (text == name) return kind;
   }
-  throw Error("{}: attribute kind is \"{}\", expected \"fem\", \"particles\" or \"mpm\"", where,
-              text);
+  throw Error("{}: attribute kind is \"{}\", expected {}", where, text, quoted_names(kind_names));
 }
 
 // ---------------------------------------------------------------------------------------

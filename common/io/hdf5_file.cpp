@@ -9,6 +9,7 @@
 #include <hdf5.h>
 
 #include "common/base/error.hpp"
+#include "common/base/names.hpp"
 
 namespace slide::hdf5 {
 
@@ -134,17 +135,13 @@ std::string format_shape(const Shape& shape) {
 }
 
 std::string_view to_string(TypeClass type_class) {
-  switch (type_class) {
-    case TypeClass::integer:
-      return "integer";
-    case TypeClass::floating_point:
-      return "floating point";
-    case TypeClass::string:
-      return "string";
-    case TypeClass::other:
-      return "other";
-  }
-  return "other";
+  static constexpr std::array<Named<TypeClass>, 4> names{{
+      {"integer", TypeClass::integer},
+      {"floating point", TypeClass::floating_point},
+      {"string", TypeClass::string},
+      {"other", TypeClass::other},
+  }};
+  return name_of(names, type_class);
 }
 
 // ---------------------------------------------------------------------------------------

@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <string_view>
 
+#include "common/base/names.hpp"
+
 namespace slide {
 
 // ----------------------------------------------------------------------------- FEM
@@ -49,13 +51,8 @@ enum class InitialStress { k0, gravity };
 
 // ----------------------------------------------------------------------------- spellings
 
-/// The spelling of an enumerator in case files. One table per enum serves parsing (the
-/// case reader), to_string and the "expected one of" lists of the messages.
-template <typename E>
-struct Named {
-  std::string_view name;
-  E value;
-};
+// One table per enum (common/base/names.hpp) serves parsing (the case reader), to_string
+// and the "expected one of" lists of the messages.
 
 inline constexpr std::array<Named<Kinematics>, 2> kinematics_names{{
     {"small-strain", Kinematics::small_strain},
@@ -113,15 +110,6 @@ inline constexpr std::array<Named<InitialStress>, 2> initial_stress_names{{
     {"k0", InitialStress::k0},
     {"gravity", InitialStress::gravity},
 }};
-
-/// The spelling of `value` in `names`, "unknown" for a value the table lacks.
-template <typename E, std::size_t N>
-constexpr std::string_view name_of(const std::array<Named<E>, N>& names, E value) {
-  for (const auto& named : names) {
-    if (named.value == value) return named.name;
-  }
-  return "unknown";
-}
 
 std::string_view to_string(Kinematics kinematics);
 std::string_view to_string(MotionSource source);

@@ -5,19 +5,22 @@
 #include <numbers>
 
 #include "common/base/error.hpp"
+#include "common/base/names.hpp"
 
 namespace slide {
 
+namespace {
+
+constexpr std::array<Named<MaterialModel>, 3> material_model_names{{
+    {"linear-elastic", MaterialModel::linear_elastic},
+    {"mohr-coulomb", MaterialModel::mohr_coulomb},
+    {"pressure-independent-multi-yield", MaterialModel::pressure_independent_multi_yield},
+}};
+
+}  // namespace
+
 std::string_view to_string(MaterialModel model) {
-  switch (model) {
-    case MaterialModel::linear_elastic:
-      return "linear-elastic";
-    case MaterialModel::mohr_coulomb:
-      return "mohr-coulomb";
-    case MaterialModel::pressure_independent_multi_yield:
-      return "pressure-independent-multi-yield";
-  }
-  return "unknown";
+  return name_of(material_model_names, model);
 }
 
 bool has_strength(MaterialModel model) {
@@ -25,15 +28,7 @@ bool has_strength(MaterialModel model) {
 }
 
 MaterialModel parse_material_model(std::string_view text, std::string_view where) {
-  if (text == "linear-elastic") return MaterialModel::linear_elastic;
-  if (text == "mohr-coulomb") return MaterialModel::mohr_coulomb;
-  if (text == "pressure-independent-multi-yield") {
-    return MaterialModel::pressure_independent_multi_yield;
-  }
-  throw Error(
-      "{}: unknown material model \"{}\" (expected \"linear-elastic\", \"mohr-coulomb\" or "
-      "\"pressure-independent-multi-yield\")",
-      where, text);
+  return parse_name(material_model_names, text, where, "material model");
 }
 
 double Material::lame_lambda() const {
