@@ -76,8 +76,8 @@ case ${1:-} in
   --picture) picture ;;
   --readme)
     # The README's block after "include counts" must be the picture of this tree.
-    if ! diff <(picture) <(sed -n '/^The include counts between folders/,/^```$/p' common/README.md |
-      sed -n '/^```$/,/^```$/p' | sed '1d;$d'); then
+    if ! diff <(picture) <(awk '/^The include counts between folders/ { on = 1 }
+        on && /^```$/ { if (++fences == 2) exit; next } on && fences == 1' common/README.md); then
       echo "common/README.md's include counts are not this tree's (tools/check-layers.sh --picture)"
       violations=$((violations + 1))
     fi

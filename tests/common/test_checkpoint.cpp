@@ -22,6 +22,7 @@
 
 #include "common/base/error.hpp"
 #include "common/io/checkpoint.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide {
 namespace {
@@ -99,26 +100,12 @@ struct Filler {
 };
 
 MaterialTable sample_materials() {
-  Material clay;
-  clay.name = "weak clay";
-  clay.model = MaterialModel::mohr_coulomb;
-  clay.density = 1900.0;
-  clay.youngs_modulus = 2.0e7;
-  clay.poisson_ratio = 0.3;
-  clay.friction_angle = 25.0;
-  clay.cohesion = 1.0e4 / 3.0;
-  clay.dilation_angle = 0.0;
+  Material clay = synthetic::material("weak clay", MaterialModel::mohr_coulomb, 1900.0, 2.0e7, 0.3,
+                                      25.0, 1.0e4 / 3.0);
   clay.tension_cutoff = 1234.5;
-  Material rock;
-  rock.name = "bedrock ü";  // UTF-8 survives
-  rock.model = MaterialModel::linear_elastic;
-  rock.density = 2650.0;
-  rock.youngs_modulus = 1.0e10;
-  rock.poisson_ratio = 0.25;
-  rock.friction_angle = 40.0;
-  rock.cohesion = 0.0;
-  rock.dilation_angle = 0.0;
-  rock.tension_cutoff = std::numeric_limits<double>::infinity();
+  // UTF-8 survives.
+  const Material rock =
+      synthetic::material("bedrock ü", MaterialModel::linear_elastic, 2650.0, 1.0e10, 0.25, 40.0);
   return {clay, rock};
 }
 

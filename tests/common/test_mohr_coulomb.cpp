@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include "common/physics/constitutive.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide {
 namespace {
@@ -32,15 +33,8 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 constexpr double degree = std::numbers::pi / 180.0;
 
 Material soil(double phi, double cohesion, double psi, double tension_cutoff) {
-  Material m;
-  m.name = "soil";
-  m.model = MaterialModel::mohr_coulomb;
-  m.density = 1800.0;
-  m.youngs_modulus = 50e6;
-  m.poisson_ratio = 0.3;
-  m.friction_angle = phi;
-  m.cohesion = cohesion;
-  m.dilation_angle = psi;
+  Material m = synthetic::material("soil", MaterialModel::mohr_coulomb, 1800.0, 50e6, 0.3, phi,
+                                   cohesion, psi);
   m.tension_cutoff = tension_cutoff;
   return m;
 }

@@ -21,6 +21,7 @@
 
 #include "common/physics/constitutive.hpp"
 #include "common/physics/multi_yield.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide {
 namespace {
@@ -28,14 +29,8 @@ namespace {
 constexpr double degree = std::numbers::pi / 180.0;
 
 Material soil(int surfaces, double phi = 22.2, double cohesion = 1000.0) {
-  Material m;
-  m.name = "soil";
-  m.model = MaterialModel::pressure_independent_multi_yield;
-  m.density = 1700.0;
-  m.youngs_modulus = 23.8e6;
-  m.poisson_ratio = 0.23;
-  m.friction_angle = phi;
-  m.cohesion = cohesion;
+  Material m = synthetic::material("soil", MaterialModel::pressure_independent_multi_yield, 1700.0,
+                                   23.8e6, 0.23, phi, cohesion);
   m.peak_shear_strain = 0.1;
   m.yield_surfaces = surfaces;
   return m;

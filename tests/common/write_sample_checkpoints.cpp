@@ -14,28 +14,16 @@
 #include <filesystem>
 
 #include "common/io/checkpoint.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace slide {
 namespace {
 
 MaterialTable sample_materials() {
-  Material soil;
-  soil.name = "soil";
-  soil.model = MaterialModel::mohr_coulomb;
-  soil.density = 2000.0;
-  soil.youngs_modulus = 1.0e7;
-  soil.poisson_ratio = 0.3;
-  soil.friction_angle = 30.0;
-  soil.cohesion = 5000.0;
-  soil.dilation_angle = 0.0;
+  Material soil =
+      synthetic::material("soil", MaterialModel::mohr_coulomb, 2000.0, 1.0e7, 0.3, 30.0, 5000.0);
   soil.tension_cutoff = 0.0;
-  Material rock;
-  rock.name = "rock";
-  rock.model = MaterialModel::linear_elastic;
-  rock.density = 2600.0;
-  rock.youngs_modulus = 5.0e9;
-  rock.poisson_ratio = 0.25;
-  return {soil, rock};
+  return {soil, synthetic::material("rock", MaterialModel::linear_elastic, 2600.0, 5.0e9, 0.25)};
 }
 
 FemCheckpoint sample_fem() {

@@ -3,22 +3,34 @@
 // own helpers are in tests/support/).
 #pragma once
 
+#include <string>
+#include <utility>
+
 #include "common/physics/material.hpp"
 
 namespace slide::synthetic {
 
+/// A material in one line: its name and model, ρ (kg/m³), E (Pa), ν, and the strength φ
+/// (degrees), c (Pa), ψ (degrees); no tension cut-off.
+inline Material material(std::string name, MaterialModel model, double density,
+                         double youngs_modulus, double poisson_ratio, double friction_angle = 0.0,
+                         double cohesion = 0.0, double dilation_angle = 0.0) {
+  Material m;
+  m.name = std::move(name);
+  m.model = model;
+  m.density = density;
+  m.youngs_modulus = youngs_modulus;
+  m.poisson_ratio = poisson_ratio;
+  m.friction_angle = friction_angle;
+  m.cohesion = cohesion;
+  m.dilation_angle = dilation_angle;
+  return m;
+}
+
 /// column-short's soil: ρ = 1700 kg/m³ unless given, E = 23.8 MPa, ν = 0.23, φ = 22.2°,
 /// c = 1 kPa, ψ = 0, the tension cut-off at the Mohr–Coulomb apex (the case-file default).
 inline Material soil(MaterialModel model = MaterialModel::linear_elastic, double density = 1700.0) {
-  Material m;
-  m.name = "soil";
-  m.model = model;
-  m.density = density;
-  m.youngs_modulus = 23.8e6;
-  m.poisson_ratio = 0.23;
-  m.friction_angle = 22.2;
-  m.cohesion = 1000.0;
-  m.dilation_angle = 0.0;
+  Material m = material("soil", model, density, 23.8e6, 0.23, 22.2, 1000.0);
   m.tension_cutoff = m.apex_stress();
   return m;
 }

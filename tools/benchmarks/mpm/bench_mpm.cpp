@@ -33,22 +33,17 @@
 #include "mpm/domain.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
+#include "tools/synthetic/soil.hpp"
 
 namespace {
 
 using namespace slide;
 using namespace slide::mpm;
 
+/// column-short's soil without a tension cut-off.
 Material column_soil() {
-  Material m;
-  m.name = "soil";
-  m.model = MaterialModel::mohr_coulomb;
-  m.density = 1700.0;
-  m.youngs_modulus = 23.8e6;
-  m.poisson_ratio = 0.23;
-  m.friction_angle = 22.2;
-  m.cohesion = 1000.0;
-  return m;
+  return synthetic::material("soil", MaterialModel::mohr_coulomb, 1700.0, 23.8e6, 0.23, 22.2,
+                             1000.0);
 }
 
 MpmSolver make_column(ShapeFunction shape, UpdateScheme scheme, VelocityTransfer transfer,
