@@ -11,6 +11,10 @@ literals blanked out (so that a '{' in a literal or a comment is not a brace).
                                     sources (tests/ excluded); with --members likewise
   long-functions.py --self-test     counts a planted file with braces in literals and
                                     comments, initialiser braces and constructors
+  long-functions.py --check         the budget the test style.sizes keeps: at most 2
+                                    functions over 80 lines and 25 over 50 (tests
+                                    excluded), no class of fem/ or mpm/ with more than 15
+                                    data members; lists what breaks it, exit 1
 
 Usage: /usr/bin/python3 tools/long-functions.py [--members] [N] [--files F ...]"""
 import os
@@ -227,9 +231,43 @@ def self_test():
     print('long-functions self-test: passed')
 
 
+BUDGET = [('functions over 80 lines', 80, 2), ('functions over 50 lines', 50, 25)]
+MEMBERS_LIMIT = 15
+
+
+def check(root):
+    found = []
+    for path in sources(root):
+        for item in scan_file(path):
+            found.append((os.path.relpath(path, root),) + item)
+    failures = 0
+    for what, lines, most in BUDGET:
+        long = [f for f in found if f[1] == 'function' and f[4] - f[3] + 1 > lines]
+        print(f'{what}: {len(long)} (at most {most})')
+        if len(long) > most:
+            failures += 1
+            for f in sorted(long, key=lambda f: f[3] - f[4]):
+                print(f'  {f[4] - f[3] + 1:4d}  {f[0]}:{f[3]}  {f[2]}')
+    wide = [f for f in found if f[1] == 'class' and f[5] > MEMBERS_LIMIT
+            and f[0].startswith(('fem/', 'mpm/'))]
+    print(f'classes of fem/ and mpm/ with more than {MEMBERS_LIMIT} data members: {len(wide)} (none)')
+    for f in wide:
+        failures += 1
+        print(f'  {f[5]:4d}  {f[0]}:{f[3]}  {f[2]}')
+    sys.exit(1 if failures else 0)
+
+
+def scan_file(path):
+    found = []
+    scan(blank(open(path, encoding='utf-8').read()), found=found)
+    return found
+
+
 def main(argv):
     if '--self-test' in argv:
         return self_test()
+    if '--check' in argv:
+        return check(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
     root = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..')
     members_mode = '--members' in argv
     argv = [a for a in argv if a != '--members']
