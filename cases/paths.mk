@@ -5,11 +5,14 @@ ROOT    := $(abspath $(CASE_DIR)/../..)
 BUILD   ?= $(ROOT)/build
 BIN     ?= $(BUILD)/bin
 PYTHON  ?= /usr/bin/python3
-OUT     ?= $(CASE_DIR)/out
-# A relative OUT from the command line or the environment is taken from the caller's
-# directory: the shell's PWD, which `make -C` leaves as it was (CURDIR is the case's).
-# Sub-makes are given the absolute OUT, since their shells' PWD is the case folder.
-ifneq ($(filter command line environment,$(origin OUT)),)
-  override OUT := $(abspath $(if $(filter /%,$(OUT)),$(OUT),$(or $(PWD),$(CURDIR))/$(OUT)))
-endif
+OUT_DEFAULT := $(CASE_DIR)/out
+OUT     ?= $(OUT_DEFAULT)
+include $(CASE_DIR)/../out.mk
 TOOLS   := $(ROOT)/tools
+# The mark of a folder the pipeline writes to: `make clean` removes only in such a folder
+# (tools/clean-outputs.sh). Every first rule that writes to OUT has it as an order-only
+# prerequisite.
+OUT_STAMP := $(OUT)/.slide-outputs
+$(OUT_STAMP):
+	@mkdir -p $(OUT) && touch $@
+CLEAN := $(TOOLS)/clean-outputs.sh

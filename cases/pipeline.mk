@@ -19,7 +19,8 @@
 #                         with the main transfer's run, also out/tt<main>/after-0.5s/,
 #                         its state 0.5 s after t_T, for the σyy figure)
 #   make sweep-plan       the runs `make sweep` makes (after the FE phase)
-#   make clean            removes OUT
+#   make clean            removes what the pipeline made in OUT (only there: a folder
+#                         it marked, never /, the home folder or the repository)
 #   make help             this list
 #
 # Variables (make VAR=value ...):
@@ -66,8 +67,7 @@ CASE_MK := $(OUT)/case.mk
 ifeq ($(filter clean help,$(MAKECMDGOALS)),)
   -include $(CASE_MK)
 endif
-$(CASE_MK): $(CASE) | $(METRICS)
-	@mkdir -p $(OUT)
+$(CASE_MK): $(CASE) | $(METRICS) $(OUT_STAMP)
 	$(METRICS) case-info $(CASE) > $@.tmp && mv $@.tmp $@
 
 CASE_INPUTS = $(CASE) $(MESH_FILE)
@@ -248,5 +248,7 @@ report: $(REPORT)
 
 main: $(REPORT)
 
+# What the pipeline makes in OUT (and OUT, when nothing else is left there).
 clean:
-	rm -rf $(OUT)
+	$(CLEAN) $(OUT) 'case.mk*' fem 'tt*' pure-mpm pure-fem 'sweep.csv*' 'sweep.md*' \
+	  'profiles.csv*' report
