@@ -8,6 +8,7 @@
 
 #include "common/base/error.hpp"
 #include "common/io/atomic_file.hpp"
+#include "common/run/output_lock.hpp"
 #include "common/run/stability_guard.hpp"
 
 namespace slide::run {
@@ -59,10 +60,30 @@ struct Lifecycle {
   }
 };
 
+/// The output folder made and locked for this run (the root rank holds the lock), the
+/// temporaries of killed runs removed; every rank ends with the root's one-line error.
+void prepare_folder(const Plan& plan, const Logger& log, const Ranks& ranks,
+                    std::optional<OutputLock>& lock) {
+  std::optional<std::string> problem;
+  if (ranks.root()) {
+    try {
+      std::filesystem::create_directories(plan.output.folder);
+      lock.emplace(plan.output.folder);
+      if (lock->took_over()) {
+        log.info("took over the output lock a killed run left in {}", plan.output.folder.string());
+      }
+      remove_temporaries_of_killed_runs(plan.output.folder, log);
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+  }
+  // No rank writes before the root has the folder; a refusal ends every rank.
+  if (const auto first = ranks.first_problem(problem)) throw Error("{}", *first);
+}
+
 RunResult execute(Stage& stage, const Plan& plan, const Logger& log, const Ranks& ranks) {
-  std::filesystem::create_directories(plan.output.folder);
-  if (ranks.root()) remove_temporaries_of_killed_runs(plan.output.folder, log);
-  ranks.barrier();  // no rank writes before the root has cleared the folder
+  std::optional<OutputLock> lock;
+  prepare_folder(plan, log, ranks, lock);
   Lifecycle run{stage, plan};
   if (plan.start == Start::restart) run.set_last_checkpoint(plan.start_file);
   stage.open_outputs(plan.resume_outputs);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "common/base/error.hpp"
+#include "common/run/output_lock.hpp"
 #include "common/run/restart_record.hpp"
 #include "common/run/stability_guard.hpp"
 #include "common/run/stage.hpp"
@@ -351,6 +352,46 @@ TEST(ChangedSettings, ListsTheValuesARestartChanges) {
   const auto changes = changed_settings(stored, now);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0], "cell_size 1 → 0.5");
+}
+
+TEST(OutputLock, ASecondRunIntoTheFolderIsRefusedNamingTheFirst) {
+  Plan plan = plan_of(OutputSchedule(1.0, 0.25, {}, {}), "lock", true);  // a fresh folder
+  const auto folder = plan.output.folder;
+  std::filesystem::create_directories(folder);
+  {
+    const OutputLock first(folder);
+    EXPECT_FALSE(first.took_over());
+    try {
+      const OutputLock second(folder);
+      FAIL() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("another run (pid " + std::to_string(::getpid())),
+                std::string::npos)
+          << e.what();
+    }
+    // A run into a locked folder stops before it writes anything.
+    RecordingStage stage(std::numeric_limits<double>::infinity(), StartOutput::none);
+    EXPECT_THROW(execute(stage, plan, quiet), Error);
+    EXPECT_FALSE(stage.opened_resumed.has_value());
+  }
+  EXPECT_FALSE(std::filesystem::exists(folder / ".slide-lock"));  // released
+}
+
+TEST(OutputLock, TheLockOfAGoneRunIsTakenOver) {
+  const auto folder = scratch("stale-lock");
+  std::filesystem::create_directories(folder);
+  const std::string mark = this_process_mark();
+  const std::string host = mark.substr(mark.rfind(' ') + 1);
+  for (const std::string& stale :
+       {std::string("999999999 12345 ") + host,     // a pid no process has
+        std::to_string(::getpid()) + " 1 " + host,  // our pid, another start: reused
+        std::string("garbage"), std::string()}) {   // damaged, empty
+    std::ofstream(folder / ".slide-lock") << stale;
+    EXPECT_FALSE(process_alive(stale)) << stale;
+    const OutputLock lock(folder);
+    EXPECT_TRUE(lock.took_over()) << stale;
+  }
+  EXPECT_TRUE(process_alive(mark));
 }
 
 TEST(CheckpointFileName, HasThreeDecimals) {
