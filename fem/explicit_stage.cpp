@@ -59,7 +59,7 @@ void FemOutputs::write_checkpoint(const FemState& state, const FemRecord& record
   context.case_name = plan_.source.name;
   context.pe0 = pe0;
   context.friction_coefficient = fem.friction_coefficient;
-  context.solver = write_record(record);
+  context.solver = run::merged(write_record(record), plan_.fingerprint);
   FemCheckpoint checkpoint = make_checkpoint(model_, state, context);
   checkpoint.boundary_conditions = node_set_conditions(
       model_.mesh, record.stage == geostatic_stage ? fem.geostatic_boundaries : [&] {

@@ -4,6 +4,7 @@
 
 #include "common/base/error.hpp"
 #include "common/input/case_file.hpp"
+#include "common/input/case_fingerprint.hpp"
 #include "common/input/mesh_generation.hpp"
 #include "common/run/stage.hpp"
 #include "fem/fem_model.hpp"
@@ -54,7 +55,8 @@ void check_options(const Case& c, const FemOptions& options, double end) {
 }
 
 /// The checkpoint a restart continues, checked against the case; its mesh goes to the plan.
-void plan_restart(const Case& c, const std::filesystem::path& file, FemPlan& plan) {
+void plan_restart(const Case& c, const FemOptions& options, FemPlan& plan, const Logger& log) {
+  const std::filesystem::path& file = *options.restart;
   const CheckpointHeader header = read_checkpoint_header(file);
   if (header.kind != CheckpointKind::fem) {
     throw Error("{}: checkpoint kind is \"{}\", fem-solve restarts from a kind \"fem\" checkpoint",
@@ -71,6 +73,7 @@ void plan_restart(const Case& c, const std::filesystem::path& file, FemPlan& pla
   }
   run::check_restart_materials(checkpoint.materials, c.materials, file.string());
   plan.record = read_record(checkpoint.solver, file.string());
+  check_unchanged(checkpoint.solver, plan.fingerprint, options.allow_changed, file.string(), log);
   if (!c.fem.failure_stage) {
     throw Error(
         "{}: the case has no failure stage (fem.failure_stage = false), nothing to "
@@ -103,13 +106,14 @@ FemRecord read_record(const SolverSettings& settings, const std::string& source)
   return record;
 }
 
-FemPlan plan_fem(const Case& original, const FemOptions& options) {
+FemPlan plan_fem(const Case& original, const FemOptions& options, const Logger& log) {
   const Case c = with_overrides(original, options);
   const double end = options.until.value_or(c.fem.end_time);
   check_options(c, options, end);
   FemPlan plan;
   plan.source = {c.name, c.file, c.materials, c.gravity, c.fem};
   plan.checkpoint_at_zone_exit = options.checkpoint_at_zone_exit;
+  plan.fingerprint = fem_fingerprint(c);
   run::Plan& run = plan.run;
   run.case_name = c.name;
   run.schedule = run::OutputSchedule(end, c.fem.output_every,
@@ -126,7 +130,7 @@ FemPlan plan_fem(const Case& original, const FemOptions& options) {
   if (options.restart) {
     run.start = run::Start::restart;
     run.start_file = *options.restart;
-    plan_restart(c, *options.restart, plan);
+    plan_restart(c, options, plan, log);
     // From the geostatic state (fem_t0.000.h5, written before the t = 0 outputs) the
     // failure stage starts afresh: its outputs too, so that t = 0 rows and frames a
     // killed run left incomplete are written again.

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "common/base/log.hpp"
 #include "common/geometry/mesh.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/physics/material.hpp"
@@ -66,6 +67,9 @@ struct FemPlan {
   /// Restart: the state the run continues and its record (the mesh moved out of it).
   std::optional<FemCheckpoint> restart;
   FemRecord record;
+  /// The parts of the case a restart must find unchanged (common/input/case_fingerprint.hpp),
+  /// recorded in every checkpoint.
+  SolverSettings fingerprint;
   bool checkpoint_at_zone_exit = false;
 
   bool shaken() const { return source.fem.motion.has_value(); }
@@ -77,6 +81,6 @@ struct FemPlan {
 /// Resolves the plan of a run of `c` with `options` (reading the restart checkpoint);
 /// Error (one line) on any bad input: options, the case's mesh and boundaries, a
 /// checkpoint of another case, stage, element type or materials, or at the end time.
-FemPlan plan_fem(const Case& c, const FemOptions& options);
+FemPlan plan_fem(const Case& c, const FemOptions& options, const Logger& log);
 
 }  // namespace slide::fem

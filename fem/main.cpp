@@ -49,6 +49,9 @@ void add_options(CLI::App& app, CommandLine& c) {
                  "VTK frames every this many seconds, a multiple of fem.output_every (0: every "
                  "output step; default: fem.vtk_every, else about 100 frames a run)")
       ->check(non_negative_number());
+  app.add_option("--allow-changed", c.options.allow_changed,
+                 "with --restart: a part of the case that may differ from the checkpoint's "
+                 "(materials, gravity, mesh, boundaries, damping, time_step, motion, recorders)");
   app.add_flag("-q,--quiet", c.quiet, "print only warnings, errors and the summary line");
 }
 
@@ -80,6 +83,7 @@ int main(int argc, char** argv) {
   return run_main("fem-solve", [&] {
     const Logger logger("fem-solve", command.quiet);
     const Case c = load_case(command.case_file);
-    fem::run_fem(fem::plan_fem(c, options_of(app, command)), logger);  // ends with the summary
+    fem::run_fem(fem::plan_fem(c, options_of(app, command), logger),
+                 logger);  // ends with the summary
   });
 }

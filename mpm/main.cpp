@@ -33,6 +33,7 @@ struct CommandLine {
   double until = 0.0, vtk_every = 0.0;
   int threads = 0;
   bool quiet = false, no_vtk = false, other_case = false;
+  std::vector<std::string> allow_changed;
 };
 
 void add_options(CLI::App& app, CommandLine& c) {
@@ -56,6 +57,10 @@ void add_options(CLI::App& app, CommandLine& c) {
       ->check(non_negative_number());
   app.add_flag("--other-case", c.other_case,
                "accept a --particles or --restart file written for another case (warns)");
+  app.add_option("--allow-changed", c.allow_changed,
+                 "with --restart: a part of the case that may differ from the checkpoint's "
+                 "(materials, gravity, grid, algorithms, boundaries, damping, time_step, rest; "
+                 "pure MPM: mesh, start, motion)");
   app.add_flag("-q,--quiet", c.quiet, "print warnings, errors and the summary line only");
 }
 
@@ -67,6 +72,7 @@ mpm::RunOptions options_of(const CLI::App& app, const CommandLine& c) {
   if (app.count("--until") > 0) options.until = c.until;
   options.write_vtk = !c.no_vtk;
   options.other_case = c.other_case;
+  options.allow_changed = c.allow_changed;
   if (app.count("--vtk-every") > 0) options.vtk_every = c.vtk_every;
   if (!c.shape.empty())
     options.shape_function = c.shape == "gimp" ? ShapeFunction::gimp : ShapeFunction::linear;
@@ -94,6 +100,7 @@ int main(int argc, char** argv) {
     if (threads > 0) omp_set_num_threads(threads);
     const Logger log("mpm-solve", command.quiet, !ranks.root());
     const Case c = load_case(command.case_file);
-    mpm::run_mpm(mpm::plan_mpm(c, options_of(app, command)), log);  // ends with the summary line
+    mpm::run_mpm(mpm::plan_mpm(c, options_of(app, command), log),
+                 log);  // ends with the summary line
   });
 }

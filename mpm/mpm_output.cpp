@@ -18,7 +18,8 @@ namespace fs = std::filesystem;
 
 void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunReferences& references,
                           const std::string& case_name, const TransferSettings& transfer,
-                          const std::optional<CheckpointMotion>& motion) {
+                          const std::optional<CheckpointMotion>& motion,
+                          const SolverSettings& fingerprint) {
   ParticleCheckpoint c;
   c.header.kind = CheckpointKind::mpm;
   c.header.producer = "mpm-solve (" + version_string() + ")";
@@ -29,7 +30,7 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
   c.materials = solver.materials();
   c.transfer = transfer;
   c.motion = motion;
-  c.solver = write_record(solver, references);
+  c.solver = run::merged(write_record(solver, references), fingerprint);
   // Borrow the arrays (moves, no copy) and give them back whatever the write does.
   c.particles = solver.lend_particles();
   try {

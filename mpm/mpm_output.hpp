@@ -19,11 +19,13 @@ namespace slide::mpm {
 
 /// Writes the solver's state as a kind "mpm" checkpoint (atomically, common/io/checkpoint.hpp)
 /// straight from the solver's particle arrays, which it borrows for the write instead of
-/// copying them (a copy would double the particle memory at every checkpoint).
+/// copying them (a copy would double the particle memory at every checkpoint). The case's
+/// `fingerprint` goes into the restart record (common/input/case_fingerprint.hpp).
 void write_mpm_checkpoint(const std::filesystem::path& path, MpmSolver& solver,
                           const RunReferences& references, const std::string& case_name,
                           const TransferSettings& transfer,
-                          const std::optional<CheckpointMotion>& motion = std::nullopt);
+                          const std::optional<CheckpointMotion>& motion = std::nullopt,
+                          const SolverSettings& fingerprint = {});
 
 /// mpm_history.csv: one row per output step with the docs/contract.md columns, through
 /// common/run/history_csv.hpp. The runout is measured as sweep.csv measures it (docs/method.md

@@ -4,6 +4,7 @@
 
 #include "common/base/error.hpp"
 #include "common/input/case_file.hpp"
+#include "common/input/case_fingerprint.hpp"
 #include "common/input/mesh_generation.hpp"
 #include "common/io/checkpoint.hpp"
 #include "common/run/stage.hpp"
@@ -66,7 +67,7 @@ void check_end(const MpmPlan& plan, double start_time, bool until) {
 
 }  // namespace
 
-MpmPlan plan_mpm(const Case& c, const RunOptions& options) {
+MpmPlan plan_mpm(const Case& c, const RunOptions& options, const Logger& log) {
   if (options.until && !std::isfinite(*options.until)) {
     throw Error("--until {} is not admissible (expected a finite end time in s)", *options.until);
   }
@@ -83,6 +84,7 @@ MpmPlan plan_mpm(const Case& c, const RunOptions& options) {
   plan.source = case_of(c, run.start == run::Start::case_geometry);
   plan.settings = settings_for(c, options);
   plan.other_case = options.other_case;
+  plan.fingerprint = mpm_fingerprint(c, run.start == run::Start::case_geometry);
   // Where the stage starts: its clock, and the stage's own start (the transfer time, or
   // 0 for pure MPM) from which the automatic VTK cadence counts, so that a restart writes
   // the frames the uninterrupted run writes.
@@ -92,7 +94,10 @@ MpmPlan plan_mpm(const Case& c, const RunOptions& options) {
     start_time = stage_start = file.header.time;
     if (run.start == run::Start::restart) {
       plan.record = read_mpm_record(file, run.start_file.string());
-      plan.stored_settings = file.solver;
+      // A restart of pure MPM keeps recording the geometry and start it came from.
+      plan.fingerprint = mpm_fingerprint(c, file.solver.contains("case_start"));
+      check_unchanged(file.solver, plan.fingerprint, options.allow_changed, run.start_file.string(),
+                      log);
       stage_start = file.transfer.transfer_time;
     }
   }

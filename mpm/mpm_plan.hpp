@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "common/base/log.hpp"
 #include "common/geometry/mesh.hpp"
 #include "common/run/plan.hpp"
 #include "common/settings/fem_spec.hpp"
@@ -55,13 +56,15 @@ struct MpmPlan {
   bool other_case = false;
   /// A restart: the checkpoint's record, and the settings its run ran with.
   std::optional<MpmRecord> record;
-  SolverSettings stored_settings;
+  /// The parts of the case a restart must find unchanged (common/input/case_fingerprint.hpp),
+  /// recorded in every checkpoint.
+  SolverSettings fingerprint;
 };
 
 /// Resolves the plan of a run of `c` with `options` (reading the header of the file it
 /// starts from); Error (one line) on options that cannot go together, a file of another
 /// case (unless other_case), an end before the start or a restart at its end, checkpoint
 /// names that would collide.
-MpmPlan plan_mpm(const Case& c, const RunOptions& options);
+MpmPlan plan_mpm(const Case& c, const RunOptions& options, const Logger& log);
 
 }  // namespace slide::mpm

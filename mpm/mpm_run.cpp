@@ -150,12 +150,6 @@ void set_up(const MpmPlan& plan, Start& start, std::optional<MpmSolver>& solver,
     log_slabs(log, *domain, *solver);
   }
   const MpmSpec& spec = plan.source.mpm;
-  if (plan.record) {
-    for (const auto& change : run::changed_settings(
-             plan.stored_settings, ran_with(plan.settings, spec.time_step, spec.courant))) {
-      log.warning("restart with a changed setting (the case file's is used): {}", change);
-    }
-  }
   start.references.time_step = spec.time_step;
   start.references.courant = spec.courant;
 }

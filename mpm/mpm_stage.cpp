@@ -284,7 +284,7 @@ void MpmStage::write_output(const run::OutputStep& step) {
   if (vtk_ && step.frame) vtk_->write(solver_);
   if (!step.checkpoint.empty()) {
     write_mpm_checkpoint(step.checkpoint, solver_, start_.references, plan_.source.name,
-                         start_.transfer, start_.motion);
+                         start_.transfer, start_.motion, plan_.fingerprint);
     exits_.report(time());
   }
 }
@@ -293,7 +293,7 @@ void MpmStage::finish() {
   if (progress_) progress_->finish();
   exits_.finish(time());
   write_mpm_checkpoint(plan_.run.output.folder / "mpm_final.h5", solver_, start_.references,
-                       plan_.source.name, start_.transfer, start_.motion);
+                       plan_.source.name, start_.transfer, start_.motion, plan_.fingerprint);
 }
 
 run::Work MpmStage::work() const {

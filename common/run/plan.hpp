@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/run/output_schedule.hpp"
 
@@ -25,6 +26,8 @@ struct CommonOptions {
   /// Read and check every input, then stop before the first file is written (the fuzz
   /// drivers, tests/fuzz/).
   bool inputs_only = false;
+  /// --allow-changed: parts of the case a restart may find changed (case_fingerprint.hpp).
+  std::vector<std::string> allow_changed;
 };
 
 /// Where a run's state comes from.

@@ -317,7 +317,8 @@ def rerun_problems(program, rerun, left, out):
     if removed != len(left):
         problems.append(f"said it removed {removed} temporary file(s); the killed run left "
                         f"{len(left)}: {[str(t) for t in left]}")
-    return problems + [f"{t}: a temporary left behind" for t in outputs.temporaries(out)]
+    return (problems + [f"{t}: a temporary left behind" for t in outputs.temporaries(out)] +
+            [f"{t}: the run after the kill left the output lock" for t in outputs.locks(out)])
 
 
 def after_kill_problems(ctx, program, out):

@@ -56,8 +56,17 @@ def temporaries(folder):
     return [p for p in files_of(folder) if TEMPORARY.match(p.name)]
 
 
+# The output lock a run holds while it writes (common/run/output_lock.hpp): not an output;
+# a killed run leaves it, the next run takes it over and removes it when it ends.
+LOCK = ".slide-lock"
+
+
+def locks(folder):
+    return [p for p in files_of(folder) if p.name == LOCK]
+
+
 def final_files(folder):
-    return [p for p in files_of(folder) if not TEMPORARY.match(p.name)]
+    return [p for p in files_of(folder) if not TEMPORARY.match(p.name) and p.name != LOCK]
 
 
 # ---- complete by its own format

@@ -19,11 +19,13 @@ namespace {
 using namespace slide;
 
 void check_like_fem_solve(const Case& c) {
-  fem::run_fem(fem::plan_fem(c, fuzz::fem_solve_inputs_only()), fuzz::quiet_logger());
+  fem::run_fem(fem::plan_fem(c, fuzz::fem_solve_inputs_only(), fuzz::quiet_logger()),
+               fuzz::quiet_logger());
 }
 
 void check_like_mpm_solve(const Case& c) {
-  mpm::run_mpm(mpm::plan_mpm(c, fuzz::mpm_solve_inputs_only()), fuzz::quiet_logger());
+  mpm::run_mpm(mpm::plan_mpm(c, fuzz::mpm_solve_inputs_only(), fuzz::quiet_logger()),
+               fuzz::quiet_logger());
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "common/input/case_fingerprint.hpp"
 #include "common/io/checkpoint.hpp"
 #include "fem/fem_solver.hpp"
 #include "tests/fuzz/fuzz_support.hpp"
@@ -30,7 +31,10 @@ void check_like_fem_solve_restart(const std::filesystem::path& file, const Case&
   fem::FemOptions options = fuzz::fem_solve_inputs_only();
   options.restart = file;
   options.element = element;
-  fem::run_fem(fem::plan_fem(c, options), fuzz::quiet_logger());
+  // The seeds were written with other kinematics and elements: this driver reads files,
+  // the case's comparison with them has tests of its own.
+  options.allow_changed = fingerprint_parts(fem_fingerprint(c));
+  fem::run_fem(fem::plan_fem(c, options, fuzz::quiet_logger()), fuzz::quiet_logger());
 }
 
 }  // namespace

@@ -16,8 +16,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace slide;
   Case c = fuzz::fixture_case("fuzz-opensees");
   c.mesh.opensees_file = fuzz::write_input({data, size}, "model.json");
-  const bool fem_ok = fuzz::accepts(
-      [&] { fem::run_fem(fem::plan_fem(c, fuzz::fem_solve_inputs_only()), fuzz::quiet_logger()); });
+  const bool fem_ok = fuzz::accepts([&] {
+    fem::run_fem(fem::plan_fem(c, fuzz::fem_solve_inputs_only(), fuzz::quiet_logger()),
+                 fuzz::quiet_logger());
+  });
   const bool import_ok = fuzz::accepts([&] { interop::import_opensees(c, 0.0, nullptr); });
   fuzz::ensure_no_outputs("opensees model");
   if (fem_ok && import_ok) fuzz::note_accepted();

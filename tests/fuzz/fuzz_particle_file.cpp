@@ -16,8 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const Case& c = fuzz::fixture_case("fuzz-checkpoints");
   mpm::RunOptions options = fuzz::mpm_solve_inputs_only();
   options.particles_file = fuzz::write_input({data, size}, "particles.h5");
-  const bool accepted =
-      fuzz::accepts([&] { mpm::run_mpm(mpm::plan_mpm(c, options), fuzz::quiet_logger()); });
+  const bool accepted = fuzz::accepts(
+      [&] { mpm::run_mpm(mpm::plan_mpm(c, options, fuzz::quiet_logger()), fuzz::quiet_logger()); });
   fuzz::finish_hdf5_input("mpm-solve --particles");
   fuzz::ensure_no_outputs("mpm-solve --particles");
   if (accepted) fuzz::note_accepted();

@@ -444,13 +444,20 @@ TEST(MpmSolveCli, ApicRestartContinuesBitForBit) {
     EXPECT_EQ(read_text(folder / "straight" / "mpm_history.csv"),
               read_text(split / "mpm_history.csv"));
     if (parallel) continue;
-    // The same checkpoint continued under flip-pic: a warning, and no affine state written.
+    // The same checkpoint continued under flip-pic: refused as a changed case, then allowed
+    // (--allow-changed algorithms) with a warning, and no affine state written.
     const fs::path flip = write_case(folder, small_case());
-    const ProgramRun switched = run_solver(
-        folder, fmt::format("{} -o {} --restart {} --no-vtk --quiet", flip.string(),
-                            (folder / "flip").string(), (split / "mpm_t0.250.h5").string()));
+    const std::string restart_flip =
+        fmt::format("{} -o {} --restart {} --no-vtk --quiet", flip.string(),
+                    (folder / "flip").string(), (split / "mpm_t0.250.h5").string());
+    const ProgramRun refused = run_solver(folder, restart_flip);
+    EXPECT_EQ(refused.status, 1);
+    EXPECT_NE(refused.err.find("the case's algorithms changed"), std::string::npos) << refused.err;
+    const ProgramRun switched = run_solver(folder, restart_flip + " --allow-changed algorithms");
     ASSERT_EQ(switched.status, 0) << switched.err;
-    EXPECT_NE(switched.err.find("velocity_transfer apic → flip-pic"), std::string::npos)
+    EXPECT_NE(switched.err.find("apic (PIC share 0) smoothing cell, exit freeze → gimp musl "
+                                "flip-pic"),
+              std::string::npos)
         << switched.err;
     EXPECT_TRUE(read_particle_checkpoint(folder / "flip" / "mpm_final.h5")
                     .particles.affine_velocity.empty());
