@@ -60,9 +60,10 @@ VTK_EVERY ?= 1
 mpm_threads = $(or $(THREADS),$(if $(filter-out -j1,$(filter -j%,$(MAKEFLAGS))),1))
 MPM_OPTIONS = --vtk-every $(VTK_EVERY) $(if $(mpm_threads),--threads $(mpm_threads))
 
-# The case's own numbers (MAIN_TT, SWEEP_TTS, FEM_END, MPM_END, TAU_C) and its mesh
-# file (MESH_FILE, a Gmsh case's .msh), read once from case.toml by the same reader the
-# programs use. The runs made from the case's geometry depend on both files.
+# The case's own numbers (MAIN_TT, SWEEP_TTS, FEM_END, MPM_END, TAU_C), its mesh file
+# (MESH_FILE, a Gmsh case's .msh) and the other files it names (CASE_FILES: the base
+# motion's records), read once from case.toml by the same reader the programs use. The runs
+# made from the case depend on all of them: editing a motion record reruns the FE phase.
 CASE_MK := $(OUT)/case.mk
 ifeq ($(filter clean help,$(MAKECMDGOALS)),)
   -include $(CASE_MK)
@@ -70,7 +71,7 @@ endif
 $(CASE_MK): $(CASE) | $(METRICS) $(OUT_STAMP)
 	$(METRICS) case-info $(CASE) > $@.tmp && mv $@.tmp $@
 
-CASE_INPUTS = $(CASE) $(MESH_FILE)
+CASE_INPUTS = $(CASE) $(MESH_FILE) $(CASE_FILES)
 
 $(PROGRAMS):
 	@echo "missing $@: build the project first (cmake -S $(ROOT) -B $(BUILD) && cmake --build $(BUILD))" >&2

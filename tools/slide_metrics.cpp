@@ -52,6 +52,17 @@ void case_info(const fs::path& case_file) {
   fmt::print("TAU_C={:.6g}\n", critical_time(c));
   // The mesh file the FE phase reads, when the case has one: a prerequisite of its runs.
   fmt::print("MESH_FILE={}\n", c.mesh.file().string());
+  // Every other file the runs read: the base motion's records (a run is stale when one
+  // of them is edited).
+  std::string files;
+  if (c.fem.motion) {
+    for (const auto& component : {c.fem.motion->horizontal, c.fem.motion->vertical}) {
+      if (component && component->source == MotionSource::file) {
+        files += (files.empty() ? "" : " ") + component->file.string();
+      }
+    }
+  }
+  fmt::print("CASE_FILES={}\n", files);
 }
 
 void transfer_times(const fs::path& case_file, const fs::path& history_file) {
