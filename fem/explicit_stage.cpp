@@ -132,7 +132,10 @@ ExplicitStage::ExplicitStage(const FemPlan& plan, const FemModel& model, const L
   // refused now, before the geostatic checkpoint is written.
   make_solver();
   choose_time_step(false);
-  if (fem.motion) shaking_.motion = make_ground_motion(*fem.motion, time_step_);
+  if (fem.motion) {
+    shaking_.motion = make_ground_motion(*fem.motion, time_step_, plan.source.motion_until);
+  }
+  make_recorders();
   if (!plan.restart) return;
   const std::string& kinematics = plan.record.kinematics;
   if (!kinematics.empty() && kinematics != to_string(fem.kinematics)) {
@@ -305,11 +308,29 @@ void ExplicitStage::start_shaking(bool from_geostatic_state) {
           ? fmt::format("; baseline correction removed {:.3g} → {:.3g} m/s² (x)",
                         motion.correction_start().x(), motion.correction_end().x())
           : std::string("; no baseline correction"));
+  if (motion.cut()) {
+    // Kept to the last end time of the case's runs; a record much longer than that is
+    // more often a wrong file or time unit than a plan, so it is said louder.
+    const double kept = motion.end_time() - motion.start_time();
+    const double dropped = motion.record_end_time() - motion.end_time();
+    const std::string line = fmt::format(
+        "motion: the record runs to t = {:.4g} s, past the case's runs (fem-solve's and "
+        "mpm.end_time, {:.4g} s): its samples are kept to t = {:.4g} s, {:.3g} s of {:.3g} s "
+        "(its baseline correction spans the whole record)",
+        motion.record_end_time(), plan_.source.motion_until, motion.end_time(), kept,
+        kept + dropped);
+    if (dropped > kept) {
+      log_.warning("{}", line);
+    } else {
+      log_.info("{}", line);
+    }
+  }
   log_.info("{}", describe(shaking_.boundary, spec));
   write_text_atomically(plan_.run.output.folder / "motion.csv", motion_csv(motion));
 }
 
-void ExplicitStage::start_recorders(bool resume) {
+/// The recorders, checked (node sets, names) and bounded before any file is written.
+void ExplicitStage::make_recorders() {
   const FemSpec& fem = plan_.source.fem;
   if (fem.recorders.empty()) return;
   const GroundMotion* motion = shaking_.motion ? &*shaking_.motion : nullptr;
@@ -320,12 +341,19 @@ void ExplicitStage::start_recorders(bool resume) {
       if (set.name == "base") base_nodes = set.nodes;
     }
   }
-  const std::filesystem::path folder = plan_.run.output.folder / "recorders";
   auto& recorders = outputs_.recorders();
-  recorders = std::make_unique<Recorders>(model_, fem.recorders, folder, rigid ? motion : nullptr,
-                                          std::move(base_nodes));
+  recorders =
+      std::make_unique<Recorders>(model_, fem.recorders, plan_.run.output.folder / "recorders",
+                                  rigid ? motion : nullptr, std::move(base_nodes));
+  recorders->bound(plan_.run.end_time() - state_.time, time_step_, Recorders::limit_bytes);
+}
+
+void ExplicitStage::start_recorders(bool resume) {
+  auto& recorders = outputs_.recorders();
+  if (!recorders) return;
   if (resume) recorders->resume(state_.time, log_);
-  log_.info("recorders → {}: {}", folder.string(), recorders->describe());
+  log_.info("recorders → {}: {}", (plan_.run.output.folder / "recorders").string(),
+            recorders->describe());
 }
 
 /// The guard's references: the state at the start of the stage, or on restart the

@@ -133,6 +133,7 @@ class ExplicitStage final : public run::Stage {
   void run_geostatic_stage();
   run::StartOutput start_failure_stage();
   void start_shaking(bool from_geostatic_state);
+  void make_recorders();
   void start_recorders(bool resume);
   void set_guard_limits(bool fresh_stage);
   const Measures& measure();

@@ -111,7 +111,7 @@ FemPlan plan_fem(const Case& original, const FemOptions& options, const Logger& 
   const double end = options.until.value_or(c.fem.end_time);
   check_options(c, options, end);
   FemPlan plan;
-  plan.source = {c.name, c.file, c.materials, c.gravity, c.fem};
+  plan.source = {c.name, c.file, c.materials, c.gravity, c.fem, std::max(end, c.mpm.end_time)};
   plan.checkpoint_at_zone_exit = options.checkpoint_at_zone_exit;
   plan.fingerprint = fem_fingerprint(c);
   run::Plan& run = plan.run;

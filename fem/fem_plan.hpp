@@ -57,6 +57,10 @@ struct FemCase {
   MaterialTable materials;
   Vec2 gravity = gravity_vector();
   FemSpec fem;  ///< with the command line's kinematics
+  /// The latest time on the run's clock a phase of the case shakes to (this run's end,
+  /// the case's mpm.end_time): the motion's samples are kept up to it and checkpointed
+  /// for mpm-solve, not a record's whole length.
+  double motion_until = 0.0;
 };
 
 struct FemPlan {

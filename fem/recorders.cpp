@@ -1,5 +1,7 @@
 #include "fem/recorders.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -49,6 +51,35 @@ void append(std::string& text, double value) {
   fmt::format_to(std::back_inserter(text), ",{}", value);
 }
 
+/// The nodes of a recorder's node set, or Error naming the recorder.
+std::vector<Index> node_set_nodes(const FemModel& model, const RecorderSpec& spec) {
+  for (const NodeSet& set : model.mesh.node_sets) {
+    if (set.name == spec.node_set) return set.nodes;
+  }
+  throw Error("fem.recorders \"{}\": the mesh has no node set \"{}\"", spec.name, spec.node_set);
+}
+
+/// The CSV header of a recorder's columns.
+std::string header(const std::vector<Index>& nodes, const std::vector<Index>& elements) {
+  std::string text = "time";
+  if (!nodes.empty()) {
+    for (const char* q : {"ux", "uy", "vx", "vy", "ax", "ay"}) text += fmt::format(",base_{}", q);
+    for (const Index n : nodes) {
+      for (const char* suffix : {"", "_rel"}) {
+        for (const char* q : {"ux", "uy", "vx", "vy", "ax", "ay"}) {
+          text += fmt::format(",n{}_{}{}", n, q, suffix);
+        }
+      }
+    }
+  }
+  for (const Index e : elements) {
+    for (const char* q : {"sxx", "syy", "szz", "sxy", "exx", "eyy", "ezz", "gxy"}) {
+      text += fmt::format(",e{}_{}", e, q);
+    }
+  }
+  return text + '\n';
+}
+
 }  // namespace
 
 Recorders::Recorders(const FemModel& model, const std::vector<RecorderSpec>& specs,
@@ -59,42 +90,38 @@ Recorders::Recorders(const FemModel& model, const std::vector<RecorderSpec>& spe
       motion_(motion),
       base_nodes_(std::move(base_nodes)) {
   for (const RecorderSpec& spec : specs) {
+    // The file name, <name>.csv, within what a file system takes (255 bytes).
+    if (spec.name.size() > max_name_bytes) {
+      throw Error("fem.recorders \"{}…\": the name has {} bytes, at most {} (it names a file)",
+                  spec.name.substr(0, 40), spec.name.size(), max_name_bytes);
+    }
     Recorder r;
     r.name = spec.name;
     r.every = spec.every;
     for (const Vec2& p : spec.points) r.nodes.push_back(nearest_node(model, p));
-    if (!spec.node_set.empty()) {
-      bool found = false;
-      for (const NodeSet& set : model.mesh.node_sets) {
-        if (set.name != spec.node_set) continue;
-        r.nodes = set.nodes;
-        found = true;
-      }
-      if (!found) {
-        throw Error("fem.recorders \"{}\": the mesh has no node set \"{}\"", spec.name,
-                    spec.node_set);
-      }
-    }
+    if (!spec.node_set.empty()) r.nodes = node_set_nodes(model, spec);
     for (const Vec2& p : spec.elements) r.elements.push_back(nearest_element(model, p));
-    r.header = "time";
-    if (!r.nodes.empty()) {
-      for (const char* q : {"ux", "uy", "vx", "vy", "ax", "ay"})
-        r.header += fmt::format(",base_{}", q);
-      for (const Index n : r.nodes) {
-        for (const char* suffix : {"", "_rel"}) {
-          for (const char* q : {"ux", "uy", "vx", "vy", "ax", "ay"}) {
-            r.header += fmt::format(",n{}_{}{}", n, q, suffix);
-          }
-        }
-      }
-    }
-    for (const Index e : r.elements) {
-      for (const char* q : {"sxx", "syy", "szz", "sxy", "exx", "eyy", "ezz", "gxy"}) {
-        r.header += fmt::format(",e{}_{}", e, q);
-      }
-    }
-    r.header += '\n';
+    r.header = header(r.nodes, r.elements);
     recorders_.push_back(std::move(r));
+  }
+}
+
+void Recorders::bound(double duration, double step, std::size_t limit) {
+  double bytes = 0.0;
+  for (Recorder& r : recorders_) {
+    // A cadence below the step records at every step, as a cadence of 0 does (and a
+    // cadence of 1e-15 s no longer spins on the clock's last digits).
+    if (r.every < step) r.every = 0.0;
+    const double rows = std::floor(duration / std::max(r.every, step)) + 2.0;
+    const auto columns = static_cast<double>(std::ranges::count(r.header, ',') + 1);
+    bytes += rows * columns * bytes_per_value;
+  }
+  if (bytes > static_cast<double>(limit)) {
+    throw Error(
+        "fem.recorders would hold and write about {:.3g} GB over the run ({:.4g} s in steps of "
+        "{:.3g} s), above the {:.3g} GB the project allows: give them a coarser `every` or "
+        "fewer nodes and elements",
+        bytes / 1e9, duration, step, static_cast<double>(limit) / 1e9);
   }
 }
 

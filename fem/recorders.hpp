@@ -40,6 +40,18 @@ class Recorders {
             std::vector<Index> base_nodes);
 
   bool empty() const { return recorders_.empty(); }
+  /// The longest recorder name: <name>.csv must be a file name (255 bytes).
+  static constexpr std::size_t max_name_bytes = 200;
+  /// A number as the rows print it, about: "-1.2345678901234567e-05,".
+  static constexpr double bytes_per_value = 24.0;
+  /// What a run's recorders may hold: 1 GB, a few hundred thousand rows of a few hundred
+  /// nodes; beyond it a cadence or a node set is a mistake, not a plan (and the rows, kept
+  /// in memory, would crowd the run out).
+  static constexpr std::size_t limit_bytes = 1'000'000'000;
+  /// The rows the recorders hold in memory (and write) over a run of `duration` s in
+  /// steps of `step` s, bounded: Error above `limit_bytes`, before any file is written. A
+  /// cadence below the step becomes every step.
+  void bound(double duration, double step, std::size_t limit = limit_bytes);
   /// On restart: keeps the rows of the existing files up to `time`.
   void resume(double time, const Logger& logger);
   /// After a step of length `dt` that ended at state.time: a row where one is due.

@@ -46,9 +46,9 @@ void log_settings(const Logger& log, const MpmSettings& settings, const MpmSpec&
 void set_base_motion(const MpmPlan& plan, Start& start, MpmSolver& solver, const Logger& log) {
   const std::optional<MotionSpec>& spec = plan.source.motion;
   if (plan.run.start == run::Start::case_geometry && spec) {
-    start.motion =
-        checkpoint_motion(make_ground_motion(*spec, time_step(plan.source.mpm, solver)),
-                          std::string(to_string(spec->base)), std::string(to_string(spec->input)));
+    start.motion = checkpoint_motion(
+        make_ground_motion(*spec, time_step(plan.source.mpm, solver), plan.run.end_time()),
+        std::string(to_string(spec->base)), std::string(to_string(spec->input)));
   }
   if (!start.motion) return;
   solver.set_base_motion(grid_motion(*start.motion), *start.motion);
@@ -60,6 +60,13 @@ void set_base_motion(const MpmPlan& plan, Start& start, MpmSolver& solver, const
       source_of(plan), start.motion->base,
       start.motion->base == "compliant" ? fmt::format(", {} input", start.motion->input) : "",
       m.start_time(), m.end_time(), peaks.acceleration.x(), peaks.velocity.x());
+  if (m.cut() && plan.run.end_time() > m.end_time()) {
+    log.warning(
+        "the motion's samples stop at t = {:.4g} s, the end of the case's runs when {} was "
+        "written, but the record runs to {:.4g} s and this run to {:.4g} s: the base rests "
+        "after {:.4g} s (rerun fem-solve with the later mpm.end_time to shake on)",
+        m.end_time(), source_of(plan), m.record_end_time(), plan.run.end_time(), m.end_time());
+  }
 }
 
 /// Refuses a run whose step is so small that it would never end (pure MPM's gravity

@@ -16,12 +16,13 @@ AccelerationRecord raw_acceleration(const MotionComponentSpec& spec, double step
   return {};
 }
 
-GroundMotion make_ground_motion(const MotionSpec& spec, double step) {
+GroundMotion make_ground_motion(const MotionSpec& spec, double step, double keep_until) {
   const AccelerationRecord horizontal =
       spec.horizontal ? raw_acceleration(*spec.horizontal, step) : AccelerationRecord{};
   const AccelerationRecord vertical =
       spec.vertical ? raw_acceleration(*spec.vertical, step) : AccelerationRecord{};
-  return GroundMotion(horizontal, vertical, spec.start_time, step, spec.baseline_correction);
+  return GroundMotion(horizontal, vertical, spec.start_time, step, spec.baseline_correction,
+                      keep_until);
 }
 
 }  // namespace slide

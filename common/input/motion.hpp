@@ -11,7 +11,9 @@ namespace slide {
 AccelerationRecord raw_acceleration(const MotionComponentSpec& spec, double step);
 
 /// Reads or builds both components, resamples them to `step` (the solver's step),
-/// integrates and baseline-corrects them. Throws Error naming the fault.
-GroundMotion make_ground_motion(const MotionSpec& spec, double step);
+/// integrates and baseline-corrects them, keeping the samples up to the run's time
+/// `keep_until` (the last end time of the runs that use them). Throws Error naming the
+/// fault.
+GroundMotion make_ground_motion(const MotionSpec& spec, double step, double keep_until);
 
 }  // namespace slide

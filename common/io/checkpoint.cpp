@@ -574,6 +574,9 @@ void write_motion(Writer& writer, const std::optional<CheckpointMotion>& motion)
   g.write_double_attribute("base_time", m.base_time);
   g.write_double_attribute("base_displacement_x", m.base_displacement.x());
   g.write_double_attribute("base_displacement_y", m.base_displacement.y());
+  if (!std::isnan(m.record_end_time)) {
+    g.write_double_attribute("record_end_time", m.record_end_time);
+  }
   const Rows samples{"sample", "n_samples", m.acceleration.size()};
   writer.vectors<2>(g, "acceleration", m.acceleration, samples, "m/s^2");
   writer.vectors<2>(g, "velocity", m.velocity, samples, "m/s");
@@ -1003,6 +1006,14 @@ std::optional<CheckpointMotion> read_motion(const Reader& reader) {
   m.acceleration = reader.vectors<2>("/motion/acceleration", samples);
   m.velocity = reader.vectors<2>("/motion/velocity", samples);
   m.displacement = reader.vectors<2>("/motion/displacement", samples);
+  if (g.has_attribute("record_end_time")) {
+    m.record_end_time = g.read_double_attribute("record_end_time");
+    const double last = m.start_time + m.step * static_cast<double>(samples.count - 1);
+    if (!(m.record_end_time >= last - 0.5 * m.step) || !std::isfinite(m.record_end_time)) {
+      throw Error("{}: attribute record_end_time = {} s, before the last sample ({} s)", g.where(),
+                  m.record_end_time, last);
+    }
+  }
   return m;
 }
 
@@ -1029,12 +1040,14 @@ CheckpointMotion checkpoint_motion(const GroundMotion& motion, std::string base,
           .velocity = motion.velocity_samples(),
           .displacement = motion.displacement_samples(),
           .base = std::move(base),
-          .input = std::move(input)};
+          .input = std::move(input),
+          .record_end_time =
+              motion.cut() ? motion.record_end_time() : std::numeric_limits<double>::quiet_NaN()};
 }
 
 GroundMotion ground_motion(const CheckpointMotion& motion) {
   return GroundMotion(motion.start_time, motion.step, motion.acceleration, motion.velocity,
-                      motion.displacement);
+                      motion.displacement, motion.record_end_time);
 }
 
 GroundMotion grid_motion(const CheckpointMotion& record) {

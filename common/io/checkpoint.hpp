@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -64,6 +65,9 @@ struct CheckpointMotion {
   /// includes the drift of the whole model on its dashpots. The MPM grid starts there.
   Vec2 base_displacement = Vec2::Zero();
   double base_time = 0.0;
+  /// s on the run's clock where the record ends: after the last sample when the samples
+  /// were kept only up to the end of the case's runs (NaN: at the last sample).
+  double record_end_time = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The motion the MPM grid's base follows: the samples, or, after a compliant base

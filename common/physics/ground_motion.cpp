@@ -65,29 +65,33 @@ std::vector<double> integrate(const std::vector<double>& f, double step) {
   return integral;
 }
 
-/// The final velocity and displacement of acceleration samples under the trapezoidal rule.
-std::pair<double, double> end_values(const std::vector<double>& a, double step) {
-  const std::vector<double> v = integrate(a, step);
-  const std::vector<double> u = integrate(v, step);
-  return {v.back(), u.back()};
+/// The final velocity and displacement of the `n` acceleration samples f(k) under the
+/// trapezoidal rule, streamed (the samples are not stored: a record may be far longer
+/// than the part of it a run keeps).
+std::pair<double, double> end_values(std::size_t n, double step, auto&& f) {
+  double a = f(std::size_t{0}), v = 0.0, u = 0.0;
+  for (std::size_t k = 1; k < n; ++k) {
+    const double a_next = f(k);
+    const double v_next = v + 0.5 * step * (a + a_next);
+    u += 0.5 * step * (v + v_next);
+    a = a_next;
+    v = v_next;
+  }
+  return {v, u};
 }
 
-/// Subtracts c0 + c1 τ from `a` so that the discrete v and u end at zero; returns the
-/// subtracted values at the start and the end.
-std::pair<double, double> correct_baseline(std::vector<double>& a, double step) {
-  if (a.size() < 3) return {0.0, 0.0};
-  std::vector<double> ones(a.size(), 1.0), ramp(a.size());
-  for (std::size_t k = 0; k < a.size(); ++k) ramp[k] = static_cast<double>(k) * step;
-  const auto [v, u] = end_values(a, step);
-  const auto [v0, u0] = end_values(ones, step);
-  const auto [v1, u1] = end_values(ramp, step);
+/// The linear function c0 + c1 τ whose subtraction from the `n` samples f(k) makes the
+/// discrete v and u end at zero (zero for fewer than 3 samples or a singular system).
+std::pair<double, double> baseline(std::size_t n, double step, auto&& f) {
+  if (n < 3) return {0.0, 0.0};
+  const auto ramp = [step](std::size_t k) { return static_cast<double>(k) * step; };
+  const auto [v, u] = end_values(n, step, f);
+  const auto [v0, u0] = end_values(n, step, [](std::size_t) { return 1.0; });
+  const auto [v1, u1] = end_values(n, step, ramp);
   // [v0 v1; u0 u1] [c0; c1] = [v; u]
   const double det = v0 * u1 - v1 * u0;
   if (!(std::abs(det) > 0.0)) return {0.0, 0.0};
-  const double c0 = (v * u1 - v1 * u) / det;
-  const double c1 = (v0 * u - v * u0) / det;
-  for (std::size_t k = 0; k < a.size(); ++k) a[k] -= c0 + c1 * ramp[k];
-  return {c0, c0 + c1 * ramp.back()};
+  return {(v * u1 - v1 * u) / det, (v0 * u - v * u0) / det};
 }
 
 }  // namespace
@@ -112,7 +116,8 @@ AccelerationRecord sine_train(double amplitude, double frequency, double duratio
 }
 
 GroundMotion::GroundMotion(const AccelerationRecord& horizontal, const AccelerationRecord& vertical,
-                           double start_time, double step, bool baseline_correction)
+                           double start_time, double step, bool baseline_correction,
+                           double keep_until)
     : start_time_(start_time), step_(step), has_vertical_(!vertical.time.empty()) {
   check_record(horizontal, "horizontal");
   check_record(vertical, "vertical");
@@ -121,27 +126,38 @@ GroundMotion::GroundMotion(const AccelerationRecord& horizontal, const Accelerat
   for (const auto* record : {&horizontal, &vertical}) {
     if (!record->time.empty()) duration = std::max(duration, record->time.back());
   }
-  const auto n = static_cast<std::size_t>(std::ceil(duration / step - 1e-9)) + 1;
-  if (n > std::size_t{50'000'000}) {
-    throw Error("motion: {} s sampled every {} s is {} samples (at most 5e7)", duration, step, n);
+  // The whole record is resampled (and corrected) by streaming; only the samples up to
+  // keep_until, and one after it, are stored.
+  const double samples = std::ceil(duration / step - 1e-9) + 1.0;
+  if (samples > max_record_samples) {
+    throw Error("motion: {} s sampled every {} s is {:.3g} samples (at most {:.0e})", duration,
+                step, samples, max_record_samples);
+  }
+  const auto n = static_cast<std::size_t>(samples);
+  record_end_time_ = start_time + static_cast<double>(n - 1) * step;
+  std::size_t kept = n;
+  if (keep_until < record_end_time_) {
+    const double until = std::ceil((keep_until - start_time) / step - 1e-9) + 2.0;
+    kept = std::min(n, static_cast<std::size_t>(std::max(until, 2.0)));
   }
   std::array<std::vector<double>, 2> a;
   for (int c = 0; c < 2; ++c) {
     const AccelerationRecord& record = c == 0 ? horizontal : vertical;
-    a[c].resize(n, 0.0);
-    for (std::size_t k = 0; k < n; ++k) a[c][k] = resampled(record, static_cast<double>(k) * step);
-    if (baseline_correction) {
-      const auto [first, last] = correct_baseline(a[c], step);
-      correction_start_[c] = first;
-      correction_end_[c] = last;
-    }
+    const auto f = [&](std::size_t k) { return resampled(record, static_cast<double>(k) * step); };
+    a[c].resize(kept);
+    for (std::size_t k = 0; k < kept; ++k) a[c][k] = f(k);
+    if (!baseline_correction) continue;
+    const auto [c0, c1] = baseline(n, step, f);
+    for (std::size_t k = 0; k < kept; ++k) a[c][k] -= c0 + c1 * (static_cast<double>(k) * step);
+    correction_start_[c] = c0;
+    correction_end_[c] = c0 + c1 * (static_cast<double>(n - 1) * step);
   }
   const std::array<std::vector<double>, 2> v{integrate(a[0], step), integrate(a[1], step)};
   const std::array<std::vector<double>, 2> u{integrate(v[0], step), integrate(v[1], step)};
-  acceleration_.resize(n);
-  velocity_.resize(n);
-  displacement_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
+  acceleration_.resize(kept);
+  velocity_.resize(kept);
+  displacement_.resize(kept);
+  for (std::size_t k = 0; k < kept; ++k) {
     acceleration_[k] = {a[0][k], a[1][k]};
     velocity_[k] = {v[0][k], v[1][k]};
     displacement_[k] = {u[0][k], u[1][k]};
@@ -149,7 +165,8 @@ GroundMotion::GroundMotion(const AccelerationRecord& horizontal, const Accelerat
 }
 
 GroundMotion::GroundMotion(double start_time, double step, std::vector<Vec2> acceleration,
-                           std::vector<Vec2> velocity, std::vector<Vec2> displacement)
+                           std::vector<Vec2> velocity, std::vector<Vec2> displacement,
+                           double record_end_time)
     : start_time_(start_time),
       step_(step),
       acceleration_(std::move(acceleration)),
@@ -163,6 +180,8 @@ GroundMotion::GroundMotion(double start_time, double step, std::vector<Vec2> acc
                 velocity_.size(), displacement_.size());
   }
   has_vertical_ = std::ranges::any_of(acceleration_, [](const Vec2& a) { return a.y() != 0.0; });
+  record_end_time_ =
+      std::isnan(record_end_time) ? end_time() : std::max(record_end_time, end_time());
 }
 
 double GroundMotion::end_time() const {

@@ -20,6 +20,7 @@
 // scheme is at u_g(t) at every step, whatever the step.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,18 +50,33 @@ class GroundMotion {
   GroundMotion() = default;
   /// Resamples `horizontal` and `vertical` (either may be empty: no motion in that
   /// direction) onto Δτ = `step`, integrates and, when `baseline_correction`, corrects
-  /// them. Throws Error when a record is not increasing or not finite.
+  /// them over the whole record; keeps the samples up to the run's time `keep_until` (and
+  /// one after it): what is stored, checkpointed and written is bounded by the runs, not
+  /// by the record. Throws Error when a record is not increasing or not finite, or longer
+  /// than max_record_samples steps.
   GroundMotion(const AccelerationRecord& horizontal, const AccelerationRecord& vertical,
-               double start_time, double step, bool baseline_correction);
-  /// From samples already processed (a checkpoint's /motion group).
+               double start_time, double step, bool baseline_correction,
+               double keep_until = std::numeric_limits<double>::infinity());
+  /// From samples already processed (a checkpoint's /motion group); `record_end_time`,
+  /// when the samples stop before the record did (NaN: where the samples end).
   GroundMotion(double start_time, double step, std::vector<Vec2> acceleration,
-               std::vector<Vec2> velocity, std::vector<Vec2> displacement);
+               std::vector<Vec2> velocity, std::vector<Vec2> displacement,
+               double record_end_time = std::numeric_limits<double>::quiet_NaN());
+
+  /// The longest record processed, in samples of the solver's step: 5e8 (two passes over
+  /// it take seconds; only the run's part is stored).
+  static constexpr double max_record_samples = 5e8;
 
   bool empty() const { return acceleration_.empty(); }
   double start_time() const { return start_time_; }
   double step() const { return step_; }
   /// The run's time of the last sample.
   double end_time() const;
+  /// The run's time where the record ends: end_time(), or later when the samples were
+  /// kept only up to the end of the runs.
+  double record_end_time() const { return record_end_time_; }
+  /// The samples stop before the record does (the base would rest after end_time()).
+  bool cut() const { return record_end_time_ > end_time() + 0.5 * step_; }
   bool has_vertical() const { return has_vertical_; }
 
   /// Base displacement, velocity and acceleration at the run's time t (at rest outside
@@ -93,6 +109,7 @@ class GroundMotion {
 
   double start_time_ = 0.0;
   double step_ = 1.0;
+  double record_end_time_ = 0.0;
   bool has_vertical_ = false;
   std::vector<Vec2> acceleration_, velocity_, displacement_;
   Vec2 correction_start_ = Vec2::Zero();

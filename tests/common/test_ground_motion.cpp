@@ -47,6 +47,46 @@ TEST(GroundMotion, RickerIntegratesToItsClosedFormVelocity) {
   EXPECT_FALSE(motion.has_vertical());
 }
 
+// A record far longer than the runs is kept only to their end: the kept samples are the
+// whole record's (bit for bit, its baseline correction included, which spans the whole
+// record), one sample past the end, and the record's end is remembered. A 300 s record
+// for a 0.2 s run is 0.2 s of samples, not 300 s.
+TEST(GroundMotion, ALongRecordIsKeptOnlyToTheEndOfTheRuns) {
+  const double step = 1e-3;
+  const AccelerationRecord record = sine_train(1.5, 2.0, 300.0, 1.0, 0.01);
+  const GroundMotion whole(record, {}, 0.5, step, true);
+  const GroundMotion kept(record, {}, 0.5, step, true, 0.7);
+  EXPECT_FALSE(whole.cut());
+  ASSERT_TRUE(kept.cut());
+  EXPECT_EQ(kept.acceleration_samples().size(), 202u);  // τ = 0 … 0.201 s
+  EXPECT_GE(kept.end_time(), 0.7);
+  EXPECT_DOUBLE_EQ(kept.record_end_time(), whole.end_time());
+  EXPECT_EQ(kept.correction_start().x(), whole.correction_start().x());
+  EXPECT_EQ(kept.correction_end().x(), whole.correction_end().x());
+  for (std::size_t k = 0; k < kept.acceleration_samples().size(); ++k) {
+    ASSERT_EQ(kept.acceleration_samples()[k], whole.acceleration_samples()[k]) << k;
+    ASSERT_EQ(kept.velocity_samples()[k], whole.velocity_samples()[k]) << k;
+    ASSERT_EQ(kept.displacement_samples()[k], whole.displacement_samples()[k]) << k;
+  }
+  // what a checkpoint holds of it comes back cut, with the record's end
+  const GroundMotion read(kept.start_time(), kept.step(), kept.acceleration_samples(),
+                          kept.velocity_samples(), kept.displacement_samples(),
+                          kept.record_end_time());
+  EXPECT_TRUE(read.cut());
+  EXPECT_DOUBLE_EQ(read.record_end_time(), whole.end_time());
+  // a run that ends before the motion starts keeps two samples
+  EXPECT_EQ(GroundMotion(record, {}, 0.5, step, true, 0.1).acceleration_samples().size(), 2u);
+}
+
+// A record too long for the solver's step is refused, naming its samples.
+TEST(GroundMotion, ARecordOfTooManyStepsIsRefused) {
+  const AccelerationRecord two_lines{{0.0, 3400.0}, {0.0, 1.0}};
+  EXPECT_NE(message_of([&] {
+              GroundMotion(two_lines, {}, 0.0, 1e-6, true, 1.0);
+            }).find("motion: 3400 s sampled every 1e-06 s is 3.4e+09 samples (at most 5e+08)"),
+            std::string::npos);
+}
+
 // A record whose velocity drifts (a constant acceleration) is corrected so that its
 // discrete velocity and displacement end at exactly zero, and the base is at rest
 // before the start and after the end.
@@ -231,8 +271,9 @@ TEST(CaseFile, MotionAndRecordersLoad) {
   ASSERT_EQ(c.fem.recorders.size(), 1u);
   EXPECT_EQ(c.fem.recorders[0].name, "surface");
   EXPECT_DOUBLE_EQ(c.fem.recorders[0].every, 0.01);
-  const GroundMotion motion = make_ground_motion(m, 1e-3);
+  const GroundMotion motion = make_ground_motion(m, 1e-3, c.fem.end_time);
   EXPECT_NEAR(motion.end_time(), 0.5 + 0.6, 1e-12);
+  EXPECT_FALSE(motion.cut());
 }
 
 TEST(CaseFile, MotionMistakesAreOneLineErrors) {
