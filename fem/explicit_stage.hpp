@@ -100,6 +100,7 @@ class ExplicitStage final : public run::Stage {
   void write_output(const run::OutputStep& step) override;
   void finish() override;
   run::Work work() const override;
+  run::OutputSizes output_sizes() const override;
 
   /// What the run found (zone, inversion, KE peak from the whole history), with
   /// fem_summary.txt written.

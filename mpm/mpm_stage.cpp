@@ -301,4 +301,10 @@ run::Work MpmStage::work() const {
           solver_.ranks().sum(particle_steps_)};
 }
 
+run::OutputSizes MpmStage::output_sizes() const {
+  // This rank's particle arrays: what a checkpoint stores and a frame shows.
+  const auto bytes = static_cast<double>(solver_.particles().bytes());
+  return {bytes, bytes};
+}
+
 }  // namespace slide::mpm

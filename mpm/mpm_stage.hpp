@@ -122,6 +122,7 @@ class MpmStage final : public run::Stage {
   void write_output(const run::OutputStep& step) override;
   void finish() override;
   run::Work work() const override;
+  run::OutputSizes output_sizes() const override;
 
  private:
   const MpmPlan& plan_;

@@ -63,6 +63,20 @@ bool OutputSchedule::is_output(double time) const {
   return on_grid(time, output_every_) || is_checkpoint(time) || is_end(time);
 }
 
+double OutputSchedule::checkpoints_after(double time) const {
+  const double span = std::max(0.0, end_time_ - time);
+  double count = 1.0;  // the end, a checkpoint where the stage checkpoints its end
+  for (double every : checkpoint_every_) count += std::floor(span / every) + 1.0;
+  for (double t : checkpoint_times_) count += t > time ? 1.0 : 0.0;
+  return count;
+}
+
+double OutputSchedule::outputs_after(double time) const {
+  const double span = std::max(0.0, end_time_ - time);
+  const double grid = output_every_ > 0.0 ? std::floor(span / output_every_) + 1.0 : 0.0;
+  return grid + checkpoints_after(time);
+}
+
 void check_vtk_every(double every, double output_every, std::string_view what) {
   if (!(every > 0.0) || !(output_every > 0.0)) return;
   if (!is_whole_multiple(every, output_every)) {

@@ -34,6 +34,11 @@ class OutputSchedule {
   bool is_end(double time) const { return end_time_ - time <= tolerance(end_time_); }
   double end_time() const { return end_time_; }
 
+  /// At most how many checkpoints and output steps the schedule has after `time` (a
+  /// closed form, not a walk: the bound is checked before a run writes, for any cadence).
+  double checkpoints_after(double time) const;
+  double outputs_after(double time) const;
+
   /// `time` is k·`every` for some integer k (within the tolerance); false for every ≤ 0.
   static bool on_grid(double time, double every);
 

@@ -81,8 +81,68 @@ void prepare_folder(const Plan& plan, const Logger& log, const Ranks& ranks,
   if (const auto first = ranks.first_problem(problem)) throw Error("{}", *first);
 }
 
+namespace {
+
+/// The free bytes of the file system that holds `folder` (its nearest existing ancestor
+/// when it does not exist yet); infinity when it cannot be told.
+double free_bytes(std::filesystem::path folder) {
+  std::error_code error;
+  folder = std::filesystem::absolute(folder, error);
+  while (!folder.empty() && !std::filesystem::exists(folder, error)) {
+    if (folder == folder.parent_path()) break;
+    folder = folder.parent_path();
+  }
+  const std::filesystem::space_info space = std::filesystem::space(folder, error);
+  if (error) return std::numeric_limits<double>::infinity();
+  return static_cast<double>(space.available);
+}
+
+}  // namespace
+
+void check_output_volume(const Plan& plan, double time, OutputSizes sizes, const Logger& log,
+                         const Ranks& ranks) {
+  sizes.checkpoint = ranks.sum(sizes.checkpoint);
+  sizes.frame = ranks.sum(sizes.frame);
+  std::optional<std::string> problem;
+  if (ranks.root()) {
+    const OutputSchedule& schedule = plan.schedule;
+    const double checkpoints = schedule.checkpoints_after(time);
+    const double outputs = schedule.outputs_after(time);
+    double frames = 0.0;
+    if (plan.output.write_vtk) {
+      const double span = std::max(0.0, plan.end_time() - time);
+      const double every = plan.output.vtk_every;
+      frames =
+          every > 0.0 ? std::min(outputs, std::floor(span / every) + 2.0 + checkpoints) : outputs;
+    }
+    const double bytes = checkpoints * sizes.checkpoint + frames * sizes.frame;
+    const double space = free_bytes(plan.output.folder);
+    if (checkpoints + frames > max_output_files) {
+      problem = fmt::format(
+          "the run would write about {:.3g} checkpoints and {:.3g} VTK frames (at most {:.0e} "
+          "files): lengthen checkpoint_every, output_every or vtk_every, or pass --no-vtk",
+          checkpoints, frames, max_output_files);
+    } else if (bytes > space) {
+      problem = fmt::format(
+          "the run would write about {:.3g} GB ({:.3g} checkpoints of {:.3g} MB, {:.3g} VTK "
+          "frames of {:.3g} MB) into {}, whose disk has {:.3g} GB free: lengthen the "
+          "cadences, pass --no-vtk or free space",
+          bytes / 1e9, checkpoints, sizes.checkpoint / 1e6, frames, sizes.frame / 1e6,
+          plan.output.folder.string(), space / 1e9);
+    }
+    if (!problem) {
+      log.info(
+          "outputs: at most {:.3g} checkpoints of {:.3g} MB and {:.3g} VTK frames of {:.3g} "
+          "MB, about {:.3g} GB ({:.3g} GB free)",
+          checkpoints, sizes.checkpoint / 1e6, frames, sizes.frame / 1e6, bytes / 1e9, space / 1e9);
+    }
+  }
+  if (const auto first = ranks.first_problem(problem)) throw Error("{}", *first);
+}
+
 RunResult execute(Stage& stage, const Plan& plan, const Logger& log, const Ranks& ranks) {
   std::optional<OutputLock> lock;
+  check_output_volume(plan, stage.time(), stage.output_sizes(), log, ranks);
   prepare_folder(plan, log, ranks, lock);
   Lifecycle run{stage, plan};
   if (plan.start == Start::restart) run.set_last_checkpoint(plan.start_file);

@@ -35,6 +35,13 @@ struct Work {
   double unit_steps = 0.0;  ///< Σ over the steps of the units that moved (the rate's numerator)
 };
 
+/// About what one output of a stage writes on this rank, bytes: the state a checkpoint
+/// holds and a VTK frame shows (both are the stage's arrays, a frame about as large).
+struct OutputSizes {
+  double checkpoint = 0.0;
+  double frame = 0.0;
+};
+
 /// The output a stage's start needs.
 enum class StartOutput {
   none,   ///< none: the run continues outputs written already (a restart)
@@ -68,6 +75,8 @@ class Stage {
   /// After the loop: the stage's last files and reports.
   virtual void finish() = 0;
   virtual Work work() const = 0;
+  /// What one checkpoint and one frame write on this rank, about (run::check_output_volume).
+  virtual OutputSizes output_sizes() const = 0;
 
   /// The last checkpoint written (or the one the run restarted from): what an
   /// instability's message names. Kept by execute.
@@ -102,6 +111,20 @@ struct RunResult {
 /// (the root alone clears the folder and logs).
 RunResult execute(Stage& stage, const Plan& plan, const Logger& log,
                   const Ranks& ranks = Ranks::single());
+
+/// More checkpoints and VTK frames than a run may write: a million files in a folder is
+/// already more than a file browser or ParaView's series lists; beyond it a cadence is a
+/// slip, not a plan.
+inline constexpr double max_output_files = 1e6;
+
+/// Refuses, before anything is written, a run whose checkpoints and frames from `time`
+/// to the end would be more than max_output_files files or more bytes than the disk of
+/// the output folder has free (`sizes` summed over the ranks, each output at its largest:
+/// every checkpoint, every output step a frame where the cadence says so): Error naming
+/// the counts, the estimate and the space, with the cadence to change; else the estimate
+/// in the log. Collective.
+void check_output_volume(const Plan& plan, double time, OutputSizes sizes, const Logger& log,
+                         const Ranks& ranks);
 
 /// "fem_t2.000.h5": the checkpoint file name of a stage (`prefix` "fem" or "mpm") at
 /// time t, three decimals (docs/contract.md).

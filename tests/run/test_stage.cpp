@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -56,6 +57,7 @@ class RecordingStage final : public Stage {
   }
   void finish() override { finished = true; }
   Work work() const override { return {steps_, "point", 3, 3.0 * static_cast<double>(steps_)}; }
+  OutputSizes output_sizes() const override { return sizes; }
 
   struct Output {
     double time;
@@ -67,6 +69,7 @@ class RecordingStage final : public Stage {
   bool started = false, finished = false;
   std::optional<bool> opened_resumed;
   int checks = 0;
+  OutputSizes sizes{1000.0, 1000.0};
   double unstable_time = std::numeric_limits<double>::infinity();
   double time_ = 0.0;
 
@@ -191,6 +194,54 @@ TEST(Execute, AFailedGuardStopsBeforeTheOutputNamingTheLastCheckpoint) {
         << e.what();
   }
   EXPECT_EQ(restarted.opened_resumed, true);
+}
+
+TEST(Execute, CountsNoMoreOutputsThanTheVolumeCheckAllowedFor) {
+  // The closed-form counts bound what the loop writes, for cadences on and off each other.
+  for (const auto& [end, output_every, every, vtk_every] :
+       std::vector<std::array<double, 4>>{{1.0, 0.25, 0.5, 0.5},
+                                          {0.9, 0.1, 0.3, 0.2},
+                                          {2.0, 0.0, 0.7, 0.0},
+                                          {1.3, 0.05, 0.0, 0.0}}) {
+    Plan plan = plan_of(OutputSchedule(end, output_every, {every}, {0.33}), "count", true);
+    plan.output.vtk_every = vtk_every;
+    RecordingStage stage(std::numeric_limits<double>::infinity(), StartOutput::first);
+    execute(stage, plan, quiet);
+    double checkpoints = 0.0, frames = 0.0;
+    for (const auto& o : stage.outputs) {
+      checkpoints += o.checkpoint ? 1.0 : 0.0;
+      frames += o.frame ? 1.0 : 0.0;
+    }
+    EXPECT_LE(checkpoints, plan.schedule.checkpoints_after(0.0)) << "end " << end;
+    EXPECT_LE(static_cast<double>(stage.outputs.size()), plan.schedule.outputs_after(0.0));
+    EXPECT_LE(frames, plan.schedule.outputs_after(0.0));
+  }
+}
+
+TEST(Execute, ARunThatWouldFillTheDiskOrTheFolderIsRefusedBeforeItWrites) {
+  RecordingStage huge;
+  huge.sizes = {1e18, 1e18};  // an exabyte a checkpoint: more than any disk here has free
+  const Plan plan = plan_of(OutputSchedule(1.0, 0.25, {0.5}, {}), "volume", true);
+  try {
+    execute(huge, plan, quiet);
+    FAIL() << "an exabyte run was accepted";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("GB free"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("checkpoints of 1e+12 MB"));
+  }
+  EXPECT_FALSE(huge.started);
+  EXPECT_FALSE(std::filesystem::exists(plan.output.folder));  // not even the folder
+
+  RecordingStage many;
+  const Plan fine = plan_of(OutputSchedule(1e4, 1e-3, {1e-3}, {}), "files", true);
+  try {
+    execute(many, fine, quiet);
+    FAIL() << "ten million checkpoints were accepted";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("1e+07 checkpoints"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("at most 1e+06 files"));
+  }
+  EXPECT_FALSE(many.started);
 }
 
 TEST(EnergyGrowth, TheToleranceIsFivePerCentOfTheScale) {

@@ -3,7 +3,8 @@
 # runs is kept only to their end (the checkpoint and motion.csv hold the run's part, the
 # log says so); a recorder cadence of 1e-15 s records at every step and ends; recorders
 # that would hold more than 1 GB, and a recorder name longer than a file name takes, are
-# refused in one line before the previous run's files are touched.
+# refused in one line before the previous run's files are touched; so is a run whose
+# checkpoints and frames would be more than a million files.
 #   bounds_test.sh BIN SOURCE_DIR WORK_DIR PYTHON
 set -eu
 bin=$1 src=$2 work=$3 python=$4
@@ -121,3 +122,14 @@ grep -q "the name has 300 bytes, at most 200" "$work/name.log" || { cat "$work/n
 after=$(cd "$work/fine" && find . -type f -exec md5sum {} + | sort)
 [ "$before" = "$after" ] || fail "a refused run changed the previous run's files"
 echo "refused before writing: recorders of > 1 GB, a name of 300 bytes"
+
+# Checkpoints and frames past the disk or a million files: refused before the folder is
+# made (common/run/README.md, "A run that would fill the disk").
+if "$bin/fem-solve" "$src/cases/geostatic-4x4/case.toml" -o "$work/many" --until 5000 \
+  --checkpoint-every 0.001 > "$work/many.log" 2>&1; then
+  fail "five million checkpoints accepted"
+fi
+grep -q "about 5e+06 checkpoints and 5e+06 VTK frames (at most 1e+06 files)" "$work/many.log" ||
+  { cat "$work/many.log"; fail "message"; }
+[ ! -e "$work/many" ] || fail "a refused run made its folder"
+echo "refused before writing: 5e6 checkpoints"
