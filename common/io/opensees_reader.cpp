@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/base/error.hpp"
+#include "common/geometry/element.hpp"
 
 namespace slide {
 namespace {
@@ -312,6 +313,78 @@ void add_bounding_box_sets(Mesh& mesh) {
   mesh.node_sets = {std::move(left), std::move(right), std::move(base)};
 }
 
+/// The mesh checks' straightness of a node set, as validate_mesh applies it
+/// (common/geometry/mesh.cpp): this share of the mesh's extent, at least 1 m.
+constexpr double straightness_tolerance = 1e-6;
+
+/// "20 30 60 50": the OpenSees tags of element e's nodes.
+std::string node_tags_of(const OpenSeesMesh& model, Index e) {
+  std::string tags;
+  for (const Index node : model.mesh.element(e)) {
+    if (!tags.empty()) tags += ' ';
+    tags += std::to_string(model.node_tags[static_cast<std::size_t>(node)]);
+  }
+  return tags;
+}
+
+/// No element inverted or of zero area, by the test of validate_mesh (common/geometry/
+/// mesh.cpp), which would otherwise name the element and node by their 0-based index in
+/// the mesh: here they are named by their OpenSees tags.
+void check_element_shapes(const OpenSeesMesh& model, const std::string& file) {
+  const Mesh& mesh = model.mesh;
+  const ElementShape shape = mesh.shape();
+  const auto corners = reference_corners(shape);
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
+    const double zero = degenerate_jacobian_fraction * longest_edge_squared(shape, x);
+    const std::int64_t tag = model.element_tags[static_cast<std::size_t>(e)];
+    if (shape == ElementShape::tri3) {
+      const double area = element_area(shape, x);
+      if (area <= zero) {
+        throw Error(
+            "{}: element {} (nodes {}) is inverted or has zero area (signed area {} m²): "
+            "expected its nodes counter-clockwise",
+            file, tag, node_tags_of(model, e), area);
+      }
+      continue;
+    }
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const double det = jacobian(shape, x, corners[k]).determinant();
+      if (det <= 0.25 * zero) {
+        const Index node = mesh.element(e)[k];
+        throw Error(
+            "{}: element {} (nodes {}) is inverted or has zero area: det J = {} at its node {}; "
+            "expected its nodes counter-clockwise",
+            file, tag, node_tags_of(model, e), det,
+            model.node_tags[static_cast<std::size_t>(node)]);
+      }
+    }
+  }
+}
+
+/// The bounding box's edges straight, by the test of validate_mesh (the box's tolerance
+/// can exceed it when the model spans the origin), the nodes named by their tags.
+void check_edges_straight(const OpenSeesMesh& model, const std::string& file) {
+  const Mesh& mesh = model.mesh;
+  double extent = 0.0;
+  for (const Vec2& p : mesh.nodes) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+  const double straightness = straightness_tolerance * std::max(extent, 1.0);
+  for (const NodeSet& set : mesh.node_sets) {
+    const auto first = static_cast<std::size_t>(set.nodes.front());
+    for (const Index n : set.nodes) {
+      const auto node = static_cast<std::size_t>(n);
+      const double off = std::abs((mesh.nodes[node] - mesh.nodes[first]).dot(set.normal));
+      if (off > straightness) {
+        throw Error(
+            "{}: the {} edge of the model is not straight: node {} at ({}, {}) is {:.3g} m off "
+            "the line through node {} (expected at most {:.3g} m)",
+            file, set.name, model.node_tags[node], mesh.nodes[node].x(), mesh.nodes[node].y(), off,
+            model.node_tags[first], straightness);
+      }
+    }
+  }
+}
+
 /// Parses a number of a recorder row; OpenSees writes "nan", "-nan", "inf" for bad
 /// values, which from_chars reads and the caller refuses.
 std::optional<double> parse_number(std::string_view token) {
@@ -415,6 +488,8 @@ OpenSeesMesh read_opensees_mesh(const std::filesystem::path& path,
     result.element_tags.push_back(e.tag);
   }
   add_bounding_box_sets(mesh);
+  check_element_shapes(result, file);
+  check_edges_straight(result, file);
   return result;
 }
 

@@ -59,7 +59,9 @@ ElementType read_opensees_element_type(const std::filesystem::path& path,
 /// Reads the model. `material_of_tag` maps OpenSees nDMaterial tags to names of
 /// `materials`. Throws Error (file, line where known, tag at fault) on invalid JSON, a
 /// missing or mistyped field, a 3D node, an unknown or mixed element class, a node an
-/// element names that the model does not have, an unmapped material tag.
+/// element names that the model does not have, an unmapped material tag, an element
+/// inverted or of zero area (clockwise nodes), a crooked edge of the bounding box: the
+/// faults validate_mesh would find, named by OpenSees tags rather than mesh indices.
 OpenSeesMesh read_opensees_mesh(const std::filesystem::path& path,
                                 const std::map<std::string, std::string>& material_of_tag,
                                 const std::vector<std::string>& ignore_elements,

@@ -161,6 +161,36 @@ TEST(OpenSeesReader, RefusesBadModelsInOneLine) {
             "model.json: no \"geometry\" object: not a model printed by OpenSees's print -JSON");
 }
 
+TEST(OpenSeesReader, NamesBadElementsAndNodesByTheirTags) {
+  // Element 2 (the second in the mesh, index 1) with its nodes clockwise: every corner's
+  // det J is −0.25, the first at node 20 (mesh node 1).
+  std::string clockwise = two_quads();
+  clockwise.replace(clockwise.find("20, 30, 60, 50"), 14, "20, 50, 60, 30");
+  EXPECT_EQ(read_error(clockwise),
+            "model.json: element 2 (nodes 20 50 60 30) is inverted or has zero area: det J = "
+            "-0.25 at its node 20; expected its nodes counter-clockwise");
+  // A Tri31 on three nodes in a line.
+  const std::string flat =
+      opensees_json({R"({"name": 7, "crd": [0, 0]})", R"({"name": 8, "crd": [1, 0]})",
+                     R"({"name": 9, "crd": [2, 0]})", R"({"name": 11, "crd": [0, 1]})"},
+                    {R"({"name": 4, "type": "Tri31", "nodes": [7, 8, 11], "material": "3"})",
+                     R"({"name": 5, "type": "Tri31", "nodes": [7, 8, 9], "material": "3"})"});
+  EXPECT_EQ(read_error(flat),
+            "model.json: element 5 (nodes 7 8 9) is inverted or has zero area (signed area 0 m²): "
+            "expected its nodes counter-clockwise");
+  // Across the origin the bounding box's 2e-5 m takes in node 40, 1.5e-5 m inside the
+  // left edge, which is more than the mesh checks' straightness of 1e-6 × 10 m.
+  const std::string crooked = opensees_json(
+      {R"({"name": 10, "crd": [-10, 0]})", R"({"name": 20, "crd": [0, 0]})",
+       R"({"name": 30, "crd": [10, 0]})", R"({"name": 40, "crd": [-9.999985, 1]})",
+       R"({"name": 50, "crd": [0, 1]})", R"({"name": 60, "crd": [10, 1]})"},
+      {R"({"name": 1, "type": "FourNodeQuad", "nodes": [10, 20, 50, 40], "material": "3"})",
+       R"({"name": 2, "type": "FourNodeQuad", "nodes": [20, 30, 60, 50], "material": "3"})"});
+  EXPECT_EQ(read_error(crooked),
+            "model.json: the left edge of the model is not straight: node 40 at (-9.999985, 1) is "
+            "1.5e-05 m off the line through node 10 (expected at most 1e-05 m)");
+}
+
 // ----------------------------------------------------------------------------- recorders
 
 std::string recorder_error(const std::string& text, double time, std::size_t columns) {
@@ -389,6 +419,24 @@ stress = "stress.out"
                         "point: a multi-yield material's σxx σyy σzz σxy and stress ratio)"));
   EXPECT_THAT(error_of([&] { interop::import_opensees(c, 0.5, nullptr); }),
               HasSubstr("disp.out: no row at t = 0.5 s (the rows run from t = 0 to 0 s, 1 rows)"));
+}
+
+TEST(OpenSeesImport, NamesAnInvertedElementByItsTag) {
+  // The case's mesh (build_mesh, then validate_mesh) meets the element before the
+  // recorders: the message names OpenSees's tags, not element 1 and node 1 of the mesh.
+  write("disp.out", nodes_row(0, 0, 0));
+  write("vel.out", nodes_row(0, 0, 0));
+  write("stress.out", "0 -1 -2 -3 -4 -5 -6\n");
+  std::string clockwise = two_quads("SSPquad");
+  clockwise.replace(clockwise.find("20, 30, 60, 50"), 14, "20, 50, 60, 30");
+  const Case c = import_case(clockwise, R"(
+displacement = "disp.out"
+velocity = "vel.out"
+stress = "stress.out"
+)");
+  EXPECT_THAT(error_of([&] { interop::import_opensees(c, 0.0, nullptr); }),
+              HasSubstr("model.json: element 2 (nodes 20 50 60 30) is inverted or has zero "
+                        "area: det J = -0.25 at its node 20"));
 }
 
 TEST(OpenSeesImport, NeedsAnOpenSeesCase) {

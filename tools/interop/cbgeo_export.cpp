@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <optional>
+#include <variant>
 
 #include <fmt/format.h>
 #include <hdf5.h>
@@ -12,6 +14,7 @@
 #include "common/base/error.hpp"
 #include "common/base/types.hpp"
 #include "common/io/atomic_file.hpp"
+#include "common/run/stage.hpp"
 
 namespace slide::interop {
 namespace {
@@ -315,11 +318,88 @@ void add_particle_notes(const ParticleFiles& files, std::vector<std::string>& no
       "accumulated plastic strains are not carried (no softening, so no effect)");
 }
 
+/// The rows an mpm checkpoint's /solver record says mpm-solve froze at the grid's edge
+/// (0 in a particle file).
+std::int64_t frozen_rows(const SolverSettings& solver) {
+  const auto it = solver.find("frozen_particles");
+  if (it == solver.end()) return 0;
+  if (const auto* count = std::get_if<std::int64_t>(&it->second)) return *count;
+  if (const auto* count = std::get_if<double>(&it->second)) return std::llround(*count);
+  return 0;
+}
+
+/// The particles' state that neither the ASCII files nor the resume table hold.
+void add_state_notes(const ParticleCheckpoint& checkpoint, std::vector<std::string>& notes) {
+  const Particles& p = checkpoint.particles;
+  double largest_pore_pressure = 0.0;
+  for (const double u : p.pore_pressure)
+    largest_pore_pressure = std::max(largest_pore_pressure, std::abs(u));
+  if (largest_pore_pressure > 0.0) {
+    notes.push_back(fmt::format(
+        "pore pressures (up to {:.6g} Pa): CB-Geo's single-phase MPMExplicit2D has none; the "
+        "stresses are written as they are",
+        largest_pore_pressure));
+  }
+  if (const std::int64_t frozen = frozen_rows(checkpoint.solver); frozen > 0) {
+    notes.push_back(fmt::format(
+        "frozen particles: {} that mpm-solve froze at the grid's edge are written as ordinary "
+        "particles, which CB-Geo moves again",
+        frozen));
+  }
+}
+
+/// What the case sets outside [mpm] that the MPM phase runs with and mpm.json does not
+/// hold: a turned gravity and the base motion.
+void add_case_notes(const Case& c, const ParticleCheckpoint& checkpoint,
+                    std::vector<std::string>& notes) {
+  if (c.gravity != gravity_vector()) {
+    const double angle = std::atan2(c.gravity.x(), -c.gravity.y()) * 180.0 / std::numbers::pi;
+    notes.push_back(fmt::format(
+        "gravity_angle: the case turns gravity by {:.6g}° to ({:.6g}, {:.6g}) m/s²; mpm.json's "
+        "gravity is (0, {}) m/s²",
+        angle, c.gravity.x(), c.gravity.y(), -gravity_acceleration));
+  }
+  if (checkpoint.motion) {
+    const CheckpointMotion& m = *checkpoint.motion;
+    const double time = checkpoint.header.time;
+    const Vec2 base = base_position(m, grid_motion(m), time);
+    notes.push_back(fmt::format(
+        "base motion: the file's /motion ({} samples every {:.6g} s from t = {} s, {} base) is "
+        "not written: CB-Geo's grid stays at rest at mpm.domain, while mpm-solve moves it with "
+        "the base (by ({:.6g}, {:.6g}) m at t = {} s)",
+        m.acceleration.size(), m.step, m.start_time, m.base, base.x(), base.y(), time));
+  } else if (c.fem.motion) {
+    notes.push_back(
+        "base motion: the case's [fem.motion] is not written (the particle file has no "
+        "/motion either): CB-Geo's grid stays at rest");
+  }
+}
+
+/// At most this many CB-Geo outputs: each is an HDF5 file of the whole particle table
+/// (416 B a particle: 32,000 particles make 13 MB a file). A run of 10⁵ outputs is 100
+/// times the 0.1 s outputs of a 100 s runout; beyond it the cadence is a mistake.
+constexpr double max_outputs = 1e5;
+
+/// The cadence of CB-Geo's outputs, s, and what gave it (an option, a key of the case, or
+/// nothing: the end time only).
+struct OutputCadence {
+  double every = 0.0;
+  std::string source;
+};
+
+OutputCadence output_cadence(const Case& c, const CbGeoExportOptions& options) {
+  if (options.output_every > 0.0) return {options.output_every, "--output-every"};
+  if (c.mpm.checkpoint_every > 0.0) return {c.mpm.checkpoint_every, "mpm.checkpoint_every"};
+  return {};
+}
+
 /// CB-Geo's step and step count (into `input`) and its output interval in steps. CB-Geo
 /// writes its state at the steps that are multiples of output_steps and, resumed from
 /// step 0, runs steps 1 … nsteps − 1: the output interval is shortened to divide the
 /// duration, the step is the Courant step shortened to divide the interval, and
-/// nsteps − 1 steps make the duration, so that the last output is the end time.
+/// nsteps − 1 steps make the duration, so that the last output is the end time. A cadence
+/// shorter than the step, more than max_outputs outputs or run::max_steps steps are
+/// refused: every number of mpm.json must be a finite, meaningful one.
 long choose_steps(const Case& c, const CbGeoExportOptions& options,
                   const ParticleCheckpoint& checkpoint, CbGeoInput& input) {
   // CB-Geo's clock starts at 0 at the particles' time.
@@ -329,24 +409,48 @@ long choose_steps(const Case& c, const CbGeoExportOptions& options,
     throw Error("mpm2cbgeo: end time {} s is not after the particles' time {} s (give --end-time)",
                 end, start);
   }
+  if (!(options.courant > 0.0 && options.courant <= 1.0)) {
+    throw Error("--courant {}: expected a Courant number in (0, 1]", options.courant);
+  }
   const double duration = end - start;
-  const double asked = std::min(duration, options.output_every > 0.0     ? options.output_every
-                                          : c.mpm.checkpoint_every > 0.0 ? c.mpm.checkpoint_every
-                                                                         : duration);
-  const double every = duration / std::ceil(duration / asked - 1e-9);
   const double courant =
       courant_step(c.mpm, options.courant, checkpoint.particles, checkpoint.materials);
-  const double per_output = std::ceil(every / courant - 1e-9);
-  if (!(per_output * std::ceil(duration / every) < 1e9)) {
-    throw Error("mpm2cbgeo: {} s in steps of {} s is more than 10⁹ steps", duration, courant);
+  const std::string step_source =
+      c.mpm.time_step > 0.0
+          ? std::string("the case's mpm.time_step")
+          : fmt::format("the Courant step C h / max c_p at --courant {}", options.courant);
+  const std::string run_source =
+      fmt::format("CB-Geo's fixed step is {}, the run {} s long (t = {} to {} s, {})", step_source,
+                  duration, start, end, options.end_time > 0.0 ? "--end-time" : "mpm.end_time");
+  run::check_step_count(duration, courant, run_source);
+  const OutputCadence cadence = output_cadence(c, options);
+  if (!cadence.source.empty() && cadence.every < courant) {
+    // The least cadence to suggest: the step rounded up to three significant digits.
+    const double unit = std::pow(10.0, std::floor(std::log10(courant)) - 2.0);
+    throw Error(
+        "{} = {} s is shorter than CB-Geo's time step {:.6g} s, {}: CB-Geo writes its state at "
+        "most once a step (give --output-every {:.3g} or more)",
+        cadence.source, cadence.every, courant, step_source, std::ceil(courant / unit) * unit);
   }
+  const double asked = cadence.source.empty() ? duration : std::min(duration, cadence.every);
+  const double outputs = std::ceil(duration / asked - 1e-9);
+  if (!(outputs <= max_outputs)) {
+    throw Error(
+        "{} = {} s makes {:.3g} outputs over the {} s from t = {} to {} s, more than {:.0e} "
+        "(each is a file of every particle, {:.3g} MB): give a longer cadence",
+        cadence.source, cadence.every, outputs, duration, start, end, max_outputs,
+        static_cast<double>(checkpoint.particles.count() * sizeof(CbGeoParticle)) / 1e6);
+  }
+  const double every = duration / std::max(outputs, 1.0);
+  const double per_output = std::max(1.0, std::ceil(every / courant - 1e-9));
   input.time_step = every / per_output;
+  run::check_step_count(duration, input.time_step, run_source);
   input.steps = std::lround(duration / input.time_step) + 1;
   return static_cast<long>(per_output);
 }
 
 /// The algorithms CB-Geo has not, and what they are written as.
-void add_scheme_notes(const MpmSpec& mpm, const std::string& scheme,
+void add_scheme_notes(const MpmSpec& mpm, const std::string& scheme, double time_step,
                       std::vector<std::string>& notes) {
   if (mpm.update_scheme == UpdateScheme::musl || scheme == "usf") {
     notes.push_back(fmt::format("update scheme: {} written as CB-Geo's {} (CB-Geo has USF and USL)",
@@ -359,11 +463,76 @@ void add_scheme_notes(const MpmSpec& mpm, const std::string& scheme,
         "element needs a 16-node connectivity this export does not write)");
   }
   if (mpm.velocity_transfer == VelocityTransfer::apic) {
-    notes.push_back("velocity transfer: APIC written as FLIP (CB-Geo has FLIP and PIC)");
+    notes.push_back(
+        "velocity transfer: APIC written as FLIP (CB-Geo has FLIP and PIC; the particles' "
+        "affine velocities are dropped)");
+  } else if (mpm.pic_fraction > 0.0 && mpm.pic_fraction < 1.0) {
+    notes.push_back(fmt::format(
+        "velocity transfer: the FLIP/PIC blend mpm.pic_fraction = {} written as FLIP (CB-Geo's "
+        "velocity_update is all PIC or all FLIP)",
+        mpm.pic_fraction));
+  }
+  if (mpm.time_step == 0.0) {
+    notes.push_back(fmt::format(
+        "time step: mpm-solve's Courant step, renewed as the particles deform, written as "
+        "CB-Geo's fixed dt = {:.6g} s (--courant)",
+        time_step));
   }
   if (mpm.volumetric_smoothing == VolumetricSmoothing::cell) {
     notes.push_back("cell volumetric smoothing: written as CB-Geo's pressure_smoothing");
   }
+}
+
+/// How a run stops and what it writes, where CB-Geo has no equivalent.
+void add_run_control_notes(const MpmSpec& mpm, std::vector<std::string>& notes) {
+  if (mpm.particle_exit == ParticleExit::freeze) {
+    notes.push_back(
+        "mpm.particle_exit = \"freeze\": CB-Geo removes the particles that leave the grid "
+        "(locate_particles: false)");
+  }
+  if (mpm.rest_threshold > 0.0 && mpm.rest_duration > 0.0) {
+    notes.push_back(fmt::format(
+        "rest stop (mpm.rest_threshold = {} for mpm.rest_duration = {} s): CB-Geo has none and "
+        "runs to the end time",
+        mpm.rest_threshold, mpm.rest_duration));
+  }
+  notes.push_back(
+      fmt::format("mpm.speed_limit_factor = {}: CB-Geo has no instability guard, a blow-up runs on",
+                  mpm.speed_limit_factor));
+  if (!mpm.checkpoint_times.empty()) {
+    notes.push_back(fmt::format(
+        "mpm.checkpoint_times: CB-Geo writes its state at the regular cadence only, not at the {} "
+        "listed time(s)",
+        mpm.checkpoint_times.size()));
+  }
+}
+
+/// The first number of `json` that is not finite, as "key.key[i]" below `path`, or
+/// nothing: nlohmann writes NaN and ±inf as null, which CB-Geo would misread.
+std::optional<std::string> non_finite_number(const Json& json, const std::string& path) {
+  if (json.is_number_float() && !std::isfinite(json.get<double>())) {
+    return fmt::format("{} = {}", path, json.get<double>());
+  }
+  if (json.is_object()) {
+    for (auto it = json.begin(); it != json.end(); ++it) {
+      if (auto found = non_finite_number(*it, path.empty() ? it.key() : path + "." + it.key()))
+        return found;
+    }
+  } else if (json.is_array()) {
+    for (std::size_t i = 0; i < json.size(); ++i) {
+      if (auto found = non_finite_number(json[i], fmt::format("{}[{}]", path, i))) return found;
+    }
+  }
+  return std::nullopt;
+}
+
+/// `json` as the text of file `name`; Error before anything is written if a number is not
+/// finite.
+std::string json_text(const Json& json, const std::string& name) {
+  if (const auto found = non_finite_number(json, "")) {
+    throw Error("{}: {}, expected a finite number (nothing written)", name, *found);
+  }
+  return json.dump(2) + "\n";
 }
 
 /// mpm.json: mesh and particle files, materials, gravity, the analysis, its outputs.
@@ -413,13 +582,16 @@ CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& checkpoint,
   CbGeoInput input;
   const ParticleFiles files = write_particle_files(p, checkpoint.materials, g, input);
   input.files.emplace_back("mesh.txt", mesh_text(g));
-  input.files.emplace_back("entity_sets.json", entity_sets(g).dump(2) + "\n");
+  input.files.emplace_back("entity_sets.json", json_text(entity_sets(g), "entity_sets.json"));
   add_particle_notes(files, input.notes);
+  add_state_notes(checkpoint, input.notes);
+  add_case_notes(c, checkpoint, input.notes);
   const long output_steps = choose_steps(c, options, checkpoint, input);
-  add_scheme_notes(c.mpm, options.scheme, input.notes);
+  add_scheme_notes(c.mpm, options.scheme, input.time_step, input.notes);
+  add_run_control_notes(c.mpm, input.notes);
   Json mpm = analysis_json(c, checkpoint, files, options.scheme, input, output_steps);
   mpm["mesh"]["boundary_conditions"] = boundary_conditions(c.mpm, input.notes);
-  input.files.emplace_back("mpm.json", mpm.dump(2) + "\n");
+  input.files.emplace_back("mpm.json", json_text(mpm, "mpm.json"));
   // CB-Geo names its outputs with as many digits as nsteps has.
   const auto digits = static_cast<int>(std::to_string(input.steps).size());
   input.resume_file = fmt::format("results/{}/particles{:0{}d}.h5", c.name, 0, digits);

@@ -21,7 +21,9 @@
 //                           of the particles, the steps to the case's end time, Cundall
 //                           damping, output cadence).
 // What CB-Geo's ASCII input cannot carry (velocities, strains, plastic state, APIC,
-// GIMP domains, MUSL) is listed by the export and in the README's table.
+// GIMP domains, MUSL), and what the case sets that mpm.json does not hold (the base
+// motion, gravity_angle, the rest stop...), is listed by the export and in the README's
+// table.
 #pragma once
 
 #include <cstdint>
@@ -78,8 +80,11 @@ struct CbGeoInput {
   long steps = 0;
 };
 
-/// Builds the input; Error on a particle outside the grid, a material CB-Geo cannot run,
-/// an end time before the particles' time.
+/// Builds the input, and in `notes` every setting of the case and every part of the
+/// particles' state that it does not carry over (the base motion, a turned gravity, the
+/// algorithms CB-Geo has not...). Error on a particle outside the grid, an end time before
+/// the particles' time, an output cadence shorter than CB-Geo's step or of more than 10⁵
+/// outputs, more than run::max_steps steps, a number of mpm.json that is not finite.
 CbGeoInput export_cbgeo(const Case& c, const ParticleCheckpoint& particles,
                         const CbGeoExportOptions& options);
 

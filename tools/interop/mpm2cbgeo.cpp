@@ -24,12 +24,29 @@ struct CommandLine {
   std::string particles;
   std::string output;
   interop::CbGeoExportOptions options;
+  bool other_case = false;
   bool quiet = false;
 };
+
+/// The particles of this case (or --other-case), as mpm-solve takes them: the file's
+/// attribute `case` names the case that made it.
+void check_case_name(const CommandLine& line, const Case& c, const Logger& logger) {
+  const CheckpointHeader header = read_checkpoint_header(line.particles);
+  if (header.case_name == c.name) return;
+  if (!line.other_case) {
+    throw Error(
+        "{}: written for case \"{}\", not for case \"{}\" of {} (--other-case to export it "
+        "anyway)",
+        line.particles, header.case_name, c.name, line.case_file);
+  }
+  logger.warning("{}: written for case \"{}\", exported with case \"{}\" (--other-case)",
+                 line.particles, header.case_name, c.name);
+}
 
 void export_particles(const CommandLine& line) {
   const Logger logger("mpm2cbgeo", line.quiet);
   const Case c = load_case(line.case_file);
+  check_case_name(line, c, logger);
   const ParticleCheckpoint checkpoint = read_particle_checkpoint(line.particles);
   logger.info("read {}: {} particles at t = {} s ({})", line.particles,
               checkpoint.particles.count(), checkpoint.header.time, checkpoint.header.producer);
@@ -73,10 +90,13 @@ int main(int argc, char** argv) {
   app.add_option("--courant", line.options.courant,
                  "Courant number of CB-Geo's fixed step, at the particles' present density "
                  "(default 0.05: the step must hold while the front's particles expand)")
+      ->check(positive_number())
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--scheme", line.options.scheme,
                  "CB-Geo's update scheme: usl (default, the nearest to MUSL) or usf")
       ->check(CLI::IsMember({"usl", "usf"}));
+  app.add_flag("--other-case", line.other_case,
+               "export a file that another case made, on this case's grid and settings");
   app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
   return run_main("mpm2cbgeo", [&] { export_particles(line); });

@@ -38,6 +38,13 @@ void import_times(const CommandLine& line) {
   if (std::filesystem::exists(folder, ec) && !std::filesystem::is_directory(folder, ec)) {
     throw Error("-o {}: is a file; expected the folder to write fem_t<T>.h5 into", line.output);
   }
+  // Two different times whose files would share a name (three decimals): the second
+  // would replace the first. The names are of the times on the project's clock.
+  if (c.opensees) {
+    std::vector<double> times;
+    for (const double time : line.times) times.push_back(time - c.opensees->start_time);
+    run::check_checkpoint_times(times, "fem", "--time");
+  }
   // Every state is imported before the first file is written: a bad time or recorder
   // leaves the folder as it was.
   std::vector<FemCheckpoint> checkpoints;

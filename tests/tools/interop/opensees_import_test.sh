@@ -6,8 +6,9 @@
 #     agree dataset by dataset (compare_fem_checkpoints.py, 1e-9 of each dataset's scale);
 #  2. fem2mpm and mpm-solve run from the imported checkpoint; the particles carry the
 #     column's mass ρ W H = 4000 kg/m and σyy = −ρ g (H − y) at their places;
-#  3. bad or inconsistent files end in one line naming the file and a non-zero status,
-#     and write nothing.
+#  3. bad or inconsistent files end in one line naming the file (and the OpenSees tags at
+#     fault) and a non-zero status, and write nothing; so do two --time values whose
+#     checkpoints would share a name.
 # Usage: opensees_import_test.sh SOURCE_DIR BIN_DIR WORK_DIR PYTHON
 set -euo pipefail
 source_dir=$1 bin=$2 work=$3 python=$4
@@ -79,4 +80,14 @@ cp "$data/model.json" "$bad/"
 sed -i -E 's/( [^ ]+){12}$//' "$bad/stress.out"
 expect_error "stress.out:3: the row at t = 0 s has 84 values after the time, expected 96" \
   "$bad/case.toml" --time 0
+# Element 2 with its nodes clockwise: named by its tag and its nodes' (the mesh's index
+# of the element is 1, of the node 1).
+sed -i 's/"nodes": \[2, 3, 6, 5\]/"nodes": [2, 5, 6, 3]/' "$bad/model.json"
+grep -qF '"nodes": [2, 5, 6, 3]' "$bad/model.json" || fail "the clockwise model was not made"
+expect_error "model.json: element 2 (nodes 2 5 6 3) is inverted or has zero area: det J = -0.0625 at its node 2; expected its nodes counter-clockwise" \
+  "$bad/case.toml" --time 0
+cp "$data/model.json" "$bad/"
+# Two times, one file name: fem_t0.020.h5 would hold only the second.
+expect_error "--time: the checkpoint times 0.02 s and 0.0204 s would both be fem_t0.020.h5 (names have three decimals)" \
+  "$bad/case.toml" --time 0.02 --time 0.0204
 echo "opensees import: all checks passed"
