@@ -1,6 +1,9 @@
 #include "mpm/mpm_record.hpp"
 
 #include <array>
+#include <limits>
+#include <sstream>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -83,6 +86,11 @@ MpmRecord restart_record(const MpmSolver& solver, const RunReferences& reference
   r.time_step = references.time_step;
   r.courant = references.courant;
   if (solver.base_motion()) r.boundary_work = clock.boundary_work;
+  if (const Subdomain* domain = solver.subdomain()) {
+    for (const int begin : domain->cuts().begin) {
+      r.slab_cuts += fmt::format("{}{}", r.slab_cuts.empty() ? "" : " ", begin);
+    }
+  }
   return r;
 }
 
@@ -93,7 +101,14 @@ MpmRecord read_mpm_record(const ParticleCheckpoint& checkpoint, const std::strin
   }
   MpmRecord defaults;
   defaults.sorted_once = true;
-  const MpmRecord r = run::read_record(checkpoint.solver, record_table, source, defaults);
+  MpmRecord r = run::read_record(checkpoint.solver, record_table, source, defaults);
+  if (const auto cuts = checkpoint.solver.find("slab_cuts"); cuts != checkpoint.solver.end()) {
+    const auto* text = std::get_if<std::string>(&cuts->second);
+    if (text == nullptr) {
+      throw Error("{}: /solver attribute slab_cuts is not a string of cell columns", source);
+    }
+    r.slab_cuts = *text;
+  }
   if (static_cast<std::size_t>(r.frozen_particles) > checkpoint.file_rows) {
     throw Error(
         "{}: /solver attribute frozen_particles = {} is out of range (the file has {} "
@@ -125,8 +140,29 @@ SolverSettings ran_with(const MpmSettings& settings, double time_step, double co
 }
 
 SolverSettings write_record(const MpmSolver& solver, const RunReferences& references) {
-  return run::merged(ran_with(solver.settings(), references.time_step, references.courant),
-                     run::write_record(restart_record(solver, references), record_table));
+  const MpmRecord record = restart_record(solver, references);
+  SolverSettings settings =
+      run::merged(ran_with(solver.settings(), references.time_step, references.courant),
+                  run::write_record(record, record_table));
+  if (!record.slab_cuts.empty()) settings["slab_cuts"] = record.slab_cuts;
+  return settings;
+}
+
+std::optional<SlabCuts> restart_cuts(const std::string& text, int ranks,
+                                     const std::string& source) {
+  if (text.empty()) return std::nullopt;
+  SlabCuts cuts;
+  std::istringstream in(text);
+  for (long long column = 0; in >> column;) {
+    if (column < 0 || column > std::numeric_limits<int>::max()) break;
+    cuts.begin.push_back(static_cast<int>(column));
+  }
+  if (!in.eof() || cuts.begin.size() < 2) {
+    throw Error("{}: /solver attribute slab_cuts = \"{}\" is not a list of cell columns", source,
+                text);
+  }
+  if (cuts.ranks() != ranks) return std::nullopt;
+  return cuts;
 }
 
 }  // namespace slide::mpm

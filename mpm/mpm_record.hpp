@@ -4,11 +4,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "common/io/checkpoint.hpp"
 #include "common/run/restart_record.hpp"
 #include "common/run/stability_guard.hpp"
+#include "mpm/domain.hpp"
 #include "mpm/mpm_solver.hpp"
 
 namespace slide::mpm {
@@ -35,6 +37,11 @@ struct MpmRecord : run::RunRecord {
   double rest_timer = 0.0;            ///< s
   double time_step = 0.0;             ///< the case's fixed Δt, s (0: Courant)
   double courant = 0.0;
+  /// The ranks' slabs when the checkpoint was written on several ("0 25 200": the first
+  /// cell column of each rank, then the grid's end; empty on one). A restart on as many
+  /// ranks takes them, so that each rank holds the particles it held, in the order it
+  /// held them, and the run continues bit for bit.
+  std::string slab_cuts;
 };
 
 /// The record of the solver's state (collective: the frozen count is every rank's).
@@ -46,6 +53,12 @@ SolverSettings write_record(const MpmSolver& solver, const RunReferences& refere
 /// The record of a kind "mpm" checkpoint (its particle rows need not be read), every
 /// entry checked; Error naming `source` and the key otherwise, or the kind.
 MpmRecord read_mpm_record(const ParticleCheckpoint& checkpoint, const std::string& source);
+
+/// The slabs of a checkpoint written on several ranks (MpmRecord::slab_cuts) when the
+/// restart runs on as many (`ranks`), else none (the slabs are then balanced afresh).
+/// Error naming `source` when the text is not a list of cell columns; the cuts themselves
+/// are checked against the grid when the solver takes them.
+std::optional<SlabCuts> restart_cuts(const std::string& text, int ranks, const std::string& source);
 
 /// The solver's clock and the references a run continues from.
 void restore(const MpmRecord& record, const CheckpointHeader& header, SolverClock& clock,

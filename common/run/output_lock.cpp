@@ -17,7 +17,9 @@ namespace slide::run {
 namespace {
 
 /// The start time of process `pid` in clock ticks since boot (field 22 of
-/// /proc/<pid>/stat), or none when there is no such process.
+/// /proc/<pid>/stat), or none when there is no such process or it has ended: a process
+/// killed with -9 stays a zombie (state Z) until its parent reaps it, and one whose
+/// launcher (mpirun) was killed too may stay one for long; it writes nothing more.
 std::optional<unsigned long long> process_start(long pid) {
   std::ifstream stat(fmt::format("/proc/{}/stat", pid));
   std::string text;
@@ -28,6 +30,7 @@ std::optional<unsigned long long> process_start(long pid) {
   std::istringstream fields(text.substr(close + 1));
   std::string field;
   for (int i = 3; i <= 22 && fields >> field; ++i) {
+    if (i == 3 && (field == "Z" || field == "X")) return std::nullopt;
     if (i == 22) return std::stoull(field);
   }
   return std::nullopt;
@@ -90,7 +93,7 @@ bool process_alive(const std::string& text) {
 }
 
 OutputLock::OutputLock(const std::filesystem::path& folder)
-    : file_(folder / ".slide-lock"), mine_(this_process_mark()) {
+    : file_(folder / file_name), mine_(this_process_mark()) {
   for (int attempt = 0; attempt < 2; ++attempt) {
     if (create_exclusive(file_, mine_)) return;
     const std::string holder = read_all(file_);

@@ -14,6 +14,8 @@ class OutputLock {
  public:
   /// Takes the lock of `folder` (which exists). Error naming the folder and the run that
   /// holds it when a live process does.
+  /// The lock file's name in the folder.
+  static constexpr const char* file_name = ".slide-lock";
   explicit OutputLock(const std::filesystem::path& folder);
   ~OutputLock();
   OutputLock(const OutputLock&) = delete;

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# kill -9 of an MPI run at random moments, and its restart bit for bit (tests/mpi/README.md):
+# column-short from its geometry on 2 ranks to 1.2 s, a checkpoint every 0.2 s. The
+# reference runs uninterrupted; each trial kills every process of a run (mpirun and both
+# ranks) with SIGKILL at a moment drawn from a seeded generator, then restarts from the
+# last checkpoint the killed run left (or runs again from the start into its folder when
+# it had none), on 2 ranks again. The restart's mpm_final.h5 must be the reference's
+# particle by particle, bit for bit (compare_by_id.py, tolerance 0), or within 1e-12: a
+# known limit (docs/parallel.md), restarts from this case's checkpoints at 0.6 and 0.8 s
+# differ by 1e-14, cause not yet found; the test prints which it found;
+# the killed run's folder must hold only whole checkpoints (its temporaries and lock are
+# cleaned or taken over by the restart, which says so).
+#   kill_restart_test.sh BIN_DIR SOURCE_DIR WORK_DIR PYTHON MPIEXEC [SEED]
+set -uo pipefail
+bin=$1 src=$2 work=$3 python=$4 mpiexec=$5 seed=${6:-31}
+rm -rf "$work"
+mkdir -p "$work"
+case_file=$work/case.toml
+sed -e 's/^checkpoint_every = 2.0 .*/checkpoint_every = 0.2/' \
+  "$src/cases/column-short/case.toml" > "$case_file"
+grep -q '^checkpoint_every = 0.2$' "$case_file" || { echo "FAIL: could not set the cadence" >&2; exit 1; }
+status=0
+run() {  # run OUT [options]: 2 ranks
+  local out=$1
+  shift
+  "$mpiexec" -q -n 2 "$bin/mpm-solve" "$case_file" -o "$work/$out" --threads 1 -q --no-vtk \
+    --until 1.2 "$@"
+}
+
+start=$(date +%s%N)
+run reference > /dev/null 2> "$work/reference.err" || { cat "$work/reference.err" >&2; exit 1; }
+wall_ms=$((($(date +%s%N) - start) / 1000000))
+echo "reference: 2 ranks to 1.2 s in ${wall_ms} ms"
+
+RANDOM=$seed
+for trial in 1 2 3; do
+  delay_ms=$((wall_ms / 10 + RANDOM % (wall_ms * 8 / 10)))
+  out=killed-$trial
+  run "$out" > /dev/null 2> "$work/$out.err" &
+  launcher=$!
+  sleep "$(printf '%d.%03d' $((delay_ms / 1000)) $((delay_ms % 1000)))"
+  pkill -KILL -f -- "-o $work/$out " 2> /dev/null
+  kill -KILL $launcher 2> /dev/null
+  wait $launcher 2> /dev/null
+  last=$(ls "$work/$out"/mpm_t*.h5 2> /dev/null | sort | tail -1)
+  left=$(ls -A "$work/$out" 2> /dev/null | grep -c 'tmp-\|slide-lock')
+  if [[ -z $last ]]; then  # killed before its first checkpoint: run again into the folder
+    run "$out" > /dev/null 2> "$work/$out.restart.err"
+  else
+    run "$out" --restart "$last" > /dev/null 2> "$work/$out.restart.err"
+  fi
+  code=$?
+  if [[ $code -ne 0 ]]; then
+    echo "FAIL: trial $trial: the restart from $last ended with status $code:" >&2
+    cat "$work/$out.restart.err" >&2
+    status=1
+    continue
+  fi
+  same="bit for bit"
+  if ! "$python" "$src/tests/mpi/compare_by_id.py" "$work/reference/mpm_final.h5" \
+    "$work/$out/mpm_final.h5" 0 > "$work/$out.compare" 2>&1; then
+    # Known (docs/parallel.md): from some checkpoints a 2-rank restart agrees to rounding
+    # only. Beyond rounding is a failure.
+    if ! "$python" "$src/tests/mpi/compare_by_id.py" "$work/reference/mpm_final.h5" \
+      "$work/$out/mpm_final.h5" 1e-12 > "$work/$out.compare" 2>&1; then
+      echo "FAIL: trial $trial: the restart from $last is not the reference:" >&2
+      cat "$work/$out.compare" >&2
+      status=1
+      continue
+    fi
+    same="within 1e-12, NOT bit for bit ($(grep -o 'largest field differences.*' "$work/$out.compare" | cut -c1-90))"
+  fi
+  if ls -A "$work/$out" | grep -q 'tmp-\|slide-lock'; then
+    echo "FAIL: trial $trial: the restart left a temporary or the lock" >&2
+    status=1
+    continue
+  fi
+  echo "trial $trial: killed after ${delay_ms} ms ($left temporaries or locks left)," \
+    "restarted from $(basename "${last:-the start (no checkpoint yet)}"):" \
+    "mpm_final.h5 the reference's $same"
+done
+exit $status
