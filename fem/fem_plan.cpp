@@ -127,6 +127,7 @@ FemPlan plan_fem(const Case& original, const FemOptions& options, const Logger& 
       c.fem.failure_stage,
       false};
   run.inputs_only = options.inputs_only;
+  run.disk_check = options.disk_check;
   if (options.restart) {
     run.start = run::Start::restart;
     run.start_file = *options.restart;

@@ -28,7 +28,7 @@ struct CommandLine {
   std::string case_file, element, kinematics, restart;
   fem::FemOptions options;
   double until = 0.0, vtk_every = 0.0;
-  bool quiet = false, no_vtk = false;
+  bool quiet = false, no_vtk = false, no_disk_check = false;
 };
 
 void add_options(CLI::App& app, CommandLine& c) {
@@ -45,6 +45,8 @@ void add_options(CLI::App& app, CommandLine& c) {
   app.add_option("--kinematics", c.kinematics, "kinematics instead of fem.kinematics")
       ->check(CLI::IsMember({"small-strain", "updated-lagrangian"}));
   app.add_flag("--no-vtk", c.no_vtk, "write no VTK files");
+  app.add_flag("--no-disk-check", c.no_disk_check,
+               "start even when the outputs, estimated, would not fit on the disk");
   app.add_option("--vtk-every", c.vtk_every,
                  "VTK frames every this many seconds, a multiple of fem.output_every (0: every "
                  "output step; default: fem.vtk_every, else about 100 frames a run)")
@@ -65,6 +67,7 @@ fem::FemOptions options_of(const CLI::App& app, const CommandLine& c) {
                                                               : Kinematics::small_strain;
   }
   options.write_vtk = !c.no_vtk;
+  options.disk_check = !c.no_disk_check;
   if (app.count("--vtk-every") > 0) options.vtk_every = c.vtk_every;
   return options;
 }

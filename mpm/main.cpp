@@ -32,7 +32,7 @@ struct CommandLine {
   std::string case_file, output_dir, particles, restart, shape, scheme;
   double until = 0.0, vtk_every = 0.0;
   int threads = 0;
-  bool quiet = false, no_vtk = false, other_case = false;
+  bool quiet = false, no_vtk = false, no_disk_check = false, other_case = false;
   std::vector<std::string> allow_changed;
 };
 
@@ -51,6 +51,8 @@ void add_options(CLI::App& app, CommandLine& c) {
   app.add_option("--update-scheme", c.scheme, "override the case: musl or usl")
       ->check(CLI::IsMember({"musl", "usl"}));
   app.add_flag("--no-vtk", c.no_vtk, "write no VTK files");
+  app.add_flag("--no-disk-check", c.no_disk_check,
+               "start even when the outputs, estimated, would not fit on the disk");
   app.add_option("--vtk-every", c.vtk_every,
                  "VTK frames every this many seconds, a multiple of mpm.output_every (0: every "
                  "output step; default: mpm.vtk_every, else about 100 frames a run)")
@@ -71,6 +73,7 @@ mpm::RunOptions options_of(const CLI::App& app, const CommandLine& c) {
   if (!c.restart.empty()) options.restart = c.restart;
   if (app.count("--until") > 0) options.until = c.until;
   options.write_vtk = !c.no_vtk;
+  options.disk_check = !c.no_disk_check;
   options.other_case = c.other_case;
   options.allow_changed = c.allow_changed;
   if (app.count("--vtk-every") > 0) options.vtk_every = c.vtk_every;

@@ -95,10 +95,6 @@ void VtkWriter::write(const MpmSolver& solver) {
   }
   const Ranks& ranks = solver.ranks();
   const std::string name = fmt::format("mpm_{:06d}", solver.clock().step);
-  // On several ranks each writes its piece and the root the .pvtu that joins them.
-  const fs::path file =
-      folder_ /
-      (ranks.distributed() ? fmt::format("{}_r{}.vtu", name, ranks.rank()) : name + ".vtu");
   std::vector<VtkField> fields{vtk_field("displacement", p.displacement),
                                vtk_field("velocity", p.velocity),
                                vtk_field("stress", p.stress),
@@ -120,18 +116,31 @@ void VtkWriter::write(const MpmSolver& solver) {
     fields.push_back(vtk_field("affine_velocity_gradient", p.affine_velocity,  // APIC's C_p
                                VtkLayout::matrix));
   }
-  write_vtk_points(file, solver.clock().time, p.coordinates, fields);
+  // On several ranks each writes its piece and the root the .pvtu that joins them.
   if (!ranks.distributed()) {
+    const fs::path file = folder_ / (name + ".vtu");
+    write_vtk_points(file, solver.clock().time, p.coordinates, fields);
     collection_.add(solver.clock().time, fs::path("vtk") / file.filename());
     return;
   }
-  ranks.barrier();  // every piece is in place before the collection names it
-  if (!ranks.root()) return;
-  std::vector<std::string> pieces;
-  for (int r = 0; r < ranks.size(); ++r) pieces.push_back(fmt::format("{}_r{}.vtu", name, r));
-  const fs::path joined = folder_ / (name + ".pvtu");
-  write_vtk_points_collection(joined, pieces, fields);
-  collection_.add(solver.clock().time, fs::path("vtk") / joined.filename());
+  write_pieces(ranks, name, solver.clock().time, p.coordinates, fields);
+}
+
+void VtkWriter::write_pieces(const Ranks& ranks, const std::string& name, double time,
+                             std::span<const Vec2> coordinates,
+                             const std::vector<VtkField>& fields) {
+  // Every piece is in place before the collection names it; a piece that failed (a full
+  // disk) ends every rank here.
+  const fs::path file = folder_ / fmt::format("{}_r{}.vtu", name, ranks.rank());
+  ranks.together([&] { write_vtk_points(file, time, coordinates, fields); });
+  ranks.together([&] {
+    if (!ranks.root()) return;
+    std::vector<std::string> pieces;
+    for (int r = 0; r < ranks.size(); ++r) pieces.push_back(fmt::format("{}_r{}.vtu", name, r));
+    const fs::path joined = folder_ / (name + ".pvtu");
+    write_vtk_points_collection(joined, pieces, fields);
+    collection_.add(time, fs::path("vtk") / joined.filename());
+  });
 }
 
 }  // namespace slide::mpm

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "common/base/log.hpp"
 #include "common/io/checkpoint.hpp"
@@ -51,6 +53,11 @@ class VtkWriter {
   void write(const MpmSolver& solver);
 
  private:
+  /// On several ranks: each rank's piece, then the root's .pvtu joining them, each step
+  /// ending every rank when it failed on one (Ranks::together).
+  void write_pieces(const Ranks& ranks, const std::string& name, double time,
+                    std::span<const Vec2> coordinates, const std::vector<VtkField>& fields);
+
   std::filesystem::path folder_;
   PvdCollection collection_;
 };

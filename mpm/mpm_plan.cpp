@@ -117,6 +117,7 @@ MpmPlan plan_mpm(const Case& c, const RunOptions& options, const Logger& log) {
                 true};
   run.resume_outputs = run.start == run::Start::restart;
   run.inputs_only = options.inputs_only;
+  run.disk_check = options.disk_check;
   return plan;
 }
 

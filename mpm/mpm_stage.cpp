@@ -280,7 +280,8 @@ std::optional<std::string> MpmStage::check_stability() {
 }
 
 void MpmStage::write_output(const run::OutputStep& step) {
-  history_->write(solver_, start_.references.pe0);
+  // The root alone writes the history: the others learn of its failure here.
+  solver_.ranks().together([&] { history_->write(solver_, start_.references.pe0); });
   if (vtk_ && step.frame) vtk_->write(solver_);
   if (!step.checkpoint.empty()) {
     write_mpm_checkpoint(step.checkpoint, solver_, start_.references, plan_.source.name,
@@ -303,7 +304,7 @@ run::Work MpmStage::work() const {
 
 run::OutputSizes MpmStage::output_sizes() const {
   // This rank's particle arrays: what a checkpoint stores and a frame shows.
-  const auto bytes = static_cast<double>(solver_.particles().bytes());
+  const auto bytes = static_cast<double>(field_data_bytes(particle_fields, solver_.particles()));
   return {bytes, bytes};
 }
 

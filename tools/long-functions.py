@@ -12,7 +12,7 @@ literals blanked out (so that a '{' in a literal or a comment is not a brace).
   long-functions.py --self-test     counts a planted file with braces in literals and
                                     comments, initialiser braces and constructors
   long-functions.py --check         the budget the test style.sizes keeps: at most 2
-                                    functions over 80 lines and 25 over 50 (tests
+                                    functions over 80 lines and 24 over 50 (tests
                                     excluded), no class of fem/ or mpm/ with more than 15
                                     data members; lists what breaks it, exit 1
 
@@ -231,7 +231,7 @@ def self_test():
     print('long-functions self-test: passed')
 
 
-BUDGET = [('functions over 80 lines', 80, 2), ('functions over 50 lines', 50, 25)]
+BUDGET = [('functions over 80 lines', 80, 2), ('functions over 50 lines', 50, 24)]
 MEMBERS_LIMIT = 15
 
 

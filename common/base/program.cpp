@@ -1,6 +1,9 @@
 #include "common/base/program.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
@@ -119,6 +122,20 @@ std::string printable_line(std::string_view text) {
   return line;
 }
 
+namespace {
+std::atomic<bool> damaged_library{false};
+}  // namespace
+
+void mark_library_damaged() {
+  damaged_library = true;
+}
+
+int end_if_library_damaged(int status) {
+  if (!damaged_library) return status;
+  std::fflush(nullptr);
+  std::_Exit(status);
+}
+
 int run_main(const std::string& program, const std::function<void()>& body) {
   try {
     body();
@@ -128,7 +145,7 @@ int run_main(const std::string& program, const std::function<void()>& body) {
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}: error: {}\n", program, printable_line(e.what()));
   }
-  return 1;
+  return end_if_library_damaged(1);
 }
 
 }  // namespace slide

@@ -35,4 +35,13 @@ std::string printable_line(std::string_view text);
 /// (the message passed through printable_line).
 int run_main(const std::string& program, const std::function<void()>& body);
 
+/// For a library wrapper whose library is left in a state its own termination at exit
+/// would crash on (HDF5 1.10 after a file's close failed on a full disk: a segfault in
+/// MPI_Finalize). The error paths of run_main and run_main_on_ranks then end the process
+/// right after their one line, with its status, without that termination.
+void mark_library_damaged();
+/// The status, after the process's streams are flushed: the process ends here when a
+/// library was marked damaged.
+int end_if_library_damaged(int status);
+
 }  // namespace slide

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
+#include <mutex>
 #include <new>
 #include <thread>
 
@@ -177,9 +181,58 @@ void Ranks::barrier() const {
 }
 
 std::optional<std::string> Ranks::first_problem(const std::optional<std::string>& local) const {
+  return first_problem_within(local, std::numeric_limits<double>::infinity());
+}
+
+namespace {
+
+std::mutex abort_files_mutex;
+std::vector<std::string> abort_files;  ///< Ranks::remove_on_abort's list
+std::string program_name = "slide";    ///< for the line before an abort
+
+/// The one line, the files of remove_on_abort removed, every rank ended.
+[[noreturn]] void end_all(MPI_Comm communicator, int rank, const std::string& message) {
+  fmt::print(stderr, "{}: error: rank {}: {}\n", program_name, rank, message);
+  std::fflush(stderr);
+  {
+    const std::lock_guard lock(abort_files_mutex);
+    for (const std::string& file : abort_files) std::remove(file.c_str());
+  }
+  MPI_Abort(communicator, 1);
+  std::abort();  // not reached: MPI_Abort ends this process too
+}
+
+}  // namespace
+
+void Ranks::remove_on_abort(const std::string& path) {
+  const std::lock_guard lock(abort_files_mutex);
+  abort_files.push_back(path);
+}
+
+void Ranks::keep_on_abort(const std::string& path) {
+  const std::lock_guard lock(abort_files_mutex);
+  std::erase(abort_files, path);
+}
+
+std::optional<std::string> Ranks::first_problem_within(const std::optional<std::string>& local,
+                                                       double grace_seconds) const {
   if (size_ == 1) return local;
   int mine = local ? rank_ : size_, first = size_;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, communicator_);
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPI_Iallreduce(&mine, &first, 1, MPI_INT, MPI_MIN, communicator_, &request);
+  if (!local || !std::isfinite(grace_seconds)) {
+    MPI_Wait(&request, MPI_STATUS_IGNORE);
+  } else {
+    const auto deadline = std::chrono::steady_clock::now() +
+                          std::chrono::duration<double>(std::max(0.0, grace_seconds));
+    int done = 0;
+    while (!done) {
+      MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+      if (done) break;
+      if (std::chrono::steady_clock::now() > deadline) end_all(communicator_, rank_, *local);
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
   if (first == size_) return std::nullopt;
   std::string text = rank_ == first ? *local : std::string();
   std::uint64_t length = text.size();
@@ -210,10 +263,8 @@ int Ranks::fail(const std::string& program, const std::string& message) const {
     if (root()) fmt::print(stderr, "{}: error: {}\n", program, message);
     return 1;
   }
-  fmt::print(stderr, "{}: error: rank {}: {}\n", program, rank_, message);
-  std::fflush(stderr);
-  MPI_Abort(communicator_, 1);
-  return 1;
+  program_name = program;
+  end_all(communicator_, rank_, message);
 }
 
 RankSession::RankSession(int& argc, char**& argv) {
@@ -293,20 +344,43 @@ int Ranks::fail(const std::string& program, const std::string& message) const {
   return 1;
 }
 
+std::optional<std::string> Ranks::first_problem_within(const std::optional<std::string>& local,
+                                                       double) const {
+  return local;
+}
+void Ranks::remove_on_abort(const std::string&) {}
+void Ranks::keep_on_abort(const std::string&) {}
+
 RankSession::RankSession(int&, char**&) {}
 RankSession::~RankSession() = default;
 
 #endif
 
+void Ranks::together(const std::function<void()>& work) const {
+  if (!distributed()) return work();
+  std::optional<std::string> problem;
+  try {
+    work();
+  } catch (const std::bad_alloc&) {
+    problem = "out of memory";
+  } catch (const std::exception& e) {
+    problem = e.what();
+  }
+  if (const auto first = first_problem(problem)) throw Error("{}", *first);
+}
+
 int run_main_on_ranks(const std::string& program, const std::function<void()>& body) {
   const Ranks& ranks = Ranks::world();
+#if SLIDE_MPI
+  program_name = program;
+#endif
   try {
     body();
     return 0;
   } catch (const std::bad_alloc&) {
-    return ranks.fail(program, "out of memory");
+    return end_if_library_damaged(ranks.fail(program, "out of memory"));
   } catch (const std::exception& e) {
-    return ranks.fail(program, printable_line(e.what()));
+    return end_if_library_damaged(ranks.fail(program, printable_line(e.what())));
   }
 }
 

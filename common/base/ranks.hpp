@@ -86,6 +86,27 @@ class Ranks {
   /// The problem of the lowest rank that has one, on every rank (nothing when no rank
   /// has one): a check made on each rank's share becomes one decision. Collective.
   std::optional<std::string> first_problem(const std::optional<std::string>& local) const;
+  /// first_problem after a call into a library's own collectives (parallel HDF5): there a
+  /// rank that failed may have left a peer waiting inside the library, never to reach this
+  /// point. A rank with a problem waits for its peers at most `grace_seconds`, then ends
+  /// every rank with its message (MPI_Abort, after removing the files remove_on_abort
+  /// names); a rank without one waits as long as it takes (every rank, for an infinite
+  /// grace: first_problem). Collective.
+  std::optional<std::string> first_problem_within(const std::optional<std::string>& local,
+                                                  double grace_seconds = 10.0) const;
+
+  /// The files to remove when a rank ends the job with MPI_Abort, which runs no
+  /// destructor on any rank: the temporary of a shared file being written, the output
+  /// folder's lock. keep_on_abort takes a path off the list.
+  static void remove_on_abort(const std::string& path);
+  static void keep_on_abort(const std::string& path);
+
+  /// Runs `work` on this rank; when it throws on any rank, every rank throws an Error
+  /// with the lowest failing rank's message, here. Collective, called by every rank at
+  /// the same point after the last exchange inside `work`: a write that fails on one rank
+  /// (a full disk) then ends every rank at one place, instead of leaving its peers waiting
+  /// in the next exchange while it closes a shared file (a hang). On one process: `work`.
+  void together(const std::function<void()>& work) const;
 
   /// Typed views of the byte exchanges, for trivially copyable rows.
   template <class T>

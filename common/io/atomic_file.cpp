@@ -2,8 +2,11 @@
 
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 #include <fcntl.h>
@@ -14,14 +17,33 @@
 
 namespace slide {
 
+namespace {
+
+/// The refusal of a file of about `bytes` that the disk of `folder` has no room for.
+std::optional<std::string> no_room(const std::filesystem::path& target,
+                                   const std::filesystem::path& folder, double bytes) {
+  std::error_code ec;
+  const std::filesystem::space_info space = std::filesystem::space(folder, ec);
+  const auto available = static_cast<double>(space.available);
+  // 10 % of the estimate is left to chance: it counts the arrays a file stores, which
+  // their layout may shrink or grow a little, and a file refused must not fit.
+  if (ec || !(0.9 * bytes > available)) return std::nullopt;
+  return fmt::format("{}: cannot write: about {:.3g} MB, the disk has {:.3g} MB free ({})",
+                     target.string(), bytes / 1e6, available / 1e6, std::strerror(ENOSPC));
+}
+
+}  // namespace
+
 void write_atomically(const std::filesystem::path& target,
-                      const std::function<void(const std::filesystem::path&)>& write) {
+                      const std::function<void(const std::filesystem::path&)>& write,
+                      double bytes) {
   namespace fs = std::filesystem;
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec)
     throw Error("{}: cannot create folder {}: {}", target.string(), folder.string(), ec.message());
+  if (const auto refusal = no_room(target, folder, bytes)) throw Error("{}", *refusal);
   // Hidden, unique per process: two programs writing into one folder do not collide.
   const fs::path temporary =
       folder / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid());
@@ -41,17 +63,21 @@ void write_atomically(const std::filesystem::path& target,
 }
 
 void write_atomically_on_ranks(const std::filesystem::path& target, const Ranks& ranks,
-                               const std::function<void(const std::filesystem::path&)>& write) {
-  if (!ranks.distributed()) return write_atomically(target, write);
+                               const std::function<void(const std::filesystem::path&)>& write,
+                               double bytes) {
+  if (!ranks.distributed()) return write_atomically(target, write, bytes);
   namespace fs = std::filesystem;
   const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::string problem;
   if (ranks.root()) {
     std::error_code ec;
     fs::create_directories(folder, ec);
-    if (ec)
+    if (ec) {
       problem = fmt::format("{}: cannot create folder {}: {}", target.string(), folder.string(),
                             ec.message());
+    } else if (const auto refusal = no_room(target, folder, bytes)) {
+      problem = *refusal;
+    }
   }
   if (const auto agreed =
           ranks.first_problem(problem.empty() ? std::nullopt : std::optional(problem))) {
@@ -59,13 +85,16 @@ void write_atomically_on_ranks(const std::filesystem::path& target, const Ranks&
   }
   const fs::path temporary = ranks.broadcast(
       (folder / fmt::format(".{}.tmp-{}", target.filename().string(), ::getpid())).string());
+  Ranks::remove_on_abort(temporary.string());
   try {
     write(temporary);
   } catch (...) {
+    Ranks::keep_on_abort(temporary.string());
     std::error_code ignored;
     if (ranks.root()) fs::remove(temporary, ignored);
     throw;
   }
+  Ranks::keep_on_abort(temporary.string());
   ranks.barrier();  // every rank has closed the file
   if (ranks.root()) {
     std::error_code ec;
@@ -121,6 +150,26 @@ void write_text_atomically(const std::filesystem::path& target, std::string_view
   });
 }
 
+namespace {
+
+/// True once process `pid` has ended: kill(pid, 0) fails with ESRCH (EPERM: it runs as
+/// another user), or it is a zombie, killed and not yet reaped (state Z in
+/// /proc/<pid>/stat: an MPI rank whose mpirun was killed too may stay one for long).
+bool process_gone(pid_t pid) {
+  if (::kill(pid, 0) != 0) return errno == ESRCH;
+  std::FILE* stat = std::fopen(fmt::format("/proc/{}/stat", pid).c_str(), "r");
+  if (stat == nullptr) return false;
+  char text[512] = {};
+  const std::size_t length = std::fread(text, 1, sizeof text - 1, stat);
+  std::fclose(stat);
+  const std::string_view line(text, length);
+  const auto close = line.rfind(')');
+  return close != std::string_view::npos && close + 2 < line.size() &&
+         (line[close + 2] == 'Z' || line[close + 2] == 'X');
+}
+
+}  // namespace
+
 std::size_t remove_stale_temporaries(const std::filesystem::path& folder) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -135,8 +184,7 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& folder) {
       continue;
     }
     const auto pid = static_cast<pid_t>(std::stol(digits));
-    // kill(pid, 0) fails with ESRCH once the process is gone (EPERM: it runs as another user).
-    if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH && entry.is_regular_file(ec)) {
+    if (pid > 0 && process_gone(pid) && entry.is_regular_file(ec)) {
       if (fs::remove(entry.path(), ec)) ++removed;
     }
   }

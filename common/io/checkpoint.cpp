@@ -1070,12 +1070,21 @@ void write_checkpoint(const fs::path& path, const FemCheckpoint& checkpoint) {
                 to_string(checkpoint.header.kind));
   }
   check_header(target, checkpoint.header);
-  write_atomically(path, [&](const fs::path& temporary) {
-    hdf5::File file = hdf5::File::create(temporary, target);
-    Writer writer(file, target);
-    write_fem(writer, checkpoint);
-    file.close();
-  });
+  // About the file's size, checked against the free space: the state and the mesh.
+  const Mesh& mesh = checkpoint.mesh;
+  const auto bytes =
+      static_cast<double>(field_data_bytes(fe_fields, static_cast<const FeFields&>(checkpoint)) +
+                          (mesh.nodes.size() + checkpoint.coordinates.size()) * sizeof(Vec2) +
+                          mesh.connectivity.size() * sizeof(Index));
+  write_atomically(
+      path,
+      [&](const fs::path& temporary) {
+        hdf5::File file = hdf5::File::create(temporary, target);
+        Writer writer(file, target);
+        write_fem(writer, checkpoint);
+        file.close();
+      },
+      bytes);
 }
 
 /// The header of a particle checkpoint about to be written to `target`.
@@ -1090,12 +1099,15 @@ void check_particle_header(const std::string& target, const CheckpointHeader& he
 void write_checkpoint(const fs::path& path, const ParticleCheckpoint& checkpoint) {
   const std::string target = path.string();
   check_particle_header(target, checkpoint.header);
-  write_atomically(path, [&](const fs::path& temporary) {
-    hdf5::File file = hdf5::File::create(temporary, target);
-    Writer writer(file, target);
-    write_particles(writer, checkpoint);
-    file.close();
-  });
+  write_atomically(
+      path,
+      [&](const fs::path& temporary) {
+        hdf5::File file = hdf5::File::create(temporary, target);
+        Writer writer(file, target);
+        write_particles(writer, checkpoint);
+        file.close();
+      },
+      static_cast<double>(field_data_bytes(particle_fields, checkpoint.particles)));
 }
 
 void write_checkpoint_on_ranks(const fs::path& path, const ParticleCheckpoint& checkpoint,
@@ -1118,12 +1130,19 @@ void write_checkpoint_on_ranks(const fs::path& path, const ParticleCheckpoint& c
       {static_cast<std::uint64_t>(active_before), static_cast<std::uint64_t>(own_active)},
       {static_cast<std::uint64_t>(totals[0] + frozen_before),
        static_cast<std::uint64_t>(own_frozen)}};
-  write_atomically_on_ranks(path, ranks, [&](const fs::path& temporary) {
-    hdf5::File file = hdf5::File::create_collective(temporary, target, ranks);
-    Writer writer(file, target);
-    write_particles(writer, checkpoint, &share, totals[2] > 0);
-    file.close();
-  });
+  // About the file's size: the particle arrays (the datasets hold them), checked against
+  // the free space before the shared write begins.
+  const double bytes =
+      ranks.sum(static_cast<double>(field_data_bytes(particle_fields, checkpoint.particles)));
+  write_atomically_on_ranks(
+      path, ranks,
+      [&](const fs::path& temporary) {
+        hdf5::File file = hdf5::File::create_collective(temporary, target, ranks);
+        Writer writer(file, target);
+        write_particles(writer, checkpoint, &share, totals[2] > 0);
+        file.close();
+      },
+      bytes);
 }
 
 CheckpointHeader read_checkpoint_header(const fs::path& path) {

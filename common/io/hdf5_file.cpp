@@ -10,6 +10,7 @@
 
 #include "common/base/error.hpp"
 #include "common/base/names.hpp"
+#include "common/base/program.hpp"
 
 namespace slide::hdf5 {
 
@@ -94,6 +95,29 @@ void check(herr_t status, std::string_view where, std::string_view what) {
   if (status < 0) throw Error("{}: {} ({})", where, what, hdf5_detail());
 }
 
+/// check() of a call on a file every rank writes together (`ranks`; nullptr: one
+/// process's file): a failure on any rank throws on every rank, the lowest failing rank's
+/// message, so that all leave the file at the same call. A rank that threw alone would
+/// close the file, itself collective, while its peers went on to the next write, and all
+/// would wait for ever (a full disk under 2 ranks did). Where HDF5 itself left a peer
+/// waiting inside a failed call, the failing rank ends the job after a grace period
+/// (Ranks::first_problem_within).
+void check_on_ranks(herr_t status, std::string_view where, std::string_view what,
+                    const Ranks* ranks) {
+  if (ranks == nullptr || !ranks->distributed()) return check(status, where, what);
+  std::optional<std::string> problem;
+  if (status < 0) problem = fmt::format("{}: {} ({})", where, what, hdf5_detail());
+  if (const auto first = ranks->first_problem_within(problem)) throw Error("{}", *first);
+}
+
+/// checked() of a call on a file every rank writes together (check_on_ranks).
+Handle checked_on_ranks(hid_t id, Handle::Closer closer, std::string_view where,
+                        std::string_view what, const Ranks* ranks) {
+  Handle handle(id, id < 0 ? nullptr : closer);
+  check_on_ranks(id < 0 ? -1 : 0, where, what, ranks);
+  return handle;
+}
+
 Handle scalar_space() {
   return Handle(H5Screate(H5S_SCALAR), &H5Sclose);
 }
@@ -162,6 +186,9 @@ Handle& Handle::operator=(Handle&& other) noexcept {
 bool Handle::reset() {
   bool ok = true;
   if (id_ >= 0 && closer_ != nullptr) ok = closer_(id_) >= 0;
+  // A file whose close failed stays half-closed in HDF5 1.10, and the library's own
+  // termination at exit then crashes on it.
+  if (!ok && closer_ == &H5Fclose) mark_library_damaged();
   id_ = -1;
   closer_ = nullptr;
   return ok;
@@ -212,14 +239,15 @@ namespace {
 
 // Creates attribute `name` on `location`, replacing an existing one.
 Handle create_attribute(hid_t location, std::string_view name, hid_t type, hid_t space,
-                        std::string_view where) {
+                        std::string_view where, const Ranks* ranks) {
   const std::string key(name);
   if (H5Aexists(location, key.c_str()) > 0) {
-    check(H5Adelete(location, key.c_str()), where,
-          fmt::format("attribute {}: cannot replace", name));
+    check_on_ranks(H5Adelete(location, key.c_str()), where,
+                   fmt::format("attribute {}: cannot replace", name), ranks);
   }
-  return checked(H5Acreate2(location, key.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
-                 &H5Aclose, where, fmt::format("attribute {}: cannot create", name));
+  return checked_on_ranks(H5Acreate2(location, key.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
+                          &H5Aclose, where, fmt::format("attribute {}: cannot create", name),
+                          ranks);
 }
 
 }  // namespace
@@ -227,36 +255,38 @@ Handle create_attribute(hid_t location, std::string_view name, hid_t type, hid_t
 void Object::write_string_attribute(std::string_view name, std::string_view value) {
   const Handle type = fixed_utf8_string_type(value.size());
   const Handle space = scalar_space();
-  const Handle attribute = create_attribute(handle_.id(), name, type.id(), space.id(), where());
+  const Handle attribute =
+      create_attribute(handle_.id(), name, type.id(), space.id(), where(), ranks_);
   std::string buffer(value);
   buffer.resize(std::max<std::size_t>(value.size(), 1), '\0');
-  check(H5Awrite(attribute.id(), type.id(), buffer.data()), where(),
-        fmt::format("attribute {}: cannot write", name));
+  check_on_ranks(H5Awrite(attribute.id(), type.id(), buffer.data()), where(),
+                 fmt::format("attribute {}: cannot write", name), ranks_);
 }
 
 void Object::write_int_attribute(std::string_view name, std::int64_t value) {
   const Handle space = scalar_space();
-  const Handle attribute = create_attribute(handle_.id(), name, H5T_STD_I64LE, space.id(), where());
-  check(H5Awrite(attribute.id(), H5T_NATIVE_INT64, &value), where(),
-        fmt::format("attribute {}: cannot write", name));
+  const Handle attribute =
+      create_attribute(handle_.id(), name, H5T_STD_I64LE, space.id(), where(), ranks_);
+  check_on_ranks(H5Awrite(attribute.id(), H5T_NATIVE_INT64, &value), where(),
+                 fmt::format("attribute {}: cannot write", name), ranks_);
 }
 
 void Object::write_double_attribute(std::string_view name, double value) {
   const Handle space = scalar_space();
   const Handle attribute =
-      create_attribute(handle_.id(), name, H5T_IEEE_F64LE, space.id(), where());
-  check(H5Awrite(attribute.id(), H5T_NATIVE_DOUBLE, &value), where(),
-        fmt::format("attribute {}: cannot write", name));
+      create_attribute(handle_.id(), name, H5T_IEEE_F64LE, space.id(), where(), ranks_);
+  check_on_ranks(H5Awrite(attribute.id(), H5T_NATIVE_DOUBLE, &value), where(),
+                 fmt::format("attribute {}: cannot write", name), ranks_);
 }
 
 void Object::write_double_array_attribute(std::string_view name, std::span<const double> values) {
   const hsize_t extent = values.size();
   const Handle space(H5Screate_simple(1, &extent, nullptr), &H5Sclose);
   const Handle attribute =
-      create_attribute(handle_.id(), name, H5T_IEEE_F64LE, space.id(), where());
+      create_attribute(handle_.id(), name, H5T_IEEE_F64LE, space.id(), where(), ranks_);
   if (values.empty()) return;
-  check(H5Awrite(attribute.id(), H5T_NATIVE_DOUBLE, values.data()), where(),
-        fmt::format("attribute {}: cannot write", name));
+  check_on_ranks(H5Awrite(attribute.id(), H5T_NATIVE_DOUBLE, values.data()), where(),
+                 fmt::format("attribute {}: cannot write", name), ranks_);
 }
 
 namespace {
@@ -496,9 +526,9 @@ void add_checksum(hid_t properties, const std::vector<hsize_t>& extents, std::si
 Group Group::create_group(std::string_view name) {
   const std::string path = child_path(name);
   const Handle properties = untimed_creation_properties(H5P_GROUP_CREATE);
-  Handle group = checked(
+  Handle group = checked_on_ranks(
       H5Gcreate2(handle_.id(), c_string(name).c_str(), H5P_DEFAULT, properties.id(), H5P_DEFAULT),
-      &H5Gclose, fmt::format("{}: {}", file_label_, path), "cannot create group");
+      &H5Gclose, fmt::format("{}: {}", file_label_, path), "cannot create group", ranks_);
   return Group(std::move(group), file_label_, path, ranks_);
 }
 
@@ -571,9 +601,9 @@ void write_collectively(hid_t dataset, hid_t file_space, const void* values, std
     check(H5Sselect_none(memory.id()), at, "cannot select no rows");
   }
   static const double nothing = 0.0;  // HDF5 wants a buffer even for no values
-  check(H5Dwrite(dataset, memory_type, memory.id(), file_space, transfer.id(),
-                 count > 0 ? values : &nothing),
-        at, "cannot write dataset");
+  check_on_ranks(H5Dwrite(dataset, memory_type, memory.id(), file_space, transfer.id(),
+                          count > 0 ? values : &nothing),
+                 at, "cannot write dataset", &ranks);
 #else
   (void)dataset, (void)file_space, (void)values, (void)count, (void)shape, (void)memory_type,
       (void)share, (void)ranks;
@@ -624,9 +654,10 @@ Dataset Group::write_dataset(std::string_view name, const void* values, std::siz
                    &H5Sclose);
   const Handle properties = untimed_creation_properties(H5P_DATASET_CREATE);
   add_checksum(properties.id(), extents, H5Tget_size(static_cast<hid_t>(file_type)), at);
-  Handle dataset = checked(H5Dcreate2(handle_.id(), c_string(name).c_str(), file_type, space.id(),
-                                      H5P_DEFAULT, properties.id(), H5P_DEFAULT),
-                           &H5Dclose, at, "cannot create dataset");
+  Handle dataset =
+      checked_on_ranks(H5Dcreate2(handle_.id(), c_string(name).c_str(), file_type, space.id(),
+                                  H5P_DEFAULT, properties.id(), H5P_DEFAULT),
+                       &H5Dclose, at, "cannot create dataset", ranks_);
   if (ranks_ == nullptr) {
     if (count > 0) {
       check(H5Dwrite(dataset.id(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), at,
@@ -699,8 +730,7 @@ void File::close() {
   if (!handle_.valid()) return;
   const herr_t flushed = H5Fflush(handle_.id(), H5F_SCOPE_GLOBAL);
   const bool closed = handle_.reset();
-  if (flushed < 0 || !closed)
-    throw Error("{}: cannot write the file ({})", file_label_, hdf5_detail());
+  check_on_ranks(flushed < 0 || !closed ? -1 : 0, file_label_, "cannot write the file", ranks_);
 }
 
 }  // namespace slide::hdf5

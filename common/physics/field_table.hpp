@@ -175,6 +175,14 @@ std::size_t bytes(const std::vector<T>& c) {
 inline std::size_t bytes(const SurfaceStresses& c) {
   return c.values.capacity() * sizeof(Vec4);
 }
+/// The bytes of the values a column holds (what a file stores), not of its capacity.
+template <class T>
+std::size_t data_bytes(const std::vector<T>& c) {
+  return c.size() * sizeof(T);
+}
+inline std::size_t data_bytes(const SurfaceStresses& c) {
+  return c.values.size() * sizeof(Vec4);
+}
 
 /// Row `from` copied to row `to` (an unused column has none).
 template <class T>
@@ -235,6 +243,14 @@ template <class Table, class Owner>
 std::size_t field_bytes(const Table& table, const Owner& owner) {
   std::size_t total = 0;
   for_each_field(table, [&](const auto& field) { total += column::bytes(field.of(owner)); });
+  return total;
+}
+
+/// The bytes of the values the columns hold: about what a checkpoint of them stores.
+template <class Table, class Owner>
+std::size_t field_data_bytes(const Table& table, const Owner& owner) {
+  std::size_t total = 0;
+  for_each_field(table, [&](const auto& field) { total += column::data_bytes(field.of(owner)); });
   return total;
 }
 

@@ -26,6 +26,9 @@ struct CommonOptions {
   /// Read and check every input, then stop before the first file is written (the fuzz
   /// drivers, tests/fuzz/).
   bool inputs_only = false;
+  /// Not --no-disk-check: a run whose outputs, estimated, would not fit on the output
+  /// folder's disk is refused before it starts (run::check_output_volume).
+  bool disk_check = true;
   /// --allow-changed: parts of the case a restart may find changed (case_fingerprint.hpp).
   std::vector<std::string> allow_changed;
 };
@@ -64,6 +67,8 @@ struct Plan {
   /// Read and check every input, then stop before the first file is written (the fuzz
   /// drivers, tests/fuzz/).
   bool inputs_only = false;
+  /// Refuse a run whose outputs would not fit on the disk (CommonOptions::disk_check).
+  bool disk_check = true;
 
   double end_time() const { return schedule.end_time(); }
 };

@@ -81,6 +81,19 @@ void prepare_folder(const Plan& plan, const Logger& log, const Ranks& ranks,
   if (const auto first = ranks.first_problem(problem)) throw Error("{}", *first);
 }
 
+/// While a run holds its folder, a rank that ends the job with MPI_Abort (no destructor
+/// runs then, the root's lock's included) removes the lock file.
+struct LockOnAbort {
+  std::string file;
+  LockOnAbort(const Plan& plan, const Ranks& ranks)
+      : file((plan.output.folder / OutputLock::file_name).string()) {
+    if (ranks.distributed()) Ranks::remove_on_abort(file);
+  }
+  ~LockOnAbort() { Ranks::keep_on_abort(file); }
+  LockOnAbort(const LockOnAbort&) = delete;
+  LockOnAbort& operator=(const LockOnAbort&) = delete;
+};
+
 namespace {
 
 /// The free bytes of the file system that holds `folder` (its nearest existing ancestor
@@ -122,15 +135,22 @@ void check_output_volume(const Plan& plan, double time, OutputSizes sizes, const
           "the run would write about {:.3g} checkpoints and {:.3g} VTK frames (at most {:.0e} "
           "files): lengthen checkpoint_every, output_every or vtk_every, or pass --no-vtk",
           checkpoints, frames, max_output_files);
-    } else if (bytes > space) {
+    } else if (bytes > space && plan.disk_check) {
       problem = fmt::format(
           "the run would write about {:.3g} GB ({:.3g} checkpoints of {:.3g} MB, {:.3g} VTK "
           "frames of {:.3g} MB) into {}, whose disk has {:.3g} GB free: lengthen the "
-          "cadences, pass --no-vtk or free space",
+          "cadences, pass --no-vtk, free space, or --no-disk-check if the estimate is too "
+          "high",
           bytes / 1e9, checkpoints, sizes.checkpoint / 1e6, frames, sizes.frame / 1e6,
           plan.output.folder.string(), space / 1e9);
     }
-    if (!problem) {
+    if (!problem && bytes > space) {
+      // Asked for: said in the log, not as a warning.
+      log.info(
+          "outputs: about {:.3g} GB into {}, whose disk has {:.3g} GB free (--no-disk-check): "
+          "the run may stop on a full disk",
+          bytes / 1e9, plan.output.folder.string(), space / 1e9);
+    } else if (!problem) {
       log.info(
           "outputs: at most {:.3g} checkpoints of {:.3g} MB and {:.3g} VTK frames of {:.3g} "
           "MB, about {:.3g} GB ({:.3g} GB free)",
@@ -144,6 +164,7 @@ RunResult execute(Stage& stage, const Plan& plan, const Logger& log, const Ranks
   std::optional<OutputLock> lock;
   check_output_volume(plan, stage.time(), stage.output_sizes(), log, ranks);
   prepare_folder(plan, log, ranks, lock);
+  const LockOnAbort lock_on_abort(plan, ranks);
   Lifecycle run{stage, plan};
   if (plan.start == Start::restart) run.set_last_checkpoint(plan.start_file);
   stage.open_outputs(plan.resume_outputs);

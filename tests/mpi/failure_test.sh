@@ -27,4 +27,22 @@ if [[ $code -eq 0 || $ours -ne 1 ]] || ! grep -qx "fail_on_ranks: error: rank 1:
 else
   echo "one rank failing: status $code after ${seconds} s, our line: $(grep '^fail_on_ranks:' one.err)"
 fi
+
+# A failure inside a library's collective (parallel HDF5 on a full disk): rank 1 ends
+# every rank after its grace period, with its line, and removes the temporary.
+rm -f library.tmp
+start=$(date +%s)
+"$mpiexec" -q -n 2 "$program" library "$PWD/library.tmp" 2> library.err
+code=$?
+seconds=$(($(date +%s) - start))
+ours=$(grep -c '^fail_on_ranks:' library.err)
+if [[ $code -eq 0 || $ours -ne 1 || -e library.tmp ]] ||
+  ! grep -qx "fail_on_ranks: error: rank 1: the library's call failed" library.err; then
+  echo "a failure inside a library's collective: status $code, $ours lines of ours," \
+    "temporary $([[ -e library.tmp ]] && echo left || echo removed):" >&2
+  cat library.err >&2; status=1
+else
+  echo "a failure inside a library's collective: status $code after ${seconds} s," \
+    "the temporary removed, our line: $(grep '^fail_on_ranks:' library.err)"
+fi
 exit $status
