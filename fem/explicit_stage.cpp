@@ -583,12 +583,8 @@ run::Work ExplicitStage::work() const {
 }
 
 run::OutputSizes ExplicitStage::output_sizes() const {
-  // The state's arrays and the mesh: what a checkpoint stores and a frame shows.
-  const Mesh& mesh = model_.mesh;
-  const double bytes = static_cast<double>(
-      field_data_bytes(fe_fields, static_cast<const FeFields&>(state_)) +
-      mesh.nodes.size() * sizeof(Vec2) + mesh.connectivity.size() * sizeof(Index) +
-      mesh.material_id.size() * sizeof(std::int32_t));
+  // What a checkpoint stores; a frame shows about as much.
+  const double bytes = fem_checkpoint_bytes(state_, model_.mesh);
   return {bytes, bytes};
 }
 

@@ -24,8 +24,9 @@ packages=(
   gmsh  # cases/slope-gmsh's mesh: the test gmsh.slope-gmsh remakes it from its .geo
 )
 # The MPI build's: mpirun and the MPI headers, HDF5 built on them (h5pcc). They coexist
-# with the serial libhdf5-dev, which the serial build keeps using.
-if ((mpi)); then packages+=(openmpi-bin libopenmpi-dev libhdf5-openmpi-dev); fi
+# with the serial libhdf5-dev, which the serial build keeps using. procps: pkill, with
+# which tests/mpi/kill_restart_test.sh kills a run (not on a minimal Debian image).
+if ((mpi)); then packages+=(openmpi-bin libopenmpi-dev libhdf5-openmpi-dev procps); fi
 
 missing=()
 for p in "${packages[@]}"; do

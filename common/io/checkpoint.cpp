@@ -1063,6 +1063,12 @@ Vec2 base_position(const CheckpointMotion& motion, const GroundMotion& grid, dou
   return motion.base_displacement + (grid.displacement(time) - grid.displacement(motion.base_time));
 }
 
+double fem_checkpoint_bytes(const FeFields& state, const Mesh& mesh) {
+  return static_cast<double>(
+      field_data_bytes(fe_fields, state) + 2 * mesh.nodes.size() * sizeof(Vec2) +
+      mesh.connectivity.size() * sizeof(Index) + mesh.material_id.size() * sizeof(std::int32_t));
+}
+
 void write_checkpoint(const fs::path& path, const FemCheckpoint& checkpoint) {
   const std::string target = path.string();
   if (checkpoint.header.kind != CheckpointKind::fem) {
@@ -1070,12 +1076,8 @@ void write_checkpoint(const fs::path& path, const FemCheckpoint& checkpoint) {
                 to_string(checkpoint.header.kind));
   }
   check_header(target, checkpoint.header);
-  // About the file's size, checked against the free space: the state and the mesh.
-  const Mesh& mesh = checkpoint.mesh;
-  const auto bytes =
-      static_cast<double>(field_data_bytes(fe_fields, static_cast<const FeFields&>(checkpoint)) +
-                          (mesh.nodes.size() + checkpoint.coordinates.size()) * sizeof(Vec2) +
-                          mesh.connectivity.size() * sizeof(Index));
+  // Checked against the free space before the file is begun.
+  const double bytes = fem_checkpoint_bytes(checkpoint, checkpoint.mesh);
   write_atomically(
       path,
       [&](const fs::path& temporary) {

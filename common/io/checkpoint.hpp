@@ -137,6 +137,12 @@ struct ParticleCheckpoint {
   std::size_t first_row = 0;               ///< the file row of particles[0] (read in parts: not 0)
 };
 
+/// About the bytes of an FE checkpoint of `state` on `mesh`: the state's arrays, the
+/// reference and current coordinates, the connectivity and material ids (its other
+/// datasets, per element and Gauss point, are left out: a lower estimate). What the
+/// writer checks against the free space and fem-solve's run estimate counts per file.
+double fem_checkpoint_bytes(const FeFields& state, const Mesh& mesh);
+
 /// Writes atomically (temporary file + rename). Throws Error on any failure; the target
 /// is then untouched.
 void write_checkpoint(const std::filesystem::path& path, const FemCheckpoint& checkpoint);
