@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "common/base/error.hpp"
 #include "mpm/kernels.hpp"
@@ -441,23 +442,44 @@ bool Subdomain::rebalance(Particles& particles, std::size_t& active, const GridG
   return true;
 }
 
+int HeldRows::holder(std::size_t index, std::size_t part_active) const {
+  // The part's active rows are the file's active rows from first_row on; its frozen rows
+  // follow every rank's active ones.
+  const bool is_frozen = index >= part_active;
+  const std::vector<std::int64_t>& rows = is_frozen ? frozen : active;
+  std::int64_t row = static_cast<std::int64_t>(first_row + index);
+  if (is_frozen) row -= std::accumulate(active.begin(), active.end(), std::int64_t{0});
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (row < rows[r]) return static_cast<int>(r);
+    row -= rows[r];
+  }
+  throw Error("mpm: particle row {} is beyond the rows the ranks held", first_row + index);
+}
+
 std::size_t Subdomain::scatter(Particles& particles, std::size_t frozen, const GridGeometry& grid,
-                               const PackedLayout& layout) const {
+                               const PackedLayout& layout, const HeldRows* held) const {
   const std::size_t active = particles.count() - std::min(frozen, particles.count());
   if (!ranks_.distributed()) return active;
   const ExchangeTimer timer(exchange_seconds);
   const auto n = static_cast<std::size_t>(ranks_.size());
-  std::vector<std::vector<std::size_t>> to(n);
-  for (std::size_t p = 0; p < active; ++p) {
-    const int owner = cuts_.owner_of_column(cell_column_of(grid, particles.coordinates[p]));
-    to[static_cast<std::size_t>(owner)].push_back(p);
+  std::vector<std::vector<std::size_t>> to(n), to_frozen(n);
+  for (std::size_t p = 0; p < particles.count(); ++p) {
+    const bool is_frozen = p >= active;
+    const int owner = held != nullptr ? held->holder(p, active)
+                      : is_frozen
+                          ? 0
+                          : cuts_.owner_of_column(cell_column_of(grid, particles.coordinates[p]));
+    (is_frozen ? to_frozen : to)[static_cast<std::size_t>(owner)].push_back(p);
   }
   // This rank's own particles travel too (a message to itself), so that every rank ends
   // with its particles in the order of the parts, which is the order of the file.
   std::vector<std::vector<std::byte>> outgoing(n), outgoing_frozen(n);
-  for (std::size_t r = 0; r < n; ++r) pack_particles(particles, to[r], layout, outgoing[r]);
-  pack_particles(particles, range(active, particles.count()), layout, outgoing_frozen[0]);
+  for (std::size_t r = 0; r < n; ++r) {
+    pack_particles(particles, to[r], layout, outgoing[r]);
+    pack_particles(particles, to_frozen[r], layout, outgoing_frozen[r]);
+  }
   to.clear();
+  to_frozen.clear();
   // The part goes before the arrivals come: a rank holds both at once only as bytes.
   particles.resize(0);
   particles.affine_velocity.clear();

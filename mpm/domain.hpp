@@ -55,10 +55,26 @@ struct SlabCuts {
 /// costs it on every step until the next re-cut, so re-cutting much earlier pays little.
 inline constexpr double default_rebalance_share = 0.1;
 
+/// Which rows of a checkpoint each rank held when it was written: every rank's active
+/// rows in rank order, then every rank's frozen rows (the order of the file's rows), and
+/// where this rank's part of the rows begins. A particle that crossed a cut in the step
+/// before the checkpoint is still held by the rank it left (ranks migrate at the start of
+/// a step), so a restart gives rows back to their holders, not to the slab of their cell.
+struct HeldRows {
+  std::vector<std::int64_t> active;  ///< per rank
+  std::vector<std::int64_t> frozen;  ///< per rank
+  std::size_t first_row = 0;         ///< of this rank's part of the file
+
+  /// The rank that held the part's particle `index` (`part_active` of the part active).
+  int holder(std::size_t index, std::size_t part_active) const;
+};
+
 /// How a run is cut into slabs: balanced on the particles unless `cuts` are given (tests
-/// that need particles to cross fixed cuts), re-cut at `rebalance_share` (infinity: never).
+/// that need particles to cross fixed cuts, restarts), re-cut at `rebalance_share`
+/// (infinity: never). With `held`, each particle goes back to the rank that held it.
 struct Decomposition {
   std::optional<SlabCuts> cuts;
+  std::optional<HeldRows> held;
   double rebalance_share = default_rebalance_share;
 };
 
@@ -136,12 +152,12 @@ class Subdomain {
                  const PackedLayout& layout);
 
   /// Sends every particle of this rank's part of the whole set (keep_part; the last
-  /// `frozen` frozen) to its owner: an active one to the rank whose slab holds its cell, a
-  /// frozen one to rank 0 (collective). Every rank ends with its particles in the order
-  /// of the parts, which is the order of the whole set, the frozen ones last. Returns the
-  /// new active count.
+  /// `frozen` frozen) to its owner: the rank that `held` it when given, else an active one
+  /// to the rank whose slab holds its cell and a frozen one to rank 0 (collective). Every
+  /// rank ends with its particles in the order of the parts, which is the order of the
+  /// whole set, the frozen ones last. Returns the new active count.
   std::size_t scatter(Particles& particles, std::size_t frozen, const GridGeometry& grid,
-                      const PackedLayout& layout) const;
+                      const PackedLayout& layout, const HeldRows* held = nullptr) const;
 
   /// Share by which the largest rank's particle count may exceed the mean before a re-cut.
   double rebalance_share = default_rebalance_share;

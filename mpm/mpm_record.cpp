@@ -1,11 +1,14 @@
 #include "mpm/mpm_record.hpp"
 
+#include <algorithm>
 #include <array>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <variant>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "common/base/error.hpp"
 
@@ -90,6 +93,14 @@ MpmRecord restart_record(const MpmSolver& solver, const RunReferences& reference
     for (const int begin : domain->cuts().begin) {
       r.slab_cuts += fmt::format("{}{}", r.slab_cuts.empty() ? "" : " ", begin);
     }
+    const Ranks& ranks = solver.ranks();
+    const auto n = static_cast<std::size_t>(ranks.size());
+    const auto rank = static_cast<std::size_t>(ranks.rank());
+    std::vector<std::int64_t> held(2 * n, 0);
+    held[rank] = static_cast<std::int64_t>(solver.particles().count() - clock.frozen);
+    held[n + rank] = static_cast<std::int64_t>(clock.frozen);
+    ranks.sum(std::span<std::int64_t>(held));
+    r.slab_rows = fmt::format("{}", fmt::join(held, " "));
   }
   return r;
 }
@@ -108,6 +119,13 @@ MpmRecord read_mpm_record(const ParticleCheckpoint& checkpoint, const std::strin
       throw Error("{}: /solver attribute slab_cuts is not a string of cell columns", source);
     }
     r.slab_cuts = *text;
+  }
+  if (const auto rows = checkpoint.solver.find("slab_rows"); rows != checkpoint.solver.end()) {
+    const auto* text = std::get_if<std::string>(&rows->second);
+    if (text == nullptr) {
+      throw Error("{}: /solver attribute slab_rows is not a string of row counts", source);
+    }
+    r.slab_rows = *text;
   }
   if (static_cast<std::size_t>(r.frozen_particles) > checkpoint.file_rows) {
     throw Error(
@@ -145,24 +163,58 @@ SolverSettings write_record(const MpmSolver& solver, const RunReferences& refere
       run::merged(ran_with(solver.settings(), references.time_step, references.courant),
                   run::write_record(record, record_table));
   if (!record.slab_cuts.empty()) settings["slab_cuts"] = record.slab_cuts;
+  if (!record.slab_rows.empty()) settings["slab_rows"] = record.slab_rows;
   return settings;
 }
 
-std::optional<SlabCuts> restart_cuts(const std::string& text, int ranks,
-                                     const std::string& source) {
-  if (text.empty()) return std::nullopt;
-  SlabCuts cuts;
+namespace {
+
+/// The whole numbers of `text`, or none when it holds anything else.
+std::optional<std::vector<std::int64_t>> whole_numbers(const std::string& text) {
+  std::vector<std::int64_t> numbers;
   std::istringstream in(text);
-  for (long long column = 0; in >> column;) {
-    if (column < 0 || column > std::numeric_limits<int>::max()) break;
-    cuts.begin.push_back(static_cast<int>(column));
-  }
-  if (!in.eof() || cuts.begin.size() < 2) {
+  for (long long number = 0; in >> number;) numbers.push_back(number);
+  if (!in.eof()) return std::nullopt;
+  return numbers;
+}
+
+}  // namespace
+
+std::optional<Decomposition> restart_slabs(const MpmRecord& record, std::size_t file_rows,
+                                           std::size_t first_row, int ranks,
+                                           const std::string& source) {
+  if (record.slab_cuts.empty()) return std::nullopt;
+  const auto columns = whole_numbers(record.slab_cuts);
+  if (!columns || columns->size() < 2 ||
+      std::any_of(columns->begin(), columns->end(),
+                  [](std::int64_t c) { return c < 0 || c > std::numeric_limits<int>::max(); })) {
     throw Error("{}: /solver attribute slab_cuts = \"{}\" is not a list of cell columns", source,
-                text);
+                record.slab_cuts);
   }
-  if (cuts.ranks() != ranks) return std::nullopt;
-  return cuts;
+  Decomposition decomposition;
+  decomposition.cuts.emplace();
+  for (const std::int64_t c : *columns) decomposition.cuts->begin.push_back(static_cast<int>(c));
+  if (decomposition.cuts->ranks() != ranks) return std::nullopt;
+  // Written before the rows were recorded: the particles go to the slabs of their cells.
+  if (record.slab_rows.empty()) return decomposition;
+  const auto rows = whole_numbers(record.slab_rows);
+  const auto n = static_cast<std::size_t>(ranks);
+  if (!rows || rows->size() != 2 * n ||
+      std::any_of(rows->begin(), rows->end(), [](std::int64_t r) { return r < 0; }) ||
+      std::accumulate(rows->begin(), rows->end(), std::int64_t{0}) !=
+          static_cast<std::int64_t>(file_rows) ||
+      std::accumulate(rows->begin() + static_cast<std::ptrdiff_t>(n), rows->end(),
+                      std::int64_t{0}) != record.frozen_particles) {
+    throw Error(
+        "{}: /solver attribute slab_rows = \"{}\" is not {} ranks' active then frozen row "
+        "counts summing to the file's {} rows",
+        source, record.slab_rows, ranks, file_rows);
+  }
+  HeldRows& held = decomposition.held.emplace();
+  held.active.assign(rows->begin(), rows->begin() + static_cast<std::ptrdiff_t>(n));
+  held.frozen.assign(rows->begin() + static_cast<std::ptrdiff_t>(n), rows->end());
+  held.first_row = first_row;
+  return decomposition;
 }
 
 }  // namespace slide::mpm

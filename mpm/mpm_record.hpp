@@ -42,6 +42,11 @@ struct MpmRecord : run::RunRecord {
   /// ranks takes them, so that each rank holds the particles it held, in the order it
   /// held them, and the run continues bit for bit.
   std::string slab_cuts;
+  /// The particles each rank held then ("16010 15990 0 0": each rank's active rows, then
+  /// each rank's frozen rows; empty on one rank). Particles that crossed a cut in the
+  /// checkpoint's last step are still held by the rank they left: a restart gives every
+  /// row back to its holder (HeldRows).
+  std::string slab_rows;
 };
 
 /// The record of the solver's state (collective: the frozen count is every rank's).
@@ -54,11 +59,15 @@ SolverSettings write_record(const MpmSolver& solver, const RunReferences& refere
 /// entry checked; Error naming `source` and the key otherwise, or the kind.
 MpmRecord read_mpm_record(const ParticleCheckpoint& checkpoint, const std::string& source);
 
-/// The slabs of a checkpoint written on several ranks (MpmRecord::slab_cuts) when the
-/// restart runs on as many (`ranks`), else none (the slabs are then balanced afresh).
-/// Error naming `source` when the text is not a list of cell columns; the cuts themselves
-/// are checked against the grid when the solver takes them.
-std::optional<SlabCuts> restart_cuts(const std::string& text, int ranks, const std::string& source);
+/// The slabs and holders of a checkpoint written on several ranks (MpmRecord::slab_cuts,
+/// slab_rows) when the restart runs on as many (`ranks`), else none (the slabs are then
+/// balanced afresh); `first_row` is where this rank's part of the file's `file_rows`
+/// begins. Error naming `source` when the texts are not lists of cell columns and of row
+/// counts adding up to the file's; the cuts are checked against the grid when the solver
+/// takes them.
+std::optional<Decomposition> restart_slabs(const MpmRecord& record, std::size_t file_rows,
+                                           std::size_t first_row, int ranks,
+                                           const std::string& source);
 
 /// The solver's clock and the references a run continues from.
 void restore(const MpmRecord& record, const CheckpointHeader& header, SolverClock& clock,

@@ -147,13 +147,14 @@ void set_up(const MpmPlan& plan, Start& start, std::optional<MpmSolver>& solver,
   solver.emplace(plan.settings, plan.source.materials, std::move(start.particles), start.clock);
   set_base_motion(plan, start, *solver, log);
   // On several ranks, each keeps its slab's share of the particles from here on; a
-  // restart on as many ranks as its checkpoint's takes that checkpoint's slabs.
-  Decomposition decomposition;
+  // restart on as many ranks as its checkpoint's takes that checkpoint's slabs, and each
+  // rank the particles it held.
+  std::optional<Decomposition> restarted;
   if (plan.record && ranks.distributed()) {
-    decomposition.cuts =
-        restart_cuts(plan.record->slab_cuts, ranks.size(), plan.run.start_file.string());
+    restarted = restart_slabs(*plan.record, start.file_rows, start.first_row, ranks.size(),
+                              plan.run.start_file.string());
   }
-  solver->distribute(ranks, decomposition);
+  solver->distribute(ranks, restarted.value_or(Decomposition{}));
   if (const Subdomain* domain = solver->subdomain()) {
     // Each part's ids were checked among themselves as they were read; now across parts.
     if (const auto duplicate = duplicate_id(solver->particles(), ranks)) {

@@ -209,7 +209,9 @@ void MpmSolver::distribute(const Ranks& ranks, const Decomposition& decompositio
   cuts.check(grid.cells_x);
   subdomain_.emplace(ranks, std::move(cuts));
   subdomain_->rebalance_share = decomposition.rebalance_share;
-  const std::size_t active = subdomain_->scatter(particles_, clock_.frozen, grid, packed_layout());
+  const std::size_t active =
+      subdomain_->scatter(particles_, clock_.frozen, grid, packed_layout(),
+                          decomposition.held ? &*decomposition.held : nullptr);
   clock_.frozen = particles_.count() - active;
   located_ = false;
   set_own_columns();

@@ -64,6 +64,8 @@ Start start_from_file(const MpmPlan& plan, const Logger& log, const Ranks& ranks
   // The file's frozen rows are its last ones: those of this part stay last in it.
   const RowSpan rows{file.first_row, file.first_row + file.particles.count()};
   start.clock.frozen = rows.last_rows_within(file.file_rows, start.clock.frozen);
+  start.file_rows = file.file_rows;
+  start.first_row = file.first_row;
   start.particles = std::move(file.particles);
   return start;
 }

@@ -30,6 +30,8 @@ struct Start {
   RunReferences references;
   TransferSettings transfer;
   std::optional<CheckpointMotion> motion;
+  std::size_t file_rows = 0;  ///< a particle file's rows (0: none read)
+  std::size_t first_row = 0;  ///< where this rank's part of them begins
 };
 
 /// The particles and the state `plan` starts from (each rank its part of the rows).

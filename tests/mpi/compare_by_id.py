@@ -5,8 +5,8 @@ The rows of a checkpoint are in the order the ranks hold them (docs/parallel.md)
 particles are matched by id. Checks:
   - the same layout: every group, dataset (shape, dtype, chunks, filters) and attribute
     name of one file is in the other, string attributes equal (the producer aside; the
-    ranks' slabs, /solver slab_cuts, are written on several ranks only and are the rank
-    count's own);
+    ranks' slabs and the rows each held, /solver slab_cuts and slab_rows, are written on
+    several ranks only and are the rank count's own: equal when both files have as many);
   - the same particles: the ids, and per id the mass, material and source element bit
     for bit (carried, never recomputed);
   - every floating-point particle field within TOL of the field's largest magnitude;
@@ -50,7 +50,7 @@ with h5py.File(a_path, "r") as a, h5py.File(b_path, "r") as b:
         if la.get(name) != lb.get(name):
             failures.append(f"layout of /{name}: {la.get(name)} vs {lb.get(name)}")
     for name in ["/"] + sorted(set(la) & set(lb)):
-        own = {"slab_cuts"} if name == "solver" else set()
+        own = {"slab_cuts", "slab_rows"} if name == "solver" else set()
         aa, ba = a[name].attrs, b[name].attrs
         if set(aa) - own != set(ba) - own:
             failures.append(f"{name}: attributes {sorted(set(aa) ^ set(ba))} in one file only")
@@ -108,8 +108,10 @@ with h5py.File(a_path, "r") as a, h5py.File(b_path, "r") as b:
     sa, sb = a["solver"].attrs, b["solver"].attrs
     for k in sorted(set(sa) & set(sb)):
         va, vb = np.asarray(text(sa[k])), np.asarray(text(sb[k]))
-        if k == "slab_cuts" and len(str(va).split()) != len(str(vb).split()):
-            continue  # written on other rank counts
+        if k in ("slab_cuts", "slab_rows"):
+            if len(str(va).split()) == len(str(vb).split()) and str(va) != str(vb):
+                failures.append(f"solver attribute {k}: {va} vs {vb}")
+            continue  # else written on other rank counts
         if va.dtype.kind == "f":
             if not np.allclose(va, vb, rtol=tol, atol=0):
                 failures.append(f"solver attribute {k}: {va} vs {vb}")

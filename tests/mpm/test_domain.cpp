@@ -3,12 +3,15 @@
 // ranks. tests/mpi runs the exchanges themselves on 2 and 3 ranks.
 #include <cstring>
 #include <numeric>
+#include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "common/base/error.hpp"
 #include "mpm/domain.hpp"
+#include "mpm/mpm_record.hpp"
 #include "tests/support/mpm_builders.hpp"
 
 namespace slide::mpm {
@@ -206,6 +209,56 @@ TEST(Subdomain, OneRankOwnsEverything) {
   solver.distribute(Ranks::single());
   EXPECT_EQ(solver.subdomain(), nullptr);
   EXPECT_EQ(solver.active_count(), n);
+}
+
+// A restart's holders: the file's rows are every rank's active rows in rank order, then
+// every rank's frozen rows. Rows 0-4 active on rank 0, 5-11 on rank 1, 12 frozen on
+// rank 0, 13-14 frozen on rank 1; a part of rows 3-13 has 9 active rows (3-11).
+TEST(HeldRows, EachRowGoesBackToItsHolder) {
+  HeldRows held{{5, 7}, {1, 2}, 3};
+  const std::vector<int> expected{0, 0, 1, 1, 1, 1, 1, 1, 1, 0, 1};
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(held.holder(i, 9), expected[i]) << i;
+  EXPECT_THROW(held.holder(12, 9), Error);  // row 15: the file has 15
+}
+
+MpmRecord record_with(std::string cuts, std::string rows, std::int64_t frozen) {
+  MpmRecord r;
+  r.slab_cuts = std::move(cuts);
+  r.slab_rows = std::move(rows);
+  r.frozen_particles = frozen;
+  return r;
+}
+
+// The recorded slabs and rows are taken on as many ranks, ignored on others, and refused
+// with the attribute's name when they cannot describe the file.
+TEST(RestartSlabs, TakenOnAsManyRanksAndCheckedAgainstTheFile) {
+  const auto d = restart_slabs(record_with("0 25 200", "5 7 1 2", 3), 15, 3, 2, "f.h5");
+  ASSERT_TRUE(d && d->cuts && d->held);
+  EXPECT_EQ(d->cuts->begin, (std::vector<int>{0, 25, 200}));
+  EXPECT_EQ(d->held->active, (std::vector<std::int64_t>{5, 7}));
+  EXPECT_EQ(d->held->frozen, (std::vector<std::int64_t>{1, 2}));
+  EXPECT_EQ(d->held->first_row, 3u);
+  EXPECT_FALSE(restart_slabs(record_with("0 25 200", "5 7 1 2", 3), 15, 0, 3, "f.h5"));
+  EXPECT_FALSE(restart_slabs(record_with("", "", 0), 15, 0, 2, "f.h5"));
+  // Written before the rows were recorded: slabs only, particles to their cells' slabs.
+  const auto old = restart_slabs(record_with("0 25 200", "", 3), 15, 0, 2, "f.h5");
+  ASSERT_TRUE(old && old->cuts);
+  EXPECT_FALSE(old->held);
+  for (const auto& [cuts, rows, frozen] :
+       std::vector<std::tuple<std::string, std::string, std::int64_t>>{
+           {"0 x 200", "5 7 1 2", 3},    // not columns
+           {"0 25 200", "5 7 1", 3},     // 3 counts for 2 ranks
+           {"0 25 200", "5 7 1 1", 2},   // 14 rows, the file has 15
+           {"0 25 200", "6 7 -1 3", 2},  // negative
+           {"0 25 200", "5 7 2 1", 2},   // 3 frozen rows, the record says 2
+       }) {
+    try {
+      restart_slabs(record_with(cuts, rows, frozen), 15, 0, 2, "f.h5");
+      ADD_FAILURE() << cuts << " | " << rows;
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("f.h5: /solver attribute slab_", 0), 0u) << e.what();
+    }
+  }
 }
 
 }  // namespace
