@@ -203,7 +203,7 @@ Index compute_geometry(const FemModel& model, std::span<const Vec2> coordinates,
   const Mesh& mesh = model.mesh;
   const ElementShape shape = mesh.shape();
   const auto n_elements = static_cast<std::size_t>(mesh.element_count());
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
   geometry.gradients.resize(n_elements * n_gauss);
   geometry.weight.resize(n_elements * n_gauss);
   if (model.hourglass) {
@@ -257,7 +257,7 @@ void update_stresses(const FemModel& model, const ElementGeometry& geometry,
 
 ElementMatrix element_stiffness(const FemModel& model, const ElementGeometry& geometry, Index e) {
   const int n = model.nodes_per_element;
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
   const Mat3& c =
       model.elastic
           .matrix[static_cast<std::size_t>(model.mesh.material_id[static_cast<std::size_t>(e)])];
@@ -298,10 +298,7 @@ double courant_time_step(const FemModel& model, std::span<const Vec2> coordinate
       longest = std::max(longest, (x.row((k + 1) % n) - x.row(k)).norm());
     }
     const double length = area_factor * std::abs(element_area(mesh.shape(), x)) / longest;
-    const double c =
-        model.elastic
-            .wave_speed[static_cast<std::size_t>(mesh.material_id[static_cast<std::size_t>(e)])];
-    smallest = std::min(smallest, length / c);
+    smallest = std::min(smallest, length / model.elements.wave_speed[static_cast<std::size_t>(e)]);
   }
   return courant * smallest;
 }

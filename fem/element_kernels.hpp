@@ -76,7 +76,8 @@ ElementMatrix element_stiffness(const FemModel& model, const ElementGeometry& ge
 
 /// Stable time step of the Courant condition, dt = C·min_e(l_e / c_p), with l_e the area
 /// over the longest edge (quads) or twice the area over the longest edge (triangles) on
-/// `coordinates`, and c_p the P-wave speed of the element's material.
+/// `coordinates`, and c_p the element's P-wave speed (ElementConstants::wave_speed:
+/// undrained in a saturated element).
 double courant_time_step(const FemModel& model, std::span<const Vec2> coordinates, double courant);
 
 /// Stable step with stiffness-proportional Rayleigh damping β_K (s), from the Courant step

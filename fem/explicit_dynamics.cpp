@@ -1,6 +1,7 @@
 #include "fem/explicit_dynamics.hpp"
 
 #include "fem/element_kernels.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
 
@@ -63,11 +64,12 @@ ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constrain
       damping_(damping),
       models_(std::move(models)),
       updated_lagrangian_(model.kinematics == Kinematics::updated_lagrangian),
+      fluid_step_(pore_fluid_time_step(model)),
       element_force_(static_cast<std::size_t>(model.element_count() * model.nodes_per_element)) {}
 
 std::size_t ExplicitSolver::return_to_yield_surface(FemState& state) const {
   std::size_t returned = 0;
-  const auto n_gauss = static_cast<std::size_t>(model_.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model_.gauss_per_element());
   for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
     const auto element = gp / n_gauss;
     const ConstitutiveModel& m =
@@ -97,7 +99,8 @@ double ExplicitSolver::critical_time_step(const FemState& state) {
 }
 
 double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
-  return damped_time_step(critical_time_step(state), courant, damping_.rayleigh_stiffness);
+  return std::min(damped_time_step(critical_time_step(state), courant, damping_.rayleigh_stiffness),
+                  fluid_step_);
 }
 
 Vec2 ExplicitSolver::nodal_force(Index node) const {
@@ -222,12 +225,19 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) {
   }
 }
 
+void ExplicitSolver::element_forces(const FemState& state) {
+  const ElementGeometry& geometry = geometry_for(state);
+  compute_element_forces(model_, geometry, state, element_force_, damping_.rayleigh_stiffness);
+  add_pore_pressure_forces(model_, geometry, state.pore_pressure, element_force_);
+}
+
 Index ExplicitSolver::step(FemState& state, double dt) {
-  compute_element_forces(model_, geometry_for(state), state, element_force_,
-                         damping_.rayleigh_stiffness);
+  element_forces(state);
   if (!updated_lagrangian_) {
     update_nodes(state, dt);
     update_stresses(model_, model_.reference, models_, dt, false, state);
+    pressure_clamps_ +=
+        advance_pore_pressure(model_, model_.reference, dt, state, pressure_rate_).clamped;
   } else {
     ul_.saved_displacement = state.displacement;
     ul_.saved_velocity = state.velocity;
@@ -245,6 +255,8 @@ Index ExplicitSolver::step(FemState& state, double dt) {
       return inverted;
     }
     update_stresses(model_, ul_.current, models_, dt, true, state);
+    pressure_clamps_ +=
+        advance_pore_pressure(model_, ul_.current, dt, state, pressure_rate_).clamped;
     ul_.geometry_step = state.step + 1;
   }
   state.time += dt;
@@ -258,8 +270,7 @@ void ExplicitSolver::synchronised_velocity(const FemState& state, double dt,
     velocity = state.velocity;
     return;
   }
-  compute_element_forces(model_, geometry_for(state), state, element_force_,
-                         damping_.rayleigh_stiffness);
+  element_forces(state);
   nodal_velocities(state, 0.5 * dt, velocity, nullptr);
 }
 

@@ -86,6 +86,10 @@ class ExplicitSolver {
   /// (J/m): the prescribed base, the dashpots and incident forces, the static reactions.
   /// The energy guard measures the total energy against it.
   double boundary_work() const { return boundary_work_; }
+  /// The Darcy term's stable step (pore_fluid_time_step; infinite for a dry model).
+  double fluid_time_step() const { return fluid_step_; }
+  /// Pore pressures held at the fluid's tension limit so far (node-steps).
+  std::size_t pressure_clamps() const { return pressure_clamps_; }
   void set_boundary_work(double work) { boundary_work_ = work; }
 
   /// The straight line of the frictional base nodes, if they lie on one.
@@ -99,6 +103,9 @@ class ExplicitSolver {
 
  private:
   const ElementGeometry& geometry_for(const FemState& state);
+  /// The elements' nodal forces of `state` into element_force_: internal, hourglass and
+  /// damping forces, and the pore pressure's.
+  void element_forces(const FemState& state);
   void update_nodes(FemState& state, double dt);
   Vec2 nodal_force(Index node) const;
 
@@ -122,6 +129,9 @@ class ExplicitSolver {
   bool updated_lagrangian_;
   const SeismicBoundary* seismic_ = nullptr;
   double boundary_work_ = 0.0;
+  double fluid_step_ = 0.0;  ///< the Darcy term's stable step (pore_fluid_time_step)
+  std::size_t pressure_clamps_ = 0;
+  std::vector<double> pressure_rate_;  ///< scratch of the pore-pressure update
   /// Scratch of the nodal update.
   struct NodalScratch {
     std::vector<Vec2> next_velocity, trial;

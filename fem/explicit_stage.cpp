@@ -167,6 +167,28 @@ BoundaryTable ExplicitStage::failure_boundaries() const {
   return table;
 }
 
+/// Why the step is as small as it is, for the refusal of a run that would take too many.
+std::string ExplicitStage::small_step_reason(bool fluid_binds, double damping_reduction) const {
+  const FemSpec& fem = plan_.source.fem;
+  if (fem.time_step > 0.0) return "fem.time_step is too small";
+  if (fluid_binds) {
+    return fmt::format(
+        "the pore-pressure diffusion limit h²/(4D), D = (k/γ_w) K_f/n, is {:.3g} s (lower "
+        "fem.water.bulk_modulus or a conductivity)",
+        solver_->fluid_time_step());
+  }
+  if (damping_reduction < 0.5) {
+    return fmt::format("fem.damping.rayleigh_stiffness = {:g} s lowers the stable step × {:.3g}",
+                       fem.damping.rayleigh_stiffness, damping_reduction);
+  }
+  double fastest = 0.0;  // the largest p-wave speed, m/s (undrained in saturated elements)
+  for (const double c : model_.elements.wave_speed) fastest = std::max(fastest, c);
+  return fmt::format(
+      "the Courant step is that small because an element's p-wave speed is {:.3g} "
+      "m/s{}",
+      fastest, model_.fluid.active() ? " (undrained: sqrt((M + K_f/n)/ρ))" : "");
+}
+
 /// The step: fixed, or the Courant step lowered by the stiffness-proportional damping
 /// (docs/method.md §3; the stability limit is the same at C = 1). Refuses a step that would
 /// need more steps than any run could take (it would hang the program), naming the cause.
@@ -175,29 +197,32 @@ void ExplicitStage::choose_time_step(bool announce) {
   const FemSpec& fem = plan_.source.fem;
   const DampingSpec& damping = fem.damping;
   const double critical_step = solver_->critical_time_step(state_);
-  const double courant_step =
+  const double mechanical_step =
       damped_time_step(critical_step, fem.courant, damping.rayleigh_stiffness);
-  const double reduction = courant_step / (fem.courant * critical_step);
+  const double reduction = mechanical_step / (fem.courant * critical_step);
+  // With pore water, the Darcy term's forward Euler may bind instead (fem/pore_fluid.hpp).
+  const double fluid_step = solver_->fluid_time_step();
+  const double courant_step = std::min(mechanical_step, fluid_step);
   time_step_ = fem.time_step > 0.0 ? fem.time_step : courant_step;
-  double fastest = 0.0;  // the largest p-wave speed, m/s
-  for (const double c : model_.elastic.wave_speed) fastest = std::max(fastest, c);
-  run::check_step_count(
-      plan_.run.end_time() - state_.time, time_step_,
-      fem.time_step > 0.0 ? std::string("fem.time_step is too small")
-      : reduction < 0.5
-          ? fmt::format("fem.damping.rayleigh_stiffness = {:g} s lowers the stable step × {:.3g}",
-                        damping.rayleigh_stiffness, reduction)
-          : fmt::format("the Courant step is that small because a material's p-wave speed "
-                        "sqrt(M/ρ) is {:.3g} m/s",
-                        fastest));
+  run::check_step_count(plan_.run.end_time() - state_.time, time_step_,
+                        small_step_reason(fluid_step < mechanical_step, reduction));
   if (!announce) return;
-  if (fem.time_step > 0.0 && fem.time_step > courant_step / fem.courant) {
+  if (fem.time_step > 0.0 && fem.time_step > mechanical_step / fem.courant) {
     log_.warning("fem.time_step = {:.4g} s exceeds the stability limit {:.4g} s (C = 1{})",
-                 fem.time_step, courant_step / fem.courant,
+                 fem.time_step, mechanical_step / fem.courant,
                  damping.rayleigh_stiffness > 0.0 ? ", with β_K" : "");
   }
-  std::string step_kind =
-      fem.time_step > 0.0 ? "fixed" : fmt::format("Courant C = {}", fem.courant);
+  if (fem.time_step > 0.0 && fem.time_step > fluid_step) {
+    log_.warning("fem.time_step = {:.4g} s exceeds the pore-pressure diffusion limit {:.4g} s",
+                 fem.time_step, fluid_step);
+  }
+  std::string step_kind = fem.time_step > 0.0 ? "fixed"
+                          : fluid_step < mechanical_step
+                              ? fmt::format(
+                                    "pore-pressure diffusion h²/(4D); Courant C = {} "
+                                    "would give {:.4g} s",
+                                    fem.courant, mechanical_step)
+                              : fmt::format("Courant C = {}", fem.courant);
   if (damping.rayleigh_stiffness > 0.0) {
     step_kind +=
         fmt::format(", × {:.4g} for β_K: ξ_max = {:.4g} at ω_max = 2/dt_c = {:.4g} rad/s",
@@ -226,12 +251,40 @@ void ExplicitStage::open_outputs(bool resume) {
 }
 
 run::StartOutput ExplicitStage::start() {
+  if (model_.fluid.active()) log_pore_water();
   if (!plan_.restart) {
     run_geostatic_stage();
     // A case without a failure stage: the geostatic state's row and frame.
     if (!plan_.source.fem.failure_stage) return run::StartOutput::first;
   }
   return start_failure_stage();
+}
+
+void ExplicitStage::log_pore_water() const {
+  const PoreFluid& fluid = model_.fluid;
+  const auto saturated = std::ranges::count(fluid.saturated, std::uint8_t{1});
+  const auto held = std::ranges::count(fluid.prescribed, std::uint8_t{1});
+  log_.info(
+      "pore water: table at y = {} m, ρ_w = {} kg/m³, K_f = {:.4g} Pa, tension limit {:.4g} Pa; "
+      "{} of {} elements saturated (u–p), {} pressure nodes free, {} held (drained, on or "
+      "above the table, or dry)",
+      fluid.level_point.y(), fluid.density, fluid.bulk_modulus, fluid.tension_limit, saturated,
+      model_.element_count(), model_.node_count() - held, held);
+  // Skempton's B of an undrained element, 1/(1 + n K/K_f) with incompressible grains: the
+  // share of an isotropic load the water takes. A lowered K_f (the speed knob) lowers it.
+  constexpr double water_bulk_modulus = 2.2e9;
+  for (const Material& m : model_.materials) {
+    if (!m.saturable()) continue;
+    const double skeleton = m.youngs_modulus / (3.0 * (1.0 - 2.0 * m.poisson_ratio));
+    const auto skempton = [&](double kf) { return 1.0 / (1.0 + m.porosity * skeleton / kf); };
+    log_.info(
+        "pore water: material \"{}\": n = {}, k = ({:.3g}, {:.3g}) m/s, Skempton B = {:.4f}{}",
+        m.name, m.porosity, m.conductivity_x, m.conductivity_y, skempton(fluid.bulk_modulus),
+        fluid.bulk_modulus < water_bulk_modulus
+            ? fmt::format(" (K_f lowered from water's 2.2 GPa, where B = {:.4f})",
+                          skempton(water_bulk_modulus))
+            : std::string());
+  }
 }
 
 void ExplicitStage::run_geostatic_stage() {

@@ -130,8 +130,11 @@ class ExplicitStage final : public run::Stage {
 
   void make_solver();
   void choose_time_step(bool announce);
+  std::string small_step_reason(bool fluid_binds, double damping_reduction) const;
   double step_for(const FemState& state);
   void run_geostatic_stage();
+  /// The pore water of a saturated model, for the log (fem/pore_fluid.hpp).
+  void log_pore_water() const;
   run::StartOutput start_failure_stage();
   void start_shaking(bool from_geostatic_state);
   void make_recorders();

@@ -15,6 +15,11 @@ FemState make_rest_state(const FemModel& model) {
   if (model.hourglass) {
     state.hourglass_force.assign(static_cast<std::size_t>(model.element_count()), Vec2::Zero());
   }
+  if (model.fluid.active()) {  // the pore-pressure ratio's references (fe_fields.hpp)
+    state.static_pore_pressure.assign(static_cast<std::size_t>(model.node_count()), 0.0);
+    state.initial_vertical_effective_stress.assign(static_cast<std::size_t>(model.gauss_count()),
+                                                   0.0);
+  }
   state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
   resize_rows(fe_fields, state, RowKind::node, static_cast<std::size_t>(model.node_count()));
   resize_rows(fe_fields, state, RowKind::element, static_cast<std::size_t>(model.element_count()));

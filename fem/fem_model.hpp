@@ -60,7 +60,52 @@ struct ElasticConstants {
 struct ElementConstants {
   std::vector<double> centre_det_reference;  ///< det J at the centre on X
   std::vector<double> volume_reference;      ///< V_0^e, m² (per m)
+  std::vector<double> density;               ///< ρ: the material's, or dry above the water
   std::vector<double> mass;                  ///< m_e = ρ V_0^e, kg (per m)
+  /// The P-wave speed of the Courant step: the material's c_p, or undrained
+  /// V_p,u = sqrt((M + K_f/n)/ρ_sat) in a saturated element (docs/method.md §10), m/s.
+  std::vector<double> wave_speed;
+};
+
+/// The pore water of a model with saturated elements (docs/method.md §10, fem/pore_fluid.hpp):
+/// nodal pressure p (compression positive) on the saturated elements' nodes, stored with
+/// the lumped storage S, driven by the skeleton's volume change and Darcy flow. Empty
+/// (active() false) for a dry model.
+struct PoreFluid {
+  double density = 1000.0;          ///< ρ_w, kg/m³
+  double bulk_modulus = 2.2e9;      ///< K_f, Pa
+  double tension_limit = -100e3;    ///< lowest p, Pa
+  Vec2 level_point = Vec2::Zero();  ///< a point of the water table, (0, level)
+  Vec2 gravity = Vec2::Zero();      ///< g, m/s²
+
+  // Per element.
+  std::vector<std::uint8_t> saturated;  ///< 1: u–p (porous material, centre below the level)
+  std::vector<Vec2> mobility;           ///< (k_x, k_y)/γ_w, m²/(Pa·s) (per m)
+  // Per flux point: the Darcy term is integrated with the full rule of the element's
+  // shape (2×2 for quads, so that a one-point quad has no zero-energy pressure mode),
+  // on the reference geometry.
+  int flux_points = 1;                         ///< per element
+  std::vector<ShapeGradients> flux_gradients;  ///< ∂N_k/∂x, 1/m
+  std::vector<double> flux_weight;             ///< w·det J, m²
+  std::vector<ShapeValues> flux_shape;         ///< N_k at the flux rule's points
+  /// N_k at the mechanical rule's points (the same for every element): p at a Gauss point.
+  std::vector<ShapeValues> gauss_shape;
+  // Per node.
+  std::vector<double> storage;           ///< S_I = Σ_e (n_e/K_f) ∫N_I dA, m²/Pa (per m)
+  std::vector<std::uint8_t> prescribed;  ///< 1: p held at its hydrostatic value
+  std::vector<double> hydrostatic;       ///< p_h(X_I), Pa (0 off the saturated elements)
+
+  bool active() const { return !storage.empty(); }
+  /// How deep x lies below the water table along gravity (−y without gravity), m;
+  /// negative above it.
+  double depth(const Vec2& x) const {
+    const double g = gravity.norm();
+    const Vec2 down = g > 0.0 ? Vec2(gravity / g) : Vec2(0.0, -1.0);
+    return down.dot(x - level_point);
+  }
+  /// The hydrostatic pressure of the water table at x, ρ_w |g| depth(x): negative
+  /// (suction) above the table.
+  double hydrostatic_at(const Vec2& x) const { return density * gravity.norm() * depth(x); }
 };
 
 /// Per node, lumped (row sums).
@@ -89,7 +134,6 @@ struct FemModel {
   double hourglass_coefficient = 1.0;
 
   int nodes_per_element = 4;
-  int gauss_per_element = 1;
   bool hourglass = false;  ///< quad4-1gp: physical hourglass stabilisation is on
 
   Vec2 gravity = gravity_vector();  ///< g, m/s²
@@ -98,12 +142,15 @@ struct FemModel {
   ElasticConstants elastic;
   ElementConstants elements;
   LumpedNodes lumped;
+  PoreFluid fluid;
   NodeAdjacency adjacency;
   VerticalExtent extent;
 
   Index node_count() const { return mesh.node_count(); }
   Index element_count() const { return mesh.element_count(); }
-  Index gauss_count() const { return element_count() * gauss_per_element; }
+  /// Gauss points per element: the rule's.
+  int gauss_per_element() const { return static_cast<int>(rule.local.size()); }
+  Index gauss_count() const { return element_count() * gauss_per_element(); }
   const Material& material_of(Index element) const {
     return materials[static_cast<std::size_t>(mesh.material_id[static_cast<std::size_t>(element)])];
   }

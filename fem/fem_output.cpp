@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include "common/base/error.hpp"
 #include "common/base/program.hpp"
 #include "common/io/atomic_file.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
 
@@ -36,7 +38,7 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
   checkpoint.volume_reference = model.elements.volume_reference;
   checkpoint.volume = quality.volume;
 
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
   const auto n_points = state.stress.size();
   checkpoint.gauss_element.resize(n_points);
   checkpoint.gauss_local_coordinates.resize(n_points);
@@ -88,6 +90,14 @@ FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& check
     state.surface_stress.resize(state.stress.size());
   }
   if (!model.hourglass) state.hourglass_force.clear();
+  if (model.fluid.active() &&
+      (state.static_pore_pressure.empty() || state.initial_vertical_effective_stress.empty())) {
+    throw Error(
+        "{}: has no /nodes/static_pore_pressure or /gauss_points/"
+        "initial_vertical_effective_stress: it was written without pore water, and this case "
+        "has [fem.water]",
+        file.string());
+  }
   state.yielded.assign(state.stress.size(), 0);
   return state;
 }
@@ -141,50 +151,106 @@ void VtkSeries::resume(double time) {
   gauss_series_.resume(time);
 }
 
+namespace {
+
+/// The element means of a frame's Gauss-point fields, and the points' own columns.
+struct ElementMeans {
+  std::vector<Vec4> stress, strain;
+  std::vector<std::int32_t> material;
+  std::vector<double> plastic, gauss_plastic;
+  std::vector<std::int64_t> gauss_element;
+  std::vector<Vec2> gauss_x;
+
+  ElementMeans(const FemModel& model, const FemState& state, std::span<const Vec2> coordinates)
+      : stress(static_cast<std::size_t>(model.element_count()), Vec4::Zero()),
+        strain(stress.size(), Vec4::Zero()),
+        material(stress.size()),
+        plastic(stress.size(), 0.0),
+        gauss_plastic(state.stress.size()),
+        gauss_element(state.stress.size()),
+        gauss_x(state.stress.size()) {
+    const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
+    const auto n = static_cast<double>(n_gauss);
+    for (std::size_t e = 0; e < stress.size(); ++e) {
+      const ElementNodes x = model.mesh.element_nodes(static_cast<Index>(e), coordinates);
+      for (std::size_t p = 0; p < n_gauss; ++p) {
+        const std::size_t gp = e * n_gauss + p;
+        stress[e] += state.stress[gp] / n;
+        strain[e] += state.strain[gp] / n;
+        plastic[e] += state.material_state[gp].plastic_shear_strain / n;
+        gauss_plastic[gp] = state.material_state[gp].plastic_shear_strain;
+        gauss_element[gp] = static_cast<std::int64_t>(e);
+        gauss_x[gp] = map_to_physical(model.mesh.shape(), x, model.rule.local[p]);
+      }
+      material[e] = static_cast<std::int32_t>(model.mesh.material_id[e]);
+    }
+  }
+};
+
+/// A saturated model's frame fields (fem/pore_fluid.hpp): p and Δp at the nodes, r_u at
+/// the Gauss points and as the element mean, p at the Gauss points.
+struct PoreWaterFields {
+  std::vector<double> excess, gauss_pressure, gauss_ratio, ratio;
+
+  PoreWaterFields(const FemModel& model, const FemState& state)
+      : excess(excess_pore_pressure(state)),
+        ratio(static_cast<std::size_t>(model.element_count()), 0.0) {
+    gauss_point_pressure(model, state.pore_pressure, gauss_pressure);
+    pore_pressure_ratio(model, state, gauss_ratio);
+    const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
+    for (std::size_t gp = 0; gp < gauss_ratio.size(); ++gp) {
+      ratio[gp / n_gauss] += gauss_ratio[gp] / static_cast<double>(n_gauss);
+    }
+  }
+
+  /// The fields point into this object and `state`: both must outlive the writing.
+  void add_to(const FemState& state, std::vector<VtkField>& nodes, std::vector<VtkField>& elements,
+              std::vector<VtkField>& gauss_points) const {
+    nodes.push_back(vtk_field("pore_pressure", std::span<const double>(state.pore_pressure)));
+    nodes.push_back(vtk_field("excess_pore_pressure", std::span<const double>(excess)));
+    elements.push_back(vtk_field("pore_pressure_ratio", std::span<const double>(ratio)));
+    gauss_points.push_back(vtk_field("pore_pressure", std::span<const double>(gauss_pressure)));
+    gauss_points.push_back(vtk_field("pore_pressure_ratio", std::span<const double>(gauss_ratio)));
+  }
+};
+
+}  // namespace
+
 void VtkSeries::write(const FemModel& model, const FemState& state,
                       std::span<const Vec2> coordinates, const ElementQuality& quality) {
-  const auto n_elements = static_cast<std::size_t>(model.element_count());
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
-  std::vector<Vec4> stress(n_elements, Vec4::Zero()), strain(n_elements, Vec4::Zero());
-  std::vector<std::int32_t> material(n_elements);
-  std::vector<double> plastic(n_elements, 0.0), gauss_plastic(state.stress.size());
-  std::vector<std::int64_t> gauss_element(state.stress.size());
-  std::vector<Vec2> gauss_x(state.stress.size());
-  for (std::size_t e = 0; e < n_elements; ++e) {
-    const ElementNodes x = model.mesh.element_nodes(static_cast<Index>(e), coordinates);
-    for (std::size_t p = 0; p < n_gauss; ++p) {
-      const std::size_t gp = e * n_gauss + p;
-      stress[e] += state.stress[gp] / static_cast<double>(n_gauss);
-      strain[e] += state.strain[gp] / static_cast<double>(n_gauss);
-      plastic[e] += state.material_state[gp].plastic_shear_strain / static_cast<double>(n_gauss);
-      gauss_plastic[gp] = state.material_state[gp].plastic_shear_strain;
-      gauss_element[gp] = static_cast<std::int64_t>(e);
-      gauss_x[gp] = map_to_physical(model.mesh.shape(), x, model.rule.local[p]);
-    }
-    material[e] = static_cast<std::int32_t>(model.mesh.material_id[e]);
-  }
+  const ElementMeans means(model, state, coordinates);
+  const auto& [stress, strain, material, plastic, gauss_plastic, gauss_element, gauss_x] = means;
   const std::string stem = fmt::format("{:06d}", state.step);
   const auto mesh_file = folder_ / ("fem_" + stem + ".vtu");
+  std::vector<VtkField> node_fields{
+      vtk_field("displacement", std::span<const Vec2>(state.displacement)),
+      vtk_field("velocity", std::span<const Vec2>(state.velocity))};
+  std::vector<VtkField> element_fields{
+      vtk_field("stress", std::span<const Vec4>(stress)),
+      vtk_field("strain", std::span<const Vec4>(strain)),
+      vtk_field("eps_q", std::span<const double>(quality.eps_q)),
+      vtk_field("jacobian_ratio", std::span<const double>(quality.jacobian_ratio)),
+      vtk_field("scaled_jacobian", std::span<const double>(quality.scaled_jacobian)),
+      vtk_field("plastic_shear_strain", std::span<const double>(plastic)),
+      vtk_field("material_id", std::span<const std::int32_t>(material)),
+      vtk_field("yielded", std::span<const std::uint8_t>(quality.yielded))};
+  std::vector<VtkField> gauss_fields{
+      vtk_field("stress", std::span<const Vec4>(state.stress)),
+      vtk_field("strain", std::span<const Vec4>(state.strain)),
+      vtk_field("eps_q", std::span<const double>(quality.gauss_eps_q)),
+      vtk_field("plastic_shear_strain", std::span<const double>(gauss_plastic)),
+      vtk_field("yielded", std::span<const std::uint8_t>(state.yielded)),
+      vtk_field("element", std::span<const std::int64_t>(gauss_element))};
+  std::optional<PoreWaterFields> water;  // dry models' frames are as before
+  if (model.fluid.active()) {
+    water.emplace(model, state);
+    water->add_to(state, node_fields, element_fields, gauss_fields);
+  }
   write_vtk_mesh(mesh_file, state.time, coordinates, model.mesh.shape(), model.mesh.connectivity,
-                 {vtk_field("displacement", std::span<const Vec2>(state.displacement)),
-                  vtk_field("velocity", std::span<const Vec2>(state.velocity))},
-                 {vtk_field("stress", std::span<const Vec4>(stress)),
-                  vtk_field("strain", std::span<const Vec4>(strain)),
-                  vtk_field("eps_q", std::span<const double>(quality.eps_q)),
-                  vtk_field("jacobian_ratio", std::span<const double>(quality.jacobian_ratio)),
-                  vtk_field("scaled_jacobian", std::span<const double>(quality.scaled_jacobian)),
-                  vtk_field("plastic_shear_strain", std::span<const double>(plastic)),
-                  vtk_field("material_id", std::span<const std::int32_t>(material)),
-                  vtk_field("yielded", std::span<const std::uint8_t>(quality.yielded))});
+                 node_fields, element_fields);
   mesh_series_.add(state.time, std::filesystem::path("vtk") / mesh_file.filename());
   const auto gauss_file = folder_ / ("fem_gauss_points_" + stem + ".vtu");
-  write_vtk_points(gauss_file, state.time, gauss_x,
-                   {vtk_field("stress", std::span<const Vec4>(state.stress)),
-                    vtk_field("strain", std::span<const Vec4>(state.strain)),
-                    vtk_field("eps_q", std::span<const double>(quality.gauss_eps_q)),
-                    vtk_field("plastic_shear_strain", std::span<const double>(gauss_plastic)),
-                    vtk_field("yielded", std::span<const std::uint8_t>(state.yielded)),
-                    vtk_field("element", std::span<const std::int64_t>(gauss_element))});
+  write_vtk_points(gauss_file, state.time, gauss_x, gauss_fields);
   gauss_series_.add(state.time, std::filesystem::path("vtk") / gauss_file.filename());
 }
 

@@ -9,6 +9,7 @@
 
 #include "common/base/error.hpp"
 #include "fem/element_kernels.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
 
@@ -117,13 +118,24 @@ Eigen::SparseMatrix<double> reduced_stiffness(const FemModel& model, const Reduc
   return stiffness;
 }
 
-/// The reduced gravity load Tᵀ f.
+/// The reduced load Tᵀ f: gravity, and with pore water the hydrostatic pressure's push
+/// Q p_h on the skeleton, so that the solid carries the effective stress.
 Eigen::VectorXd reduced_load(const FemModel& model, const ReducedSystem& r) {
+  std::vector<Vec2> force = model.lumped.gravity_force;
+  if (model.fluid.active()) {
+    const auto npe = static_cast<std::size_t>(model.nodes_per_element);
+    std::vector<Vec2> element_force(static_cast<std::size_t>(model.element_count()) * npe,
+                                    Vec2::Zero());
+    add_pore_pressure_forces(model, model.reference, model.fluid.hydrostatic, element_force);
+    for (std::size_t slot = 0; slot < element_force.size(); ++slot) {
+      force[static_cast<std::size_t>(model.mesh.connectivity[slot])] += element_force[slot];
+    }
+  }
   Eigen::VectorXd load(r.equations);
   for (std::size_t n = 0; n < r.free.size(); ++n) {
     for (int a = 0; a < r.free[n].count; ++a) {
       load[r.first_equation[n] + a] =
-          r.free[n].direction[static_cast<std::size_t>(a)].dot(model.lumped.gravity_force[n]);
+          r.free[n].direction[static_cast<std::size_t>(a)].dot(force[n]);
     }
   }
   return load;
@@ -183,6 +195,14 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
     report.max_displacement = std::max(report.max_displacement, displacement[n].norm());
   }
   set_elastic_state(model, displacement, state);
+  if (model.fluid.active()) {
+    // The state before shaking: r_u = (p − p_static)/σ′v0 from here on.
+    state.pore_pressure = model.fluid.hydrostatic;
+    state.static_pore_pressure = model.fluid.hydrostatic;
+    for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
+      state.initial_vertical_effective_stress[gp] = -state.stress[gp][1];
+    }
+  }
   return report;
 }
 

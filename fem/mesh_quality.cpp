@@ -12,7 +12,7 @@ ElementQuality evaluate_quality(const FemModel& model, const FemState& state,
                                 std::span<const Vec2> coordinates) {
   const Mesh& mesh = model.mesh;
   const auto n_elements = static_cast<std::size_t>(mesh.element_count());
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
   const Vec2 centre = reference_centre(mesh.shape());
   ElementQuality quality;
   quality.jacobian_ratio.assign(n_elements, 0.0);
@@ -83,7 +83,7 @@ Energies compute_energies(const FemModel& model, const ElementGeometry& geometry
                           const FemState& state, std::span<const Vec2> velocity,
                           std::span<const Vec2> coordinates) {
   const Mesh& mesh = model.mesh;
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
   const double inverse_nodes = 1.0 / model.nodes_per_element;
   Energies energies;
   for (Index e = 0; e < mesh.element_count(); ++e) {

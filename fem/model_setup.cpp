@@ -1,11 +1,13 @@
 #include "fem/model_setup.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
 #include "common/base/error.hpp"
 #include "fem/element_kernels.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
 
@@ -47,6 +49,40 @@ void check_material_ids(const FemModel& model) {
   }
 }
 
+/// Per element ρ and the wave speed of the Courant step: the material's, or with pore
+/// water a saturated element's undrained V_p,u = sqrt((M + K_f/n)/ρ_sat) and a porous
+/// element above the water table's dry ρ_sat − n ρ_w (docs/method.md §10).
+void compute_densities(FemModel& model, const std::optional<WaterSpec>& water) {
+  const Mesh& m = model.mesh;
+  const auto n_elements = static_cast<std::size_t>(m.element_count());
+  model.elements.density.resize(n_elements);
+  model.elements.wave_speed.resize(n_elements);
+  const Vec2 centre = reference_centre(m.shape());
+  for (std::size_t e = 0; e < n_elements; ++e) {
+    const auto ei = static_cast<Index>(e);
+    const Material& material = model.material_of(ei);
+    model.elements.density[e] = material.density;
+    model.elements.wave_speed[e] =
+        model.elastic.wave_speed[static_cast<std::size_t>(m.material_id[e])];
+    if (!water || !material.saturable()) continue;
+    const Vec2 x = map_to_physical(m.shape(), m.element_nodes(ei, m.nodes), centre);
+    if (model.fluid.depth(x) > 0.0) {
+      const double undrained = material.p_wave_modulus() + water->bulk_modulus / material.porosity;
+      model.elements.wave_speed[e] = std::sqrt(undrained / material.density);
+    } else {
+      model.elements.density[e] = material.density - material.porosity * water->density;
+      if (!(model.elements.density[e] > 0.0)) {
+        throw Error(
+            "material \"{}\": its dry density ρ_sat − n ρ_w = {} − {}·{} is not positive "
+            "(density is the saturated density of a porous material)",
+            material.name, material.density, material.porosity, water->density);
+      }
+      model.elements.wave_speed[e] =
+          std::sqrt(material.p_wave_modulus() / model.elements.density[e]);
+    }
+  }
+}
+
 /// Per element det J at the centre, V_0^e and m_e; per node the lumped mass and m_I g.
 void compute_masses(FemModel& model) {
   const Mesh& m = model.mesh;
@@ -59,7 +95,7 @@ void compute_masses(FemModel& model) {
   for (std::size_t e = 0; e < n_elements; ++e) {
     const auto ei = static_cast<Index>(e);
     const ElementNodes x = m.element_nodes(ei, m.nodes);
-    const double density = model.material_of(ei).density;
+    const double density = model.elements.density[e];
     model.elements.centre_det_reference[e] = jacobian(m.shape(), x, centre).determinant();
     model.elements.volume_reference[e] = element_area(m.shape(), x);
     model.elements.mass[e] = density * model.elements.volume_reference[e];
@@ -87,7 +123,8 @@ VerticalExtent vertical_extent(const std::vector<Vec2>& nodes) {
 }  // namespace
 
 FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
-                    double hourglass_coefficient, const Vec2& gravity) {
+                    double hourglass_coefficient, const Vec2& gravity,
+                    const std::optional<WaterSpec>& water) {
   FemModel model;
   model.gravity = gravity;
   model.mesh = std::move(mesh);
@@ -97,7 +134,6 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
   const ElementType type = model.mesh.element_type;
   model.nodes_per_element = model.mesh.nodes_per_element();
   const auto rule = quadrature_rule(type);
-  model.gauss_per_element = static_cast<int>(rule.size());
   model.hourglass = type == ElementType::quad4_1gp;
   for (const auto& point : rule) {
     model.rule.local.push_back(point.xi);
@@ -115,7 +151,16 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
         "configuration)",
         inverted);
   }
+  if (water) {
+    model.fluid.density = water->density;
+    model.fluid.bulk_modulus = water->bulk_modulus;
+    model.fluid.tension_limit = water->tension_limit;
+    model.fluid.level_point = Vec2(0.0, water->level);
+    model.fluid.gravity = gravity;
+  }
+  compute_densities(model, water);
   compute_masses(model);
+  if (water) make_pore_fluid(model, water->drained);
   model.extent = vertical_extent(model.mesh.nodes);
   build_node_slots(model);
   return model;

@@ -181,7 +181,7 @@ void Recorders::record(const FemState& state, double dt) {
     base_v *= share;
     base_a *= share;
   }
-  const int n_gauss = model_.gauss_per_element;
+  const int n_gauss = model_.gauss_per_element();
   for (Recorder& r : recorders_) {
     if (!due(r)) continue;
     while (r.every > 0.0 && r.next <= t + 1e-9 * std::max(1.0, t)) r.next += r.every;

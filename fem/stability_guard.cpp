@@ -25,7 +25,7 @@ std::string check_finite(const FemModel& model, const FemState& state,
           model.mesh.nodes[n].x(), model.mesh.nodes[n].y(), when);
     }
   }
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
   for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
     if (!finite(state.stress[gp])) {
       const auto e = static_cast<Index>(gp / n_gauss);

@@ -85,6 +85,14 @@ Case parse_case(std::string_view text, const std::filesystem::path& source_name)
   c.materials = read_materials(root);
   c.mesh = read_mesh(root, c.materials, source_name.parent_path());
   c.fem = read_fem(root, c.mesh, source_name.parent_path());
+  for (std::size_t i = 0; i < c.materials.size(); ++i) {
+    if (c.materials[i].saturable() && !c.fem.water) {
+      throw Error(
+          "{}: materials[{}] (\"{}\") has a porosity but the case has no [fem.water] (the water "
+          "table below which it is saturated)",
+          source_name.string(), i, c.materials[i].name);
+    }
+  }
   c.transfer = read_transfer(root, c.fem);
   c.mpm = read_mpm(root, c.materials, c.mesh, c.transfer);
   c.metrics = read_metrics(root);

@@ -214,6 +214,43 @@ std::vector<RecorderSpec> read_recorders(const Section& s) {
   return recorders;
 }
 
+/// [fem.water]: the water table and the pore fluid (docs/method.md §10); `names` the node
+/// sets a generated mesh has (empty: a Gmsh mesh, checked when the model is made).
+WaterSpec read_water(const Section& s, const std::vector<std::string_view>& names) {
+  WaterSpec water;
+  water.level = s.number("level", any_number());
+  water.density = s.number("density", positive("kg/m³"), water.density);
+  water.bulk_modulus = s.number("bulk_modulus", positive("Pa"), water.bulk_modulus);
+  water.tension_limit = s.number(
+      "tension_limit", Range{.max = 0.0, .max_closed = true, .unit = "Pa"}, water.tension_limit);
+  if (s.has("drained")) {
+    const auto& items = s.reader().array(s.node("drained"), s.dotted("drained"));
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const std::string dotted = fmt::format("{}[{}]", s.dotted("drained"), i);
+      std::string name = s.reader().string(items[i], dotted);
+      if (!names.empty() && std::ranges::find(names, name) == names.end()) {
+        s.reader().inadmissible(items[i], dotted, fmt::format("\"{}\"", name),
+                                fmt::format("a node set of the mesh: {}", join(names)));
+      }
+      water.drained.push_back(std::move(name));
+    }
+  }
+  return water;
+}
+
+/// [fem.geostatic.boundaries] and, with a failure stage, [fem.failure.boundaries].
+void read_stage_boundaries(const Section& s, const std::vector<std::string_view>& names,
+                           FemSpec& fem) {
+  const Section geostatic = s.table("geostatic", Section::Keys{"boundaries"});
+  fem.geostatic_boundaries = read_boundaries(
+      geostatic, "boundaries", names,
+      "is not admissible in the geostatic stage (a linear static solve: free, roller or fixed)");
+  if (fem.failure_stage) {
+    const Section failure = s.table("failure", Section::Keys{"boundaries"});
+    fem.failure_boundaries = read_boundaries(failure, "boundaries", names, friction_problem(s));
+  }
+}
+
 }  // namespace
 
 FemSpec read_fem(const Section& root, const MeshSpec& mesh,
@@ -222,7 +259,7 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh,
       "fem", Section::Keys{"failure_stage", "kinematics", "end_time", "checkpoint_times",
                            "checkpoint_every", "output_every", "vtk_every", "courant", "time_step",
                            "hourglass_coefficient", "friction_coefficient", "speed_limit_factor",
-                           "damping", "geostatic", "failure", "motion", "recorders"});
+                           "damping", "geostatic", "failure", "motion", "recorders", "water"});
   FemSpec fem;
   fem.failure_stage = s.boolean("failure_stage", true);
   fem.kinematics =
@@ -250,20 +287,17 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh,
   const std::vector<std::string_view> names = mesh.generator == MeshGenerator::gmsh
                                                   ? std::vector<std::string_view>{}
                                                   : generated_mesh_boundaries;
-  const Section geostatic = s.table("geostatic", Section::Keys{"boundaries"});
-  fem.geostatic_boundaries = read_boundaries(
-      geostatic, "boundaries", names,
-      "is not admissible in the geostatic stage (a linear static solve: free, roller or fixed)");
-  if (fem.failure_stage) {
-    const Section failure = s.table("failure", Section::Keys{"boundaries"});
-    fem.failure_boundaries = read_boundaries(failure, "boundaries", names, friction_problem(s));
-  }
+  read_stage_boundaries(s, names, fem);
   if (auto motion = s.optional_table(
           "motion", Section::Keys{"start_time", "base", "lateral", "input", "rock_density",
                                   "rock_shear_wave_speed", "rock_p_wave_speed",
                                   "baseline_correction", "horizontal", "vertical"})) {
     if (!fem.failure_stage) motion->fail("start_time", "only used when fem.failure_stage = true");
     fem.motion = read_motion(*motion, case_folder, fem, mesh);
+  }
+  if (auto water = s.optional_table(
+          "water", Section::Keys{"level", "density", "bulk_modulus", "tension_limit", "drained"})) {
+    fem.water = read_water(*water, names);
   }
   if (s.has("recorders")) {
     if (!fem.failure_stage) s.fail("recorders", "only used when fem.failure_stage = true");

@@ -22,6 +22,29 @@ void validate_material(const Material& material, const Section& s) {
   }
 }
 
+/// A porous material (docs/method.md §10): porosity, and the hydraulic conductivity as
+/// `conductivity` or as `conductivity_x` and `conductivity_y`.
+void read_pore_water(const Section& s, Material& m) {
+  const std::array<std::string_view, 3> flow{"conductivity", "conductivity_x", "conductivity_y"};
+  m.porosity = s.number("porosity", any_number(), 0.0);
+  if (!s.has("porosity")) {
+    for (std::string_view key : flow) s.reject(key, "only used with porosity (a porous material)");
+    return;
+  }
+  if (s.has("conductivity")) {
+    for (std::string_view key : {flow[1], flow[2]}) {
+      s.reject(key,
+               fmt::format("give either {} or its x and y components", s.dotted("conductivity")));
+    }
+    m.conductivity_x = m.conductivity_y = s.number("conductivity", any_number());
+  } else if (s.has("conductivity_x") || s.has("conductivity_y")) {
+    m.conductivity_x = s.number("conductivity_x", any_number());
+    m.conductivity_y = s.number("conductivity_y", any_number());
+  } else {
+    s.missing("conductivity");
+  }
+}
+
 MaterialModel read_model(const Section& s, std::string_view key) {
   return parse_material_model(s.string(key), fmt::format("{}: {}", s.where(key), s.dotted(key)));
 }
@@ -67,6 +90,7 @@ Material read_material(const Section& s) {
   // The default cut-off is the apex c·cot φ (infinite for φ = 0); +inf may be written.
   const Range cutoff{.min = -infinity, .max = infinity, .max_closed = true};
   m.tension_cutoff = s.number("tension_cutoff", cutoff, m.apex_stress());
+  read_pore_water(s, m);
   validate_material(m, s);
   return m;
 }
@@ -78,10 +102,12 @@ MaterialTable read_materials(const Section& root) {
   if (root.node("materials").is_table()) {
     root.fail("materials", "expected an array of tables ([[materials]]), found a table");
   }
-  const Section::Keys keys{"name",          "model",          "fem_model",      "mpm_model",
-                           "density",       "youngs_modulus", "poisson_ratio",  "friction_angle",
-                           "cohesion",      "dilation_angle", "tension_cutoff", "peak_shear_strain",
-                           "yield_surfaces"};
+  const Section::Keys keys{"name",           "model",          "fem_model",
+                           "mpm_model",      "density",        "youngs_modulus",
+                           "poisson_ratio",  "friction_angle", "cohesion",
+                           "dilation_angle", "tension_cutoff", "peak_shear_strain",
+                           "yield_surfaces", "porosity",       "conductivity",
+                           "conductivity_x", "conductivity_y"};
   MaterialTable materials;
   for (const Section& s : root.tables("materials", keys)) {
     Material material = read_material(s);

@@ -44,6 +44,10 @@ std::string materials_line(const MaterialTable& materials) {
                         to_string(m.model_of(Phase::mpm)), m.density, m.youngs_modulus,
                         m.poisson_ratio, m.friction_angle, m.cohesion, m.dilation_angle,
                         m.tension_cutoff, m.peak_shear_strain, m.yield_surfaces);
+    // Porous materials only, so that dry cases' fingerprints stay as they were.
+    if (m.saturable()) {
+      line += fmt::format(" n {} k ({}, {})", m.porosity, m.conductivity_x, m.conductivity_y);
+    }
   }
   return line;
 }
@@ -129,6 +133,14 @@ SolverSettings fem_fingerprint(const Case& c) {
                   f.time_step, f.courant, f.hourglass_coefficient));
   add(s, "motion", motion_line(f.motion));
   add(s, "recorders", recorders_line(f.recorders));
+  if (f.water) {  // saturated cases only (dry cases' fingerprints stay as they were)
+    const WaterSpec& w = *f.water;
+    std::string drained;
+    for (const std::string& name : w.drained) drained += (drained.empty() ? "" : " ") + name;
+    add(s, "water",
+        fmt::format("level {} m, ρ_w {}, K_f {}, tension limit {}, drained [{}]", w.level,
+                    w.density, w.bulk_modulus, w.tension_limit, drained));
+  }
   return s;
 }
 

@@ -280,6 +280,13 @@ constexpr std::array<Attribute<Material>, 7> material_numbers{{
     {"tension_cutoff", &Material::tension_cutoff},
 }};
 
+/// A porous material's (docs/method.md §10).
+constexpr std::array<Attribute<Material>, 3> pore_water_numbers{{
+    {"porosity", &Material::porosity},
+    {"conductivity_x", &Material::conductivity_x},
+    {"conductivity_y", &Material::conductivity_y},
+}};
+
 /// How fem2mpm made the particles (/transfer).
 constexpr std::array<Attribute<TransferSettings>, 6> transfer_attributes{{
     {"transfer_time", &TransferSettings::transfer_time},
@@ -501,6 +508,8 @@ void write_materials(Writer& writer, const MaterialTable& materials) {
       g.write_double_attribute("peak_shear_strain", m.peak_shear_strain);
       g.write_int_attribute("yield_surfaces", m.yield_surfaces);
     }
+    // Porous materials only (schema version 6): dry ones keep the attributes they had.
+    if (m.saturable()) write_attributes(g, m, pore_water_numbers);
     write_attributes(g, m, material_numbers);
   }
 }
@@ -833,9 +842,9 @@ CheckpointHeader read_header(const hdf5::File& file) {
         "version of the programs",
         label, header.schema_version, checkpoint_schema_version);
   }
-  if (header.schema_version != checkpoint_schema_version) {
-    throw Error("{}: unknown schema_version {}, expected {}", label, header.schema_version,
-                checkpoint_schema_version);
+  if (header.schema_version < oldest_checkpoint_schema_version) {
+    throw Error("{}: unknown schema_version {}, expected {} to {}", label, header.schema_version,
+                oldest_checkpoint_schema_version, checkpoint_schema_version);
   }
   header.kind = parse_kind(file.read_string_attribute("kind"), label);
   const std::int64_t dimension = file.read_int_attribute("dimension");
@@ -885,6 +894,7 @@ MaterialTable read_materials(const Reader& reader) {
     m.model = parse_material_model(g.read_string_attribute("model"),
                                    fmt::format("{}: attribute model", g.where()));
     read_attributes(g, m, material_numbers);
+    if (g.has_attribute("porosity")) read_attributes(g, m, pore_water_numbers);
     // Files of schema version 1 name one model for both phases.
     if (g.has_attribute("mpm_model")) {
       const MaterialModel mpm = parse_material_model(

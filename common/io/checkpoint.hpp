@@ -30,7 +30,9 @@ namespace slide {
 
 inline constexpr const char* checkpoint_schema_name = "fem-mpm-checkpoint";
 /// Bumped whenever a name or meaning of the schema changes (docs/contract.md).
-inline constexpr std::int64_t checkpoint_schema_version = 1;
+inline constexpr std::int64_t checkpoint_schema_version = 2;
+/// The oldest version the readers still read (checkpoint-schema.md, Versioning).
+inline constexpr std::int64_t oldest_checkpoint_schema_version = 1;
 
 enum class CheckpointKind { fem, particles, mpm };
 std::string_view to_string(CheckpointKind kind);

@@ -23,6 +23,9 @@ struct FeFields {
   std::vector<Vec2> velocity;         ///< m/s
   std::vector<Vec2> acceleration;     ///< m/s²
   std::vector<double> pore_pressure;  ///< Pa, compression positive (0 for dry analyses)
+  /// Saturated models only: p of the state before shaking (the geostatic stage's
+  /// hydrostatic field), the reference of the excess pore pressure Δp = p − p_static, Pa.
+  std::vector<double> static_pore_pressure;
 
   // Elements: the hourglass generalised force Q = ∫ K_q dq of one-point quads, N (per m);
   // empty for the other element types.
@@ -32,6 +35,9 @@ struct FeFields {
   std::vector<Vec4> stress;  ///< [σxx, σyy, σzz, σxy], Pa, tension positive
   std::vector<Vec4> strain;  ///< total strain since t = 0, [εxx, εyy, εzz, γxy]
   std::vector<MaterialState> material_state;
+  /// Saturated models only: σ′v0 = −σ′yy of the state before shaking (compression
+  /// positive), the denominator of the pore-pressure ratio r_u = Δp/σ′v0, Pa.
+  std::vector<double> initial_vertical_effective_stress;
   /// Multi-yield surface stresses of the failure-stage models (none when no material
   /// uses the model in FE).
   SurfaceStresses surface_stress;
@@ -44,11 +50,15 @@ inline constexpr std::tuple fe_fields{
     field(&FeFields::velocity, "velocity", "m/s", {.rows = RowKind::node}),
     field(&FeFields::acceleration, "acceleration", "m/s^2", {.rows = RowKind::node}),
     field(&FeFields::pore_pressure, "pore_pressure", "Pa", {.rows = RowKind::node}),
+    field(&FeFields::static_pore_pressure, "static_pore_pressure", "Pa",
+          {.rows = RowKind::node, .presence = Presence::when_used}),
     field(&FeFields::hourglass_force, "hourglass_force", "N/m",
           {.rows = RowKind::element, .presence = Presence::when_used}),
     field(&FeFields::stress, "stress", "Pa", {.rows = RowKind::gauss_point}),
     field(&FeFields::strain, "strain", "1", {.rows = RowKind::gauss_point}),
     field(&FeFields::material_state, "state", "", {.rows = RowKind::gauss_point}),
+    field(&FeFields::initial_vertical_effective_stress, "initial_vertical_effective_stress", "Pa",
+          {.rows = RowKind::gauss_point, .presence = Presence::when_used}),
     field(&FeFields::surface_stress, "state/surface_stress", "Pa", {.rows = RowKind::gauss_point}),
 };
 using FeFieldTable = std::remove_const_t<decltype(fe_fields)>;

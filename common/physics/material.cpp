@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "common/base/error.hpp"
 #include "common/base/names.hpp"
@@ -64,6 +65,15 @@ void Material::validate(std::string_view where) const {
             peak_shear_strain, "expected γ_peak > 0");
     require(yield_surfaces >= 1 && yield_surfaces <= max_yield_surfaces, "yield_surfaces",
             yield_surfaces, "expected 1 to 40 surfaces");
+  }
+  require(finite(porosity) && porosity >= 0.0 && porosity < 1.0, "porosity", porosity,
+          "expected 0 ≤ n < 1 (0: dry)");
+  if (saturable()) {
+    for (const auto& [key, k] : {std::pair{"conductivity_x", conductivity_x},
+                                 std::pair{"conductivity_y", conductivity_y}}) {
+      require(finite(k) && k >= 0.0 && k <= 1.0, key, k,
+              "expected 0 ≤ k ≤ 1 m/s (0: no flow; clean gravel is about 1e-2)");
+    }
   }
   if (!has_strength(model) && !has_strength(model_of(Phase::mpm))) return;
   require(finite(friction_angle) && friction_angle >= 0.0 && friction_angle < 90.0,

@@ -51,6 +51,13 @@ struct Material {
   /// (both OpenSees's defaults).
   double peak_shear_strain = 0.1;
   int yield_surfaces = 20;
+  /// Saturated soil (docs/method.md §10): porosity n (0: a dry material, the default)
+  /// and the hydraulic conductivity k along x and y, m/s. Below the water table the
+  /// material is a u–p mixture and `density` is its saturated density ρ_sat; above it the
+  /// soil is dry, of density ρ_sat − n ρ_w.
+  double porosity = 0.0;
+  double conductivity_x = 0.0;  ///< k_x, m/s
+  double conductivity_y = 0.0;  ///< k_y, m/s
 
   /// The model of one phase.
   MaterialModel model_of(Phase phase) const {
@@ -68,6 +75,8 @@ struct Material {
   double p_wave_speed() const;
   /// Earth pressure coefficient at rest of the elastic geostatic stage, K0 = ν/(1−ν).
   double k0() const { return poisson_ratio / (1.0 - poisson_ratio); }
+  /// True for a material that holds pore water below the water table.
+  bool saturable() const { return porosity > 0.0; }
   /// The Mohr–Coulomb apex c·cot φ (infinite for φ = 0).
   double apex_stress() const;
 

@@ -79,6 +79,18 @@ struct RecorderSpec {
   double every = 0.0;          ///< s between rows (0: every step)
 };
 
+/// [fem.water]: the pore water of saturated materials (docs/method.md §10). Below `level`
+/// the materials with a porosity are u–p mixtures starting from hydrostatic pressure; the
+/// nodes above it, and the nodes of `drained` node sets, keep the hydrostatic pressure of
+/// the level (0 above it); every other face is impermeable.
+struct WaterSpec {
+  double level = 0.0;                ///< elevation of the water table (phreatic level), m
+  double density = 1000.0;           ///< ρ_w, kg/m³
+  double bulk_modulus = 2.2e9;       ///< K_f, Pa
+  double tension_limit = -100e3;     ///< the lowest pore pressure, Pa (suction negative)
+  std::vector<std::string> drained;  ///< node sets where p is given
+};
+
 struct FemSpec {
   /// False for geostatic-only cases: fem-solve stops after the t = 0 checkpoint.
   bool failure_stage = true;
@@ -100,6 +112,7 @@ struct FemSpec {
   /// Instability guard: speeds above this factor × sqrt(2 g H) stop the run.
   double speed_limit_factor = 5.0;
   std::optional<MotionSpec> motion;  ///< base shaking (none: a static base)
+  std::optional<WaterSpec> water;    ///< pore water (none: every material dry)
   std::vector<RecorderSpec> recorders;
 };
 

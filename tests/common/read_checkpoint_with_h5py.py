@@ -79,7 +79,7 @@ def check_header(f, kind, time, step):
     label = Path(f.filename).name
     a = text_attrs(f)
     check(a["schema"] == "fem-mpm-checkpoint", f"{label}: schema {a['schema']!r}")
-    check(int(a["schema_version"]) == 1, f"{label}: schema_version {a['schema_version']}")
+    check(int(a["schema_version"]) == 2, f"{label}: schema_version {a['schema_version']}")
     check(a["kind"] == kind, f"{label}: kind {a['kind']!r}, expected {kind!r}")
     check(int(a["dimension"]) == 2, f"{label}: dimension {a['dimension']}")
     check(a["case"] == "h5py-sample", f"{label}: case {a['case']!r}")

@@ -55,7 +55,7 @@ ColumnErrors geostatic_errors(const FemModel& model, const BoundaryTable& bounda
   };
   ColumnErrors errors;
   errors.rho_g_h = rho_g * height;
-  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element);
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
   for (Index e = 0; e < model.element_count(); ++e) {
     const ElementNodes x = model.mesh.element_nodes(e, model.mesh.nodes);
     Vec4 mean = Vec4::Zero();

@@ -23,6 +23,8 @@ struct ColumnCase {
   double time_step = 0.0;
   /// Replaces the generated [mesh] table when not empty.
   std::string mesh;
+  /// More lines of the material table (a porosity and its conductivity).
+  std::string extra_material;
   /// More lines of the [fem] table.
   std::string extra_fem;
   std::string geostatic_boundaries = "left = \"roller\"\nright = \"roller\"\nbase = \"roller\"\n";
@@ -39,8 +41,8 @@ struct ColumnCase {
     return "[case]\nname = \"" + name + "\"\n\n[[materials]]\nname = \"soil\"\nmodel = \"" + model +
            "\"\ndensity = 1700.0\nyoungs_modulus = 23.8e6\npoisson_ratio = 0.23\n"
            "friction_angle = " +
-           std::to_string(friction_angle) + "\ncohesion = " + std::to_string(cohesion) + "\n\n" +
-           mesh_table + "\n[fem]\nkinematics = \"" + kinematics +
+           std::to_string(friction_angle) + "\ncohesion = " + std::to_string(cohesion) + "\n" +
+           extra_material + "\n" + mesh_table + "\n[fem]\nkinematics = \"" + kinematics +
            "\"\nend_time = " + std::to_string(end_time) +
            "\ncheckpoint_every = " + std::to_string(checkpoint_every) +
            "\noutput_every = " + std::to_string(output_every) +

@@ -326,8 +326,8 @@ FemCheckpoint import_opensees(const Case& c, double time, const Logger* logger) 
   Mesh mesh = build_mesh(c);
   const OpenSeesMesh model_tags = read_opensees_mesh(
       c.mesh.opensees_file, c.mesh.opensees_materials, c.mesh.ignore_elements, c.materials);
-  const fem::FemModel model =
-      fem::make_model(std::move(mesh), c.materials, c.fem.kinematics, c.fem.hourglass_coefficient);
+  const fem::FemModel model = fem::make_model(std::move(mesh), c.materials, c.fem.kinematics,
+                                              c.fem.hourglass_coefficient, c.gravity, c.fem.water);
   log_import(logger, c, model, model_tags, time);
 
   const RecorderSet recorders(time, spec.reference_time, logger);

@@ -1,0 +1,274 @@
+// Saturated soil, explicit u–p (fem/pore_fluid.hpp, docs/method.md §10), against closed
+// forms: the hydrostatic rest state, the sealed oedometer's undrained pore pressure and
+// Terzaghi's consolidation of a column drained at the top.
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <tuple>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "fem/explicit_dynamics.hpp"
+#include "fem/fem_model.hpp"
+#include "fem/geostatic.hpp"
+#include "fem/model_setup.hpp"
+#include "fem/pore_fluid.hpp"
+#include "tests/support/meshes.hpp"
+#include "tools/synthetic/soil.hpp"
+
+namespace slide::fem {
+namespace {
+
+using testing::rectangle_mesh;
+
+const std::array<ElementType, 3> all_types{ElementType::quad4_1gp, ElementType::quad4_2x2,
+                                           ElementType::tri3};
+
+/// A loose saturated sand: ρ_sat 2000 kg/m³, E 10 MPa, ν 0.3 (M = 13.46 MPa), n 0.4.
+Material sand(double conductivity) {
+  Material m = synthetic::soil(MaterialModel::linear_elastic, 2000.0);
+  m.youngs_modulus = 10e6;
+  m.poisson_ratio = 0.3;
+  m.porosity = 0.4;
+  m.conductivity_x = m.conductivity_y = conductivity;
+  return m;
+}
+
+WaterSpec water_at(double level, double bulk_modulus = 2.2e9) {
+  WaterSpec w;
+  w.level = level;
+  w.bulk_modulus = bulk_modulus;
+  return w;
+}
+
+std::vector<ConstitutiveModel> models_of(const FemModel& model) {
+  std::vector<ConstitutiveModel> models;
+  for (const auto& m : model.materials) models.push_back(ConstitutiveModel::from(m));
+  return models;
+}
+
+const BoundaryTable box{{"left", BoundaryCondition::roller},
+                        {"right", BoundaryCondition::roller},
+                        {"base", BoundaryCondition::roller}};
+
+// Hydrostatic p and effective K0 stresses: the geostatic state of a saturated column is
+// at rest in the explicit stage, p stays the hydrostatic field and σ′v = (ρ_sat − ρ_w) g z
+// below the table. With the table at the top and through the middle of an element row,
+// on a distorted mesh, for every element type.
+TEST(PoreFluid, HydrostaticRestIsExact) {
+  constexpr double height = 10.0, g = 9.81;
+  for (const auto type : all_types) {
+    for (const double level : {height, 6.5}) {
+      SCOPED_TRACE(fmt::format("{}, water level {} m", to_string(type), level));
+      Mesh mesh = rectangle_mesh(type, 4, 10, 4.0, height);
+      testing::distort_interior(mesh, 1.0, 0.2);
+      const Material material = sand(1e-4);
+      const FemModel model = make_model(std::move(mesh), {material}, Kinematics::small_strain, 1.0,
+                                        Vec2(0.0, -g), water_at(level));
+      FemState state = make_rest_state(model);
+      solve_geostatic(model, make_constraints(model.mesh, box, "test"), state);
+      const std::vector<double> p0 = state.pore_pressure;
+      ExplicitSolver solver(model, make_constraints(model.mesh, box, "test"), 0.0, {},
+                            models_of(model));
+      const double dt = solver.stable_time_step(state, 0.5);
+      for (int i = 0; i < 200; ++i) solver.step(state, dt);
+      double speed = 0.0, p_change = 0.0;
+      for (const Vec2& v : state.velocity) speed = std::max(speed, v.norm());
+      for (std::size_t n = 0; n < p0.size(); ++n) {
+        p_change = std::max(p_change, std::abs(state.pore_pressure[n] - p0[n]));
+        const Vec2& x = model.mesh.nodes[n];
+        if (model.fluid.storage[n] > 0.0) {
+          EXPECT_NEAR(p0[n], std::max(1000.0 * g * (level - x.y()), -100e3), 1e-9) << n;
+        }
+      }
+      EXPECT_LT(speed, 1e-9);  // gravity alone: g·200·dt ≈ 0.1 m/s
+      EXPECT_LT(p_change, 1e-9 * 1000.0 * g * height);
+    }
+  }
+}
+
+// The effective vertical stress of the geostatic stage at the one-point quads' centres of
+// an undistorted column: (ρ_sat − ρ_w) g z below the table, ρ_dry g z above it.
+TEST(PoreFluid, GeostaticStageCarriesTheEffectiveStress) {
+  constexpr double height = 10.0, g = 9.81, level = 6.0;
+  const Material material = sand(1e-4);
+  const FemModel model =
+      make_model(rectangle_mesh(ElementType::quad4_1gp, 1, 10, 1.0, height), {material},
+                 Kinematics::small_strain, 1.0, Vec2(0.0, -g), water_at(level));
+  FemState state = make_rest_state(model);
+  solve_geostatic(model, make_constraints(model.mesh, box, "test"), state);
+  const double dry = material.density - material.porosity * 1000.0;
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const double y = static_cast<double>(e) + 0.5;  // centre of element e
+    const double above = std::min(height - y, height - level);
+    const double below = std::max(level - y, 0.0);
+    const double expected = -(dry * g * above + (material.density - 1000.0) * g * below);
+    EXPECT_NEAR(state.stress[static_cast<std::size_t>(e)][1], expected, 1e-8 * std::abs(expected))
+        << "element " << e;
+    EXPECT_NEAR(state.stress[static_cast<std::size_t>(e)][0],
+                material.k0() * state.stress[static_cast<std::size_t>(e)][1],
+                1e-8 * std::abs(expected));
+  }
+}
+
+/// A column 1 m wide of `rows` elements between rollers, no gravity, loaded on its top
+/// by q (nodal forces), the water table at `level`, under local damping α for the
+/// quasi-static runs. Returns the model with the load in its external forces.
+FemModel loaded_column(int rows, double height, double q, double level, double conductivity,
+                       double bulk_modulus) {
+  FemModel model =
+      make_model(rectangle_mesh(ElementType::quad4_1gp, 1, rows, 1.0, height), {sand(conductivity)},
+                 Kinematics::small_strain, 1.0, Vec2::Zero(), water_at(level, bulk_modulus));
+  const NodeSet* top = model.mesh.find_node_set("top");
+  for (const Index n : top->nodes)
+    model.lumped.gravity_force[static_cast<std::size_t>(n)].y() -= 0.5 * q;
+  return model;
+}
+
+// Sealed (k = 0) oedometric column under a load q: p = q (K_f/n)/(M + K_f/n) everywhere,
+// σ′v = −q M/(M + K_f/n), for the real K_f and a lowered one.
+TEST(PoreFluid, SealedOedometerTakesTheUndrainedShare) {
+  constexpr double q = 100e3;
+  for (const double bulk_modulus : {2.2e9, 0.05e9}) {
+    SCOPED_TRACE(fmt::format("K_f = {} Pa", bulk_modulus));
+    const FemModel model = loaded_column(4, 4.0, q, 100.0, 0.0, bulk_modulus);
+    FemState state = make_rest_state(model);
+    ExplicitSolver solver(model, make_constraints(model.mesh, box, "test"), 0.0,
+                          Damping{NodalDamping{0.0, 0.8}, 0.0}, models_of(model));
+    const double dt = solver.stable_time_step(state, 0.5);
+    for (int i = 0; i < 4000; ++i) solver.step(state, dt);
+    const double fluid = bulk_modulus / 0.4;
+    const double m = sand(0.0).p_wave_modulus();
+    for (const double p : state.pore_pressure) EXPECT_NEAR(p, q * fluid / (m + fluid), 1e-6 * q);
+    for (const Vec4& s : state.stress) EXPECT_NEAR(s[1], -q * m / (m + fluid), 1e-6 * q);
+  }
+}
+
+/// Terzaghi's excess pore pressure u/u₀ at depth z of a layer of height H drained at the
+/// top, at time factor T: Σ_m (2/M_m) sin(M_m z/H) exp(−M_m² T), M_m = (2m + 1)π/2.
+double terzaghi(double z_over_h, double time_factor) {
+  double u = 0.0;
+  for (int m = 0; m < 200; ++m) {
+    const double big_m = (2 * m + 1) * std::numbers::pi / 2.0;
+    u += 2.0 / big_m * std::sin(big_m * z_over_h) * std::exp(-big_m * big_m * time_factor);
+  }
+  return u;
+}
+
+// Terzaghi: a 10 m column of 40 elements drained at the top (the water table there),
+// impermeable at the base, loaded at t = 0. At T = 0.05 … 1 the pore pressure at the base
+// and at mid-height is the series' within 1 % of u₀, with c_v = (k/γ_w)/(1/M + n/K_f):
+// quasi-static (from rest, loaded suddenly, local damping 0.8 removing the load's waves)
+// and dynamic (undamped, from Terzaghi's own initial state, the undrained response to the
+// load: p = u₀, σ′ of the skeleton strain −q/(M + K_f/n); loaded suddenly from rest the
+// undamped waves ring at 30 % of u₀ at T = 0.05, and the flow damps them only slowly).
+TEST(PoreFluid, TerzaghiConsolidation) {
+  constexpr double height = 10.0, q = 100e3, k = 1e-3, bulk_modulus = 0.2e9;
+  const Material material = sand(k);
+  const double m = material.p_wave_modulus();
+  const double cv = (k / (1000.0 * 9.81)) / (1.0 / m + 0.4 / bulk_modulus);
+  const double u0 = q * (bulk_modulus / 0.4) / (m + bulk_modulus / 0.4);
+  for (const bool dynamic : {false, true}) {
+    SCOPED_TRACE(dynamic ? "dynamic" : "quasi-static");
+    const FemModel model = loaded_column(40, height, q, height, k, bulk_modulus);
+    FemState state = make_rest_state(model);
+    if (dynamic) {
+      const double strain = -(q - u0) / m;  // ε_yy of the undrained response
+      const double lambda = material.lame_lambda();
+      for (Vec4& s : state.stress) s = Vec4(lambda * strain, m * strain, lambda * strain, 0.0);
+      for (std::size_t n = 0; n < state.pore_pressure.size(); ++n) {
+        state.pore_pressure[n] = model.fluid.prescribed[n] ? 0.0 : u0;
+      }
+    }
+    const Damping damping{NodalDamping{0.0, dynamic ? 0.0 : 0.8}, 0.0};
+    ExplicitSolver solver(model, make_constraints(model.mesh, box, "test"), 0.0, damping,
+                          models_of(model));
+    const double dt = solver.stable_time_step(state, 0.5);
+    const auto base = static_cast<std::size_t>(model.mesh.find_node_set("base")->nodes[0]);
+    const auto middle = base + 2 * 20;  // node (0, 20): y = 5 m
+    ASSERT_NEAR(model.mesh.nodes[middle].y(), 5.0, 1e-12);
+    double worst = 0.0;
+    for (const double time_factor : {0.05, 0.1, 0.2, 0.5, 1.0}) {
+      const double until = time_factor * height * height / cv;
+      while (state.time < until - 0.5 * dt) solver.step(state, std::min(dt, until - state.time));
+      for (const auto& [node, z] : {std::pair{base, 1.0}, std::pair{middle, 0.5}}) {
+        const double error = std::abs(state.pore_pressure[node] / u0 - terzaghi(z, time_factor));
+        worst = std::max(worst, error);
+        EXPECT_LT(error, 0.01) << "T = " << time_factor << ", z/H = " << z << ": u/u0 "
+                               << state.pore_pressure[node] / u0 << ", series "
+                               << terzaghi(z, time_factor);
+      }
+    }
+    std::printf(
+        "Terzaghi (%s): largest |u/u0 - series| at the base and mid-height %.2e, %lld steps\n",
+        dynamic ? "dynamic" : "quasi-static", worst, static_cast<long long>(state.step));
+  }
+}
+
+/// Every node held by a roller whose normal is `normal` (the velocity along it fixed).
+NodalConstraints everywhere(const FemModel& model, const Vec2& normal) {
+  NodalConstraints c;
+  for (Index n = 0; n <= model.node_count(); ++n) c.offsets.push_back(n);
+  c.constraints.assign(static_cast<std::size_t>(model.node_count()),
+                       NodalConstraint{BoundaryCondition::roller, normal});
+  return c;
+}
+
+/// The time of the largest |v · direction| at `node` over [from, to], refined by the
+/// parabola through the largest sample and its neighbours.
+struct Peak {
+  double time = 0.0, value = -1.0;
+};
+
+// Undrained (k = 0) saturated column, 100 m of 400 quads: a Gaussian velocity pulse
+// (σ = 2 m) started at y = 70 m splits into two; the downward half passes y = 60 and
+// y = 30 m 30 m / V apart. Shear (horizontal velocity, every node's vertical velocity
+// held): V_s = sqrt(G/ρ_sat), the water carrying no shear. Compression (vertical
+// velocity, horizontal held): the undrained V_p,u = sqrt((M + K_f/n)/ρ_sat).
+TEST(PoreFluid, UndrainedWavesTravelAtTheirSpeeds) {
+  constexpr double height = 100.0, start = 70.0, width = 2.0;
+  const Material material = sand(0.0);
+  const double shear = std::sqrt(material.shear_modulus() / material.density);
+  const double compression =
+      std::sqrt((material.p_wave_modulus() + 2.2e9 / 0.4) / material.density);
+  for (const auto& [name, direction, speed] :
+       {std::tuple{"S", Vec2(1.0, 0.0), shear}, std::tuple{"P", Vec2(0.0, 1.0), compression}}) {
+    SCOPED_TRACE(name);
+    const FemModel model =
+        make_model(rectangle_mesh(ElementType::quad4_1gp, 1, 400, 0.25, height), {material},
+                   Kinematics::small_strain, 1.0, Vec2::Zero(), water_at(height + 1.0));
+    FemState state = make_rest_state(model);
+    for (std::size_t n = 0; n < state.velocity.size(); ++n) {
+      const double d = (model.mesh.nodes[n].y() - start) / width;
+      state.velocity[n] = 0.01 * std::exp(-0.5 * d * d) * direction;
+    }
+    ExplicitSolver solver(model, everywhere(model, Vec2(direction.y(), direction.x())), 0.0, {},
+                          models_of(model));
+    const double dt = solver.stable_time_step(state, 0.5);
+    // Nodes (0, j) at y = 60 and 30 m: j = 240 and 120, index 2 j.
+    const std::array<std::size_t, 2> nodes{480, 240};
+    std::array<std::array<double, 3>, 2> last{};  // the last three samples
+    std::array<Peak, 2> peaks{};
+    const double until = (start - 30.0 + 4.0 * width) / speed;
+    while (state.time < until) {
+      solver.step(state, dt);
+      for (std::size_t i = 0; i < 2; ++i) {
+        last[i] = {last[i][1], last[i][2], state.velocity[nodes[i]].dot(direction)};
+        const auto& [a, b, c] = last[i];
+        if (b > a && b >= c && b > peaks[i].value) {
+          // Vertex of the parabola through (−dt, a), (0, b), (dt, c).
+          const double shift = 0.5 * dt * (a - c) / (a - 2.0 * b + c);
+          peaks[i] = {state.time - dt + shift, b};
+        }
+      }
+    }
+    const double measured = 30.0 / (peaks[1].time - peaks[0].time);
+    std::printf("undrained %s wave: %.2f m/s, closed form %.2f m/s (%+.3f %%)\n", name, measured,
+                speed, 100.0 * (measured / speed - 1.0));
+    EXPECT_NEAR(measured / speed, 1.0, 0.01);
+  }
+}
+
+}  // namespace
+}  // namespace slide::fem
