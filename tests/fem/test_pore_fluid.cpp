@@ -1,8 +1,10 @@
 // Saturated soil, explicit u–p (fem/pore_fluid.hpp, docs/method.md §10), against closed
 // forms: the hydrostatic rest state, the sealed oedometer's undrained pore pressure and
 // Terzaghi's consolidation of a column drained at the top.
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <tuple>
 
@@ -267,6 +269,87 @@ TEST(PoreFluid, UndrainedWavesTravelAtTheirSpeeds) {
     std::printf("undrained %s wave: %.2f m/s, closed form %.2f m/s (%+.3f %%)\n", name, measured,
                 speed, 100.0 * (measured / speed - 1.0));
     EXPECT_NEAR(measured / speed, 1.0, 0.01);
+  }
+}
+
+/// The largest |p − patch mean| over the patch mean among the nodes whose 3 × 3 patch mean
+/// is at least a tenth of the largest p: the 99th percentile (the chequerboard measure).
+double chequerboard(const std::vector<double>& p, int nx, int ny) {
+  const auto at = [&](int i, int j) { return p[static_cast<std::size_t>(j * (nx + 1) + i)]; };
+  const double largest = *std::max_element(p.begin(), p.end());
+  std::vector<double> deviations;
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      double sum = 0.0;
+      int count = 0;
+      for (int dj = -1; dj <= 1; ++dj) {
+        for (int di = -1; di <= 1; ++di) {
+          if (i + di < 0 || i + di > nx || j + dj < 0 || j + dj > ny) continue;
+          sum += at(i + di, j + dj);
+          ++count;
+        }
+      }
+      const double mean = sum / count;
+      if (mean >= 0.1 * largest) deviations.push_back(std::abs(at(i, j) - mean) / mean);
+    }
+  }
+  std::sort(deviations.begin(), deviations.end());
+  return deviations[static_cast<std::size_t>(0.99 * static_cast<double>(deviations.size() - 1))];
+}
+
+// The undrained strip load (docs/method.md §10, check 5): a sealed saturated layer 20 m wide
+// and 10 m deep (k = 0, K_f = 2.2 GPa: nearly incompressible) under a strip load of 100 kPa
+// 4 m wide at the top centre, brought to rest by local damping, coarse (1 m) and fine
+// (0.5 m) one-point quads. No pressure chequerboard: the 99th percentile of
+// |p − mean of the node's 3 × 3 patch| is below 5 % of that mean where the mean is at least
+// a tenth of the largest p.
+//
+// DISABLED: the stabilisation built (nodal averaging, candidate (a) of docs/method.md §10)
+// fails it: 54.1 % (h = 1 m) and 9.2 % (h = 0.5 m), an alternating pattern under and
+// beside the strip (fem/README.md, "Pore water"). It is the acceptance test of the
+// stabilisation still to be chosen, (b) or (c); run it with
+// --gtest_also_run_disabled_tests (SLIDE_DUMP=1 prints p around the strip).
+TEST(PoreFluid, DISABLED_UndrainedStripLoadHasNoChequerboard) {
+  constexpr double width = 20.0, depth = 10.0, q = 100e3, half_strip = 2.0;
+  for (const double h : {1.0, 0.5}) {
+    SCOPED_TRACE(fmt::format("h = {} m", h));
+    const int nx = static_cast<int>(width / h), ny = static_cast<int>(depth / h);
+    FemModel model =
+        make_model(rectangle_mesh(ElementType::quad4_1gp, nx, ny, width, depth), {sand(0.0)},
+                   Kinematics::small_strain, 1.0, Vec2::Zero(), water_at(depth + 1.0));
+    for (const Index n : model.mesh.find_node_set("top")->nodes) {
+      const double x = model.mesh.nodes[static_cast<std::size_t>(n)].x() - 0.5 * width;
+      // The nodal share of a uniform load on [−2, 2] m: h inside, h/2 at its edges.
+      const double share = std::abs(x) < half_strip - 1e-9             ? h
+                           : std::abs(std::abs(x) - half_strip) < 1e-9 ? 0.5 * h
+                                                                       : 0.0;
+      model.lumped.gravity_force[static_cast<std::size_t>(n)].y() -= q * share;
+    }
+    FemState state = make_rest_state(model);
+    ExplicitSolver solver(model, make_constraints(model.mesh, box, "test"), 0.0,
+                          Damping{NodalDamping{0.0, 0.8}, 0.0}, models_of(model));
+    const double dt = solver.stable_time_step(state, 0.5);
+    for (int i = 0; i < 20000; ++i) solver.step(state, dt);
+    double speed = 0.0;
+    for (const Vec2& v : state.velocity) speed = std::max(speed, v.norm());
+    const double measure = chequerboard(state.pore_pressure, nx, ny);
+    const double largest =
+        *std::max_element(state.pore_pressure.begin(), state.pore_pressure.end());
+    std::printf(
+        "strip load, h = %.1f m: largest p %.1f kPa, p99 |p - patch mean|/mean %.3f %%, "
+        "largest speed left %.2e m/s\n",
+        h, largest / 1e3, 100.0 * measure, speed);
+    if (std::getenv("SLIDE_DUMP")) {
+      for (int j = ny; j >= ny - 6; --j) {
+        for (int i = nx / 2 - 6; i <= nx / 2 + 6; ++i) {
+          std::printf("%7.1f",
+                      state.pore_pressure[static_cast<std::size_t>(j * (nx + 1) + i)] / 1e3);
+        }
+        std::printf("\n");
+      }
+    }
+    EXPECT_LT(speed, 1e-4);  // at rest (the load's waves gave ~1 m/s)
+    EXPECT_LT(measure, 0.05);
   }
 }
 

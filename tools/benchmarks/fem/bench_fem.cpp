@@ -34,8 +34,8 @@ using Clock = std::chrono::steady_clock;
 
 void benchmark(Case c, ElementType type, const std::string& label) {
   c.mesh.element_type = type;
-  const FemModel model =
-      make_model(build_mesh(c), c.materials, c.fem.kinematics, c.fem.hourglass_coefficient);
+  const FemModel model = make_model(build_mesh(c), c.materials, c.fem.kinematics,
+                                    c.fem.hourglass_coefficient, c.gravity, c.fem.water);
   FemState state = make_rest_state(model);
   solve_geostatic(model, make_constraints(model.mesh, c.fem.geostatic_boundaries, "geostatic"),
                   state);
