@@ -251,6 +251,27 @@ void gauss_point_pressure(const FemModel& model, std::span<const double> pore_pr
   }
 }
 
+ElementPoreWater element_pore_water(const FemModel& model, const FemState& state, Index e) {
+  ElementPoreWater water;
+  if (!model.fluid.active() || !model.fluid.saturated[static_cast<std::size_t>(e)]) return water;
+  const auto nodes = model.mesh.element(e);
+  const int ngp = model.gauss_per_element();
+  for (int g = 0; g < ngp; ++g) {
+    const ShapeValues& n = model.fluid.gauss_shape[static_cast<std::size_t>(g)];
+    double p = 0.0, excess = 0.0;
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const auto node = static_cast<std::size_t>(nodes[k]);
+      p += n[k] * state.pore_pressure[node];
+      excess += n[k] * (state.pore_pressure[node] - state.static_pore_pressure[node]);
+    }
+    const double stress =
+        state.initial_vertical_effective_stress[static_cast<std::size_t>(e * ngp + g)];
+    water.pressure += p / static_cast<double>(ngp);
+    water.ratio += (stress >= min_ratio_stress ? excess / stress : 0.0) / static_cast<double>(ngp);
+  }
+  return water;
+}
+
 std::vector<double> excess_pore_pressure(const FemState& state) {
   std::vector<double> excess;
   if (state.static_pore_pressure.size() != state.pore_pressure.size()) return excess;

@@ -80,6 +80,14 @@ std::vector<double> excess_pore_pressure(const FemState& state);
 /// elements and where σ′v0 < min_ratio_stress).
 void pore_pressure_ratio(const FemModel& model, const FemState& state, std::vector<double>& out);
 
+/// An element's pore pressure and pore-pressure ratio, the means over its Gauss points of
+/// p and of r_u (both 0 for a dry element).
+struct ElementPoreWater {
+  double pressure = 0.0;  ///< Pa
+  double ratio = 0.0;     ///< r_u
+};
+ElementPoreWater element_pore_water(const FemModel& model, const FemState& state, Index e);
+
 /// The pore pressure at each Gauss point, p(gp) = Σ_k N_k(gp) p_k (0 in dry elements).
 void gauss_point_pressure(const FemModel& model, std::span<const double> pore_pressure,
                           std::vector<double>& out);

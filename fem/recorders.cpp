@@ -10,6 +10,7 @@
 
 #include "common/base/error.hpp"
 #include "common/io/atomic_file.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
 
@@ -60,7 +61,8 @@ std::vector<Index> node_set_nodes(const FemModel& model, const RecorderSpec& spe
 }
 
 /// The CSV header of a recorder's columns.
-std::string header(const std::vector<Index>& nodes, const std::vector<Index>& elements) {
+std::string header(const std::vector<Index>& nodes, const std::vector<Index>& elements,
+                   bool water) {
   std::string text = "time";
   if (!nodes.empty()) {
     for (const char* q : {"ux", "uy", "vx", "vy", "ax", "ay"}) text += fmt::format(",base_{}", q);
@@ -70,12 +72,14 @@ std::string header(const std::vector<Index>& nodes, const std::vector<Index>& el
           text += fmt::format(",n{}_{}{}", n, q, suffix);
         }
       }
+      if (water) text += fmt::format(",n{}_p,n{}_dp", n, n);
     }
   }
   for (const Index e : elements) {
     for (const char* q : {"sxx", "syy", "szz", "sxy", "exx", "eyy", "ezz", "gxy"}) {
       text += fmt::format(",e{}_{}", e, q);
     }
+    if (water) text += fmt::format(",e{}_p,e{}_ru", e, e);
   }
   return text + '\n';
 }
@@ -101,7 +105,7 @@ Recorders::Recorders(const FemModel& model, const std::vector<RecorderSpec>& spe
     for (const Vec2& p : spec.points) r.nodes.push_back(nearest_node(model, p));
     if (!spec.node_set.empty()) r.nodes = node_set_nodes(model, spec);
     for (const Vec2& p : spec.elements) r.elements.push_back(nearest_element(model, p));
-    r.header = header(r.nodes, r.elements);
+    r.header = header(r.nodes, r.elements, model.fluid.active());
     recorders_.push_back(std::move(r));
   }
 }
@@ -205,6 +209,10 @@ void Recorders::record(const FemState& state, double dt) {
           append(r.rows, q.x());
           append(r.rows, q.y());
         }
+        if (model_.fluid.active()) {
+          append(r.rows, state.pore_pressure[n]);
+          append(r.rows, state.pore_pressure[n] - state.static_pore_pressure[n]);
+        }
       }
     }
     for (const Index e : r.elements) {
@@ -216,6 +224,11 @@ void Recorders::record(const FemState& state, double dt) {
       }
       for (int i = 0; i < 4; ++i) append(r.rows, stress[i] / n_gauss);
       for (int i = 0; i < 4; ++i) append(r.rows, strain[i] / n_gauss);
+      if (model_.fluid.active()) {
+        const auto [p, ratio] = element_pore_water(model_, state, e);
+        append(r.rows, p);
+        append(r.rows, ratio);
+      }
     }
     r.rows += '\n';
   }

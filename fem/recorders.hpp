@@ -7,6 +7,9 @@
 // Element recorders (`elements`, the element whose centroid is nearest each point)
 // write e<k>_sxx, e<k>_syy, e<k>_szz, e<k>_sxy, e<k>_exx, e<k>_eyy, e<k>_ezz, e<k>_gxy,
 // the mean over the element's Gauss points (Pa, tension positive; strain since t = 0).
+// A saturated model (fem/pore_fluid.hpp) adds per node n<k>_p and n<k>_dp (pore pressure
+// and its excess over the state before shaking, Pa) and per element e<k>_p and e<k>_ru
+// (the means of p and of the pore-pressure ratio over its Gauss points).
 //
 // The values are the leapfrog's own: u at t, v over the step that ended at t (t − dt/2),
 // a = F/m at the start of that step (t − dt); the base's columns are taken at the same

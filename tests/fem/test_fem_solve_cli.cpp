@@ -196,7 +196,10 @@ TEST(FemSolveCli, SaturatedRestartContinuesBitForBit) {
     column.element = element;
     column.kinematics = kinematics;
     column.extra_material = "porosity = 0.4\nconductivity = 1e-4\n";
-    column.extra_fem = "\n[fem.water]\nlevel = 5.0\nbulk_modulus = 0.5e9\n";
+    column.extra_fem =
+        "\n[fem.water]\nlevel = 5.0\nbulk_modulus = 0.5e9\n\n[[fem.recorders]]\nname = "
+        "\"water\"\npoints = [[9.0, 1.0]]\nevery = 0.01\n\n[[fem.recorders]]\nname = "
+        "\"water-elements\"\nelements = [[5.5, 0.5]]\nevery = 0.01\n";
     const fs::path case_file = write_case(dir, column.text());
     const std::string base = case_file.string() + " --quiet -o ";
     ASSERT_EQ(fem_solve(base + (dir / "one").string(), dir).status, 0);
@@ -207,6 +210,17 @@ TEST(FemSolveCli, SaturatedRestartContinuesBitForBit) {
                   .status,
               0);
     expect_identical(dir / "one" / "fem_t0.400.h5", dir / "two" / "fem_t0.400.h5");
+    // Recorders add p and Δp per node and p and r_u per element, and continue through the
+    // restart as the run does.
+    std::string columns;
+    for (const char* name : {"water.csv", "water-elements.csv"}) {
+      const std::string recorded = read_text(dir / "one" / "recorders" / name);
+      EXPECT_EQ(recorded, read_text(dir / "two" / "recorders" / name)) << name;
+      columns += recorded.substr(0, recorded.find('\n')) + ",";
+    }
+    for (const char* suffix : {"_p,", "_dp,", "_ru,"}) {
+      EXPECT_NE(columns.find(suffix), std::string::npos) << suffix << " in " << columns;
+    }
     // The collapse did move the water: p is no longer the hydrostatic field.
     const FemCheckpoint end = read_fem_checkpoint(dir / "one" / "fem_t0.400.h5");
     double largest_excess = 0.0;
