@@ -11,6 +11,7 @@
 #include "fem/element_kernels.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_quality.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
 
@@ -40,7 +41,7 @@ std::string damping_summary(const DampingSpec& damping) {
 
 void FemOutputs::open(bool resume, double time) {
   const std::filesystem::path& folder = plan_.run.output.folder;
-  history_.emplace(folder / "fem_history.csv");
+  history_.emplace(folder / "fem_history.csv", model_.fluid.active());
   if (plan_.run.output.write_vtk) {
     vtk_.emplace(folder);
     log_.info("VTK frames: {}", run::describe_vtk_every(plan_.run.output.vtk_every));
@@ -534,6 +535,20 @@ HistoryRow ExplicitStage::history_row(const ElementQuality& quality) {
   row.area_ratio = summary.area_ratio;
   row.scaled_jacobian_min = summary.scaled_jacobian_min;
   row.scaled_jacobian_avg = summary.scaled_jacobian_avg;
+  if (model_.fluid.active()) {
+    std::vector<double> ratio;
+    pore_pressure_ratio(model_, state_, ratio);
+    const auto n_gauss = static_cast<std::size_t>(model_.gauss_per_element());
+    row.pore_pressure_ratio_max = *std::ranges::max_element(ratio);
+    row.high_pore_pressure_area = 0.0;
+    for (std::size_t e = 0; e < model_.elements.volume_reference.size(); ++e) {
+      double mean = 0.0;
+      for (std::size_t g = 0; g < n_gauss; ++g) mean += ratio[e * n_gauss + g];
+      if (mean / static_cast<double>(n_gauss) >= high_pore_pressure_ratio) {
+        row.high_pore_pressure_area += model_.elements.volume_reference[e];
+      }
+    }
+  }
   return row;
 }
 

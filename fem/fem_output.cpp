@@ -114,21 +114,42 @@ bool HistoryRow::inverted() const {
 
 namespace {
 
-std::vector<double> values_of(const HistoryRow& r) {
-  return {r.time,        r.kinetic_energy,      r.pe0,
-          r.ke_over_pe0, r.jacobian_ratio_min,  r.jacobian_ratio_avg,
-          r.eps_q_avg,   r.eps_q_max,           static_cast<double>(r.n_elements_yielding),
-          r.area_ratio,  r.scaled_jacobian_min, r.scaled_jacobian_avg};
+std::vector<double> values_of(const HistoryRow& r, bool water) {
+  std::vector<double> values{
+      r.time,        r.kinetic_energy,      r.pe0,
+      r.ke_over_pe0, r.jacobian_ratio_min,  r.jacobian_ratio_avg,
+      r.eps_q_avg,   r.eps_q_max,           static_cast<double>(r.n_elements_yielding),
+      r.area_ratio,  r.scaled_jacobian_min, r.scaled_jacobian_avg};
+  if (water) {
+    values.push_back(r.pore_pressure_ratio_max);
+    values.push_back(r.high_pore_pressure_area);
+  }
+  return values;
 }
 
 HistoryRow row_of(const std::vector<double>& v) {
-  return {v[0], v[1],  v[2], v[3], v[4], v[5], v[6], v[7], static_cast<Index>(v[8]),
-          v[9], v[10], v[11]};
+  HistoryRow row{v[0], v[1],  v[2], v[3], v[4], v[5], v[6], v[7], static_cast<Index>(v[8]),
+                 v[9], v[10], v[11]};
+  if (v.size() >= history_columns.size() + 2) {
+    row.pore_pressure_ratio_max = v[history_columns.size()];
+    row.high_pore_pressure_area = v[history_columns.size() + 1];
+  }
+  return row;
+}
+
+std::vector<std::string> columns_of(bool water) {
+  std::vector<std::string> columns = history_columns;
+  if (water) {
+    columns.insert(columns.end(), pore_water_history_columns.begin(),
+                   pore_water_history_columns.end());
+  }
+  return columns;
 }
 
 }  // namespace
 
-FemHistory::FemHistory(std::filesystem::path path) : csv_(std::move(path), history_columns) {}
+FemHistory::FemHistory(std::filesystem::path path, bool water)
+    : water_(water), csv_(std::move(path), columns_of(water)) {}
 
 void FemHistory::resume(double time, const Logger& logger) {
   csv_.resume(time, logger);
@@ -137,7 +158,7 @@ void FemHistory::resume(double time, const Logger& logger) {
 }
 
 void FemHistory::add(const HistoryRow& row) {
-  csv_.add(values_of(row));
+  csv_.add(values_of(row, water_));
   rows_.push_back(row);
 }
 

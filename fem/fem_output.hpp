@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,11 @@ struct HistoryRow {
   double area_ratio = 1.0;           ///< Σ V_t / Σ V_0
   double scaled_jacobian_min = 1.0;  ///< ≤ 0: an element is inverted (is_inverted)
   double scaled_jacobian_avg = 0.0;  ///< NaN ("nan") without elements above εq = 3 %
+  /// Saturated models only (the history's last two columns): the largest pore-pressure
+  /// ratio r_u of the Gauss points, and the area of the elements whose mean r_u is at
+  /// least high_pore_pressure_ratio, m² (per m, reference areas).
+  double pore_pressure_ratio_max = std::numeric_limits<double>::quiet_NaN();
+  double high_pore_pressure_area = std::numeric_limits<double>::quiet_NaN();
 
   /// Inside the recommended transfer zone (NaN averages count as inside).
   bool inside_zone() const;
@@ -60,7 +66,8 @@ struct HistoryRow {
 /// whole and atomically after every row, so that a stopped run leaves a complete file).
 class FemHistory {
  public:
-  explicit FemHistory(std::filesystem::path path);
+  /// `water`: a saturated model's history, with the pore-pressure columns.
+  FemHistory(std::filesystem::path path, bool water);
   /// On restart: keeps the rows of an existing file up to `time`; a missing or foreign
   /// file starts an empty history (with a warning). A history written before the area
   /// and shape columns existed is kept, those columns NaN.
@@ -69,6 +76,7 @@ class FemHistory {
   const std::vector<HistoryRow>& rows() const { return rows_; }
 
  private:
+  bool water_;
   run::HistoryCsv csv_;
   std::vector<HistoryRow> rows_;
 };
@@ -79,6 +87,12 @@ inline const std::vector<std::string> history_columns{
     "ke_over_pe0", "jacobian_ratio_min",  "jacobian_ratio_avg",
     "eps_q_avg",   "eps_q_max",           "n_elements_yielding",
     "area_ratio",  "scaled_jacobian_min", "scaled_jacobian_avg"};
+/// The columns a saturated model's history adds (docs/contract.md).
+inline const std::vector<std::string> pore_water_history_columns{"pore_pressure_ratio_max",
+                                                                 "high_pore_pressure_area"};
+/// The r_u from which an element counts in high_pore_pressure_area: the liquefaction
+/// criterion of docs/method.md §10.
+inline constexpr double high_pore_pressure_ratio = 0.7;
 
 /// OUT/vtk/fem_<step>.vtu (the mesh on the current coordinates) and
 /// OUT/vtk/fem_gauss_points_<step>.vtu (the Gauss points as a point cloud), collected in

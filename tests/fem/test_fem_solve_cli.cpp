@@ -183,6 +183,9 @@ TEST(FemSolveCli, RestartContinuesBitForBit) {
   }
 }
 
+/// The rows of a fem_history.csv by time in tenths of a second (defined below).
+std::map<int, std::vector<double>> history_rows(const fs::path& file);
+
 // A saturated column (fem/pore_fluid.hpp) whose right face is released: the pore
 // pressure moves with the collapse, and a restart continues it bit for bit, the
 // pore-pressure ratio's references (p_static, σ′v0) carried through the checkpoint.
@@ -221,6 +224,17 @@ TEST(FemSolveCli, SaturatedRestartContinuesBitForBit) {
     for (const char* suffix : {"_p,", "_dp,", "_ru,"}) {
       EXPECT_NE(columns.find(suffix), std::string::npos) << suffix << " in " << columns;
     }
+    // The history gains the largest r_u and the area with r_u ≥ 0.7: 0 at rest (t = 0),
+    // and it continues through the restart too.
+    const std::string history = read_text(dir / "one" / "fem_history.csv");
+    EXPECT_EQ(history, read_text(dir / "two" / "fem_history.csv"));
+    const std::string first = history.substr(0, history.find('\n'));
+    EXPECT_TRUE(first.ends_with(",pore_pressure_ratio_max,high_pore_pressure_area")) << first;
+    const auto rows = history_rows(dir / "one" / "fem_history.csv");
+    ASSERT_FALSE(rows.empty());
+    EXPECT_EQ(rows.begin()->second.at(12), 0.0);  // t = 0: no excess pore pressure
+    EXPECT_EQ(rows.begin()->second.at(13), 0.0);
+    EXPECT_GT(rows.rbegin()->second.at(12), 0.0);
     // The collapse did move the water: p is no longer the hydrostatic field.
     const FemCheckpoint end = read_fem_checkpoint(dir / "one" / "fem_t0.400.h5");
     double largest_excess = 0.0;

@@ -291,7 +291,7 @@ TEST(History, RowsOfAHistoryWithoutTheShapeColumnsAreKeptOnRestart) {
                          "jacobian_ratio_avg,eps_q_avg,eps_q_max,n_elements_yielding\n"
                       << "0,0,100,0,1,nan,nan,0,5\n0.1,2,100,0.02,-0.5,0.9,0.04,0.1,3\n"
                       << "0.2,3,100,0.03,-0.6,0.8,0.05,0.2,2\n";
-  FemHistory history(path);
+  FemHistory history(path, false);
   history.resume(0.1, Logger("test", true));
   ASSERT_EQ(history.rows().size(), 2U);
   EXPECT_EQ(history.rows()[1].n_elements_yielding, 3);
