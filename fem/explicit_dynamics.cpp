@@ -238,6 +238,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
     update_stresses(model_, model_.reference, models_, dt, false, state);
     pressure_clamps_ +=
         advance_pore_pressure(model_, model_.reference, dt, state, pressure_rate_).clamped;
+    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied, state);
   } else {
     ul_.saved_displacement = state.displacement;
     ul_.saved_velocity = state.velocity;
@@ -257,6 +258,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
     update_stresses(model_, ul_.current, models_, dt, true, state);
     pressure_clamps_ +=
         advance_pore_pressure(model_, ul_.current, dt, state, pressure_rate_).clamped;
+    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied, state);
     ul_.geometry_step = state.step + 1;
   }
   state.time += dt;

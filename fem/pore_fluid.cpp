@@ -209,6 +209,24 @@ PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeome
   return result;
 }
 
+void tie_pore_pressure(const FemModel& model, std::span<const std::pair<Index, Index>> tied,
+                       FemState& state) {
+  const PoreFluid& fluid = model.fluid;
+  if (!fluid.active()) return;
+  for (const auto& [i, j] : tied) {
+    const auto a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(j);
+    double& pa = state.pore_pressure[a];
+    double& pc = state.pore_pressure[c];
+    if (fluid.prescribed[a] || fluid.prescribed[c]) {
+      if (!fluid.prescribed[c]) pc = pa;
+      if (!fluid.prescribed[a]) pa = pc;
+      continue;
+    }
+    pa = pc =
+        (fluid.storage[a] * pa + fluid.storage[c] * pc) / (fluid.storage[a] + fluid.storage[c]);
+  }
+}
+
 double pore_fluid_time_step(const FemModel& model) {
   const PoreFluid& fluid = model.fluid;
   double smallest = std::numeric_limits<double>::infinity();

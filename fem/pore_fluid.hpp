@@ -36,6 +36,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fem/fem_model.hpp"
@@ -62,6 +63,12 @@ struct PorePressureStep {
 /// (the rates go through `rate`, a scratch of the node count).
 PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeometry& geometry,
                                        double dt, FemState& state, std::vector<double>& rate);
+
+/// Tied side pairs (the free-field columns of a shaken stage, fem/seismic_boundary.hpp)
+/// share their pore pressure as they share their motion: the storage-weighted mean of the
+/// pair, or the held value when one of them is held.
+void tie_pore_pressure(const FemModel& model, std::span<const std::pair<Index, Index>> tied,
+                       FemState& state);
 
 /// The step of the Darcy term's forward Euler, min_e h_e²/(4 D_e) with
 /// D_e = max(k_x, k_y)/γ_w · K_f/n_e and h_e the element's Courant length (infinite

@@ -1,8 +1,11 @@
 // The seismic boundaries of fem/seismic_boundary.hpp on small meshes: dashpot lengths,
 // tie pairing, and the static reactions the released supports keep.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "common/base/error.hpp"
+#include "fem/explicit_dynamics.hpp"
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/model_setup.hpp"
@@ -107,6 +110,53 @@ TEST(SeismicBoundary, RigidBaseCornersAreNotTiedAndViscousSidesUseTheSoilsSpeeds
   // The left edge's 4 m less the base corner's half cell (a rigid base's node).
   EXPECT_NEAR(normal, m.density * m.p_wave_speed() * 3.75, 1e-9 * normal);
   EXPECT_NEAR(tangential, m.density * vs * 3.75, 1e-9 * tangential);
+}
+
+// Tied sides of a saturated column (fem/pore_fluid.hpp) share their pore pressure as
+// they share their motion: on a distorted mesh, whose two sides would otherwise drift
+// apart, every pair ends a second of shaking with one pressure, and the shaking did
+// move the water.
+TEST(SeismicBoundary, TiedSidesShareTheirPorePressure) {
+  Material sand = synthetic::soil(MaterialModel::linear_elastic, 2000.0);
+  sand.porosity = 0.4;
+  sand.conductivity_x = sand.conductivity_y = 1e-5;
+  WaterSpec water;
+  water.level = 4.0;
+  water.bulk_modulus = 0.2e9;
+  Mesh mesh = testing::rectangle_mesh(ElementType::quad4_1gp, 4, 8, 2.0, 4.0);
+  testing::distort_interior(mesh, 0.5, 0.2);
+  const FemModel model =
+      make_model(std::move(mesh), {sand}, Kinematics::small_strain, 1.0, gravity_vector(), water);
+  FemState state = make_rest_state(model);
+  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
+                              {"right", BoundaryCondition::roller},
+                              {"base", BoundaryCondition::roller}};
+  solve_geostatic(model, make_constraints(model.mesh, rollers, "test"), state);
+  AccelerationRecord shaking;
+  for (int k = 0; k <= 100; ++k) {
+    shaking.time.push_back(0.01 * k);
+    shaking.acceleration.push_back(2.0 * std::sin(2.0 * 3.141592653589793 * 5.0 * 0.01 * k));
+  }
+  const GroundMotion motion(shaking, {}, 0.0, 1e-4, true);
+  const SeismicBoundary b =
+      make_seismic_boundary(model, compliant_tied(), motion, support_reactions(model, state));
+  std::vector<ConstitutiveModel> models{ConstitutiveModel::from(sand)};
+  ExplicitSolver solver(model,
+                        make_constraints(model.mesh, {{"base", BoundaryCondition::free}}, "test"),
+                        0.0, {}, models);
+  solver.set_seismic(&b);
+  const double dt = solver.stable_time_step(state, 0.5);
+  while (state.time < 1.0) solver.step(state, dt);
+  double excess = 0.0;
+  for (std::size_t n = 0; n < state.pore_pressure.size(); ++n) {
+    excess = std::max(excess, std::abs(state.pore_pressure[n] - state.static_pore_pressure[n]));
+  }
+  EXPECT_GT(excess, 100.0);  // Pa: the shaking moved the water
+  for (const auto& [left, right] : b.tied) {
+    EXPECT_EQ(state.pore_pressure[static_cast<std::size_t>(left)],
+              state.pore_pressure[static_cast<std::size_t>(right)])
+        << left << " " << right;
+  }
 }
 
 }  // namespace
