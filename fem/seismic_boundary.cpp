@@ -8,6 +8,7 @@
 
 #include "common/base/error.hpp"
 #include "fem/element_kernels.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
 
@@ -39,22 +40,25 @@ std::map<Index, double> tributary_lengths(const Mesh& mesh, const NodeSet& set) 
   return length;
 }
 
-/// The material of the first element at a node.
-const Material& material_at(const FemModel& model, Index node) {
+/// The first element at a node.
+Index element_at(const FemModel& model, Index node) {
   const auto n = static_cast<std::size_t>(node);
   const auto slot = model.adjacency.slots[static_cast<std::size_t>(model.adjacency.offsets[n])];
-  return model.material_of(slot / model.nodes_per_element);
+  return slot / model.nodes_per_element;
 }
 
 /// Lysmer dashpots of the soil on a vertical edge: normal ρ V_p L, tangential ρ V_s L,
-/// and the horizontal static reaction.
+/// and the horizontal static reaction. ρ and V_p are the element's (ElementConstants):
+/// a saturated element's ρ_sat and undrained V_p,u, a porous one's dry ρ above the table.
 void make_viscous(const FemModel& model, Index node, double length,
                   const std::vector<Vec2>& reactions, SeismicBoundary& boundary) {
-  const Material& m = material_at(model, node);
+  const Index e = element_at(model, node);
+  const auto ei = static_cast<std::size_t>(e);
+  const double density = model.elements.density[ei];
   const auto n = static_cast<std::size_t>(node);
-  const double shear_speed = std::sqrt(m.shear_modulus() / m.density);
+  const double shear_speed = std::sqrt(model.material_of(e).shear_modulus() / density);
   boundary.dashpot[n] +=
-      Vec2(m.density * m.p_wave_speed() * length, m.density * shear_speed * length);
+      Vec2(density * model.elements.wave_speed[ei] * length, density * shear_speed * length);
   boundary.static_force[n].x() += reactions[n].x();
   ++boundary.viscous_side_nodes;
 }
@@ -67,6 +71,8 @@ std::vector<Vec2> support_reactions(const FemModel& model, const FemState& state
   FemState at_rest = state;
   std::ranges::fill(at_rest.velocity, Vec2::Zero());
   compute_element_forces(model, model.reference, at_rest, element_force);
+  // With pore water the supports also hold the water's thrust.
+  add_pore_pressure_forces(model, model.reference, state.pore_pressure, element_force);
   std::vector<Vec2> reactions(static_cast<std::size_t>(model.node_count()));
   for (std::size_t n = 0; n < reactions.size(); ++n) {
     Vec2 force = model.lumped.gravity_force[n];
