@@ -42,7 +42,9 @@ for trial in 1 2 3; do
   pkill -KILL -f -- "-o $work/$out " 2> /dev/null
   kill -KILL $launcher 2> /dev/null
   wait $launcher 2> /dev/null
-  last=$(ls "$work/$out"/mpm_t*.h5 2> /dev/null | sort | tail -1)
+  # The last checkpoint before the end time: on a loaded machine the kill may land after
+  # the run wrote its final one (mpm_t1.200.h5), from which there is nothing to continue.
+  last=$(ls "$work/$out"/mpm_t*.h5 2> /dev/null | grep -v 'mpm_t1\.200\.h5$' | sort | tail -1)
   left=$(ls -A "$work/$out" 2> /dev/null | grep -c 'tmp-\|slide-lock')
   if [[ -z $last ]]; then  # killed before its first checkpoint: run again into the folder
     run "$out" > /dev/null 2> "$work/$out.restart.err"
