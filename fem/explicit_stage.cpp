@@ -538,13 +538,11 @@ HistoryRow ExplicitStage::history_row(const ElementQuality& quality) {
   if (model_.fluid.active()) {
     std::vector<double> ratio;
     pore_pressure_ratio(model_, state_, ratio);
-    const auto n_gauss = static_cast<std::size_t>(model_.gauss_per_element());
     row.pore_pressure_ratio_max = *std::ranges::max_element(ratio);
+    const std::vector<double> element_ratio = element_pore_pressure_ratio(model_, ratio);
     row.high_pore_pressure_area = 0.0;
-    for (std::size_t e = 0; e < model_.elements.volume_reference.size(); ++e) {
-      double mean = 0.0;
-      for (std::size_t g = 0; g < n_gauss; ++g) mean += ratio[e * n_gauss + g];
-      if (mean / static_cast<double>(n_gauss) >= high_pore_pressure_ratio) {
+    for (std::size_t e = 0; e < element_ratio.size(); ++e) {
+      if (element_ratio[e] >= high_pore_pressure_ratio) {
         row.high_pore_pressure_area += model_.elements.volume_reference[e];
       }
     }

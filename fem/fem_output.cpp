@@ -214,14 +214,10 @@ struct PoreWaterFields {
   std::vector<double> excess, gauss_pressure, gauss_ratio, ratio;
 
   PoreWaterFields(const FemModel& model, const FemState& state)
-      : excess(excess_pore_pressure(state)),
-        ratio(static_cast<std::size_t>(model.element_count()), 0.0) {
+      : excess(excess_pore_pressure(state)) {
     gauss_point_pressure(model, state.pore_pressure, gauss_pressure);
     pore_pressure_ratio(model, state, gauss_ratio);
-    const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
-    for (std::size_t gp = 0; gp < gauss_ratio.size(); ++gp) {
-      ratio[gp / n_gauss] += gauss_ratio[gp] / static_cast<double>(n_gauss);
-    }
+    ratio = element_pore_pressure_ratio(model, gauss_ratio);
   }
 
   /// The fields point into this object and `state`: both must outlive the writing.

@@ -290,6 +290,16 @@ ElementPoreWater element_pore_water(const FemModel& model, const FemState& state
   return water;
 }
 
+std::vector<double> element_pore_pressure_ratio(const FemModel& model,
+                                                std::span<const double> gauss_ratio) {
+  const auto n_gauss = static_cast<std::size_t>(model.gauss_per_element());
+  std::vector<double> ratio(static_cast<std::size_t>(model.element_count()), 0.0);
+  for (std::size_t gp = 0; gp < gauss_ratio.size(); ++gp) {
+    ratio[gp / n_gauss] += gauss_ratio[gp] / static_cast<double>(n_gauss);
+  }
+  return ratio;
+}
+
 std::vector<double> excess_pore_pressure(const FemState& state) {
   std::vector<double> excess;
   if (state.static_pore_pressure.size() != state.pore_pressure.size()) return excess;

@@ -79,6 +79,10 @@ double pore_fluid_time_step(const FemModel& model);
 /// deposit σ′v0 → 0 and the ratio of two small numbers says nothing.
 inline constexpr double min_ratio_stress = 1e3;  // Pa
 
+/// r_u per element, the mean over its Gauss points (pore_pressure_ratio).
+std::vector<double> element_pore_pressure_ratio(const FemModel& model,
+                                                std::span<const double> gauss_ratio);
+
 /// Δp = p − p_static at every node (empty for a dry state).
 std::vector<double> excess_pore_pressure(const FemState& state);
 

@@ -112,26 +112,40 @@ TEST(SeismicBoundary, RigidBaseCornersAreNotTiedAndViscousSidesUseTheSoilsSpeeds
   EXPECT_NEAR(tangential, m.density * vs * 3.75, 1e-9 * tangential);
 }
 
+/// A saturated sand column of column()'s mesh (n = 0.4, k = 1e-5 m/s), the water table at
+/// `level`, its interior nodes moved when `distorted`, in geostatic equilibrium on rollers.
+struct SaturatedColumn {
+  Material sand;
+  FemModel model;
+  FemState state;
+};
+SaturatedColumn saturated_column(double level, double bulk_modulus, bool distorted) {
+  Material sand = synthetic::soil(MaterialModel::linear_elastic, 2000.0);
+  sand.porosity = 0.4;
+  sand.conductivity_x = sand.conductivity_y = 1e-5;
+  WaterSpec water;
+  water.level = level;
+  water.bulk_modulus = bulk_modulus;
+  Mesh mesh = testing::rectangle_mesh(ElementType::quad4_1gp, 4, 8, 2.0, 4.0);
+  if (distorted) testing::distort_interior(mesh, 0.5, 0.2);
+  SaturatedColumn c{
+      sand,
+      make_model(std::move(mesh), {sand}, Kinematics::small_strain, 1.0, gravity_vector(), water),
+      {}};
+  c.state = make_rest_state(c.model);
+  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
+                              {"right", BoundaryCondition::roller},
+                              {"base", BoundaryCondition::roller}};
+  solve_geostatic(c.model, make_constraints(c.model.mesh, rollers, "test"), c.state);
+  return c;
+}
+
 // Tied sides of a saturated column (fem/pore_fluid.hpp) share their pore pressure as
 // they share their motion: on a distorted mesh, whose two sides would otherwise drift
 // apart, every pair ends a second of shaking with one pressure, and the shaking did
 // move the water.
 TEST(SeismicBoundary, TiedSidesShareTheirPorePressure) {
-  Material sand = synthetic::soil(MaterialModel::linear_elastic, 2000.0);
-  sand.porosity = 0.4;
-  sand.conductivity_x = sand.conductivity_y = 1e-5;
-  WaterSpec water;
-  water.level = 4.0;
-  water.bulk_modulus = 0.2e9;
-  Mesh mesh = testing::rectangle_mesh(ElementType::quad4_1gp, 4, 8, 2.0, 4.0);
-  testing::distort_interior(mesh, 0.5, 0.2);
-  const FemModel model =
-      make_model(std::move(mesh), {sand}, Kinematics::small_strain, 1.0, gravity_vector(), water);
-  FemState state = make_rest_state(model);
-  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
-                              {"right", BoundaryCondition::roller},
-                              {"base", BoundaryCondition::roller}};
-  solve_geostatic(model, make_constraints(model.mesh, rollers, "test"), state);
+  auto [sand, model, state] = saturated_column(4.0, 0.2e9, true);
   AccelerationRecord shaking;
   for (int k = 0; k <= 100; ++k) {
     shaking.time.push_back(0.01 * k);
@@ -164,18 +178,7 @@ TEST(SeismicBoundary, TiedSidesShareTheirPorePressure) {
 // pore pressure), and the dashpots only act on motion. Without the water's share the
 // sides would push the column in by the hydrostatic thrust.
 TEST(SeismicBoundary, ViscousSidesHoldASaturatedColumnAtRest) {
-  Material sand = synthetic::soil(MaterialModel::linear_elastic, 2000.0);
-  sand.porosity = 0.4;
-  sand.conductivity_x = sand.conductivity_y = 1e-5;
-  WaterSpec water;
-  water.level = 3.0;
-  const FemModel model = make_model(testing::rectangle_mesh(ElementType::quad4_1gp, 4, 8, 2.0, 4.0),
-                                    {sand}, Kinematics::small_strain, 1.0, gravity_vector(), water);
-  FemState state = make_rest_state(model);
-  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
-                              {"right", BoundaryCondition::roller},
-                              {"base", BoundaryCondition::roller}};
-  solve_geostatic(model, make_constraints(model.mesh, rollers, "test"), state);
+  auto [sand, model, state] = saturated_column(3.0, 2.2e9, false);
   const GroundMotion still(AccelerationRecord{{0.0, 1.0}, {0.0, 0.0}}, {}, 0.0, 1e-4, false);
   MotionSpec spec;
   spec.base = SeismicBase::rigid;
