@@ -105,7 +105,7 @@ double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
 
 Vec2 ExplicitSolver::nodal_force(Index node) const {
   const auto n = static_cast<std::size_t>(node);
-  Vec2 force = model_.lumped.gravity_force[n];
+  Vec2 force = model_.lumped.external_force[n];
   const auto begin = static_cast<std::size_t>(model_.adjacency.offsets[n]);
   const auto end = static_cast<std::size_t>(model_.adjacency.offsets[n + 1]);
   for (std::size_t i = begin; i < end; ++i) {
@@ -228,7 +228,7 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) {
 void ExplicitSolver::element_forces(const FemState& state) {
   const ElementGeometry& geometry = geometry_for(state);
   compute_element_forces(model_, geometry, state, element_force_, damping_.rayleigh_stiffness);
-  add_pore_pressure_forces(model_, geometry, state.pore_pressure, element_force_);
+  add_pore_pressure_forces(model_, geometry, state.element_pore_pressure, element_force_);
 }
 
 Index ExplicitSolver::step(FemState& state, double dt) {
@@ -237,8 +237,8 @@ Index ExplicitSolver::step(FemState& state, double dt) {
     update_nodes(state, dt);
     update_stresses(model_, model_.reference, models_, dt, false, state);
     pressure_clamps_ +=
-        advance_pore_pressure(model_, model_.reference, dt, state, pressure_rate_).clamped;
-    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied, state);
+        advance_pore_pressure(model_, model_.reference, dt, state, pressure_scratch_).clamped;
+    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied_elements, state);
   } else {
     ul_.saved_displacement = state.displacement;
     ul_.saved_velocity = state.velocity;
@@ -257,8 +257,8 @@ Index ExplicitSolver::step(FemState& state, double dt) {
     }
     update_stresses(model_, ul_.current, models_, dt, true, state);
     pressure_clamps_ +=
-        advance_pore_pressure(model_, ul_.current, dt, state, pressure_rate_).clamped;
-    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied, state);
+        advance_pore_pressure(model_, ul_.current, dt, state, pressure_scratch_).clamped;
+    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied_elements, state);
     ul_.geometry_step = state.step + 1;
   }
   state.time += dt;

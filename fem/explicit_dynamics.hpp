@@ -33,6 +33,7 @@
 #include "common/physics/nodal_update.hpp"
 #include "common/settings/fem_spec.hpp"
 #include "fem/fem_model.hpp"
+#include "fem/pore_fluid.hpp"
 #include "fem/seismic_boundary.hpp"
 
 namespace slide::fem {
@@ -131,7 +132,7 @@ class ExplicitSolver {
   double boundary_work_ = 0.0;
   double fluid_step_ = 0.0;  ///< the Darcy term's stable step (pore_fluid_time_step)
   std::size_t pressure_clamps_ = 0;
-  std::vector<double> pressure_rate_;  ///< scratch of the pore-pressure update
+  PressureScratch pressure_scratch_;  ///< scratch of the pore-pressure update
   /// Scratch of the nodal update.
   struct NodalScratch {
     std::vector<Vec2> next_velocity, trial;

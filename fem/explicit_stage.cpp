@@ -174,8 +174,8 @@ std::string ExplicitStage::small_step_reason(bool fluid_binds, double damping_re
   if (fem.time_step > 0.0) return "fem.time_step is too small";
   if (fluid_binds) {
     return fmt::format(
-        "the pore-pressure diffusion limit h²/(4D), D = (k/γ_w) K_f/n, is {:.3g} s (lower "
-        "fem.water.bulk_modulus or a conductivity)",
+        "the pore-pressure diffusion limit S_e/ΣT (h²/(4D) on squares, D = (k/γ_w) K_f/n) is "
+        "{:.3g} s (lower fem.water.bulk_modulus or a conductivity)",
         solver_->fluid_time_step());
   }
   if (damping_reduction < 0.5) {
@@ -220,7 +220,7 @@ void ExplicitStage::choose_time_step(bool announce) {
   std::string step_kind = fem.time_step > 0.0 ? "fixed"
                           : fluid_step < mechanical_step
                               ? fmt::format(
-                                    "pore-pressure diffusion h²/(4D); Courant C = {} "
+                                    "pore-pressure diffusion S_e/ΣT; Courant C = {} "
                                     "would give {:.4g} s",
                                     fem.courant, mechanical_step)
                               : fmt::format("Courant C = {}", fem.courant);
@@ -264,13 +264,14 @@ run::StartOutput ExplicitStage::start() {
 void ExplicitStage::log_pore_water() const {
   const PoreFluid& fluid = model_.fluid;
   const auto saturated = std::ranges::count(fluid.saturated, std::uint8_t{1});
-  const auto held = std::ranges::count(fluid.prescribed, std::uint8_t{1});
+  const auto drained =
+      std::ranges::count_if(fluid.faces, [](const FluidFace& f) { return f.to < 0; });
   log_.info(
       "pore water: table at y = {} m, ρ_w = {} kg/m³, K_f = {:.4g} Pa, tension limit {:.4g} Pa; "
-      "{} of {} elements saturated (u–p), {} pressure nodes free, {} held (drained, on or "
-      "above the table, or dry)",
+      "{} of {} elements saturated (u–p, one pressure each), {} faces between them, {} drained "
+      "(on or above the table, or in a drained set)",
       fluid.level_point.y(), fluid.density, fluid.bulk_modulus, fluid.tension_limit, saturated,
-      model_.element_count(), model_.node_count() - held, held);
+      model_.element_count(), static_cast<std::ptrdiff_t>(fluid.faces.size()) - drained, drained);
   // Skempton's B of an undrained element, 1/(1 + n K/K_f) with incompressible grains: the
   // share of an isotropic load the water takes. A lowered K_f (the speed knob) lowers it.
   constexpr double water_bulk_modulus = 2.2e9;

@@ -17,6 +17,7 @@ FemState make_rest_state(const FemModel& model) {
   }
   if (model.fluid.active()) {  // the pore-pressure ratio's references (fe_fields.hpp)
     state.static_pore_pressure.assign(static_cast<std::size_t>(model.node_count()), 0.0);
+    state.element_pore_pressure.assign(static_cast<std::size_t>(model.element_count()), 0.0);
     state.initial_vertical_effective_stress.assign(static_cast<std::size_t>(model.gauss_count()),
                                                    0.0);
   }

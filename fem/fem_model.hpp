@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -67,31 +68,38 @@ struct ElementConstants {
   std::vector<double> wave_speed;
 };
 
+/// A face the pore water flows through (two-point flux, fem/pore_fluid.hpp): between the
+/// saturated elements `from` and `to`, or from `from` to a drained face (`to` = −1) held
+/// at `pressure`. The flow from → to is T (φ_from − φ_to), φ = p − ρ_w (g − a)·x.
+struct FluidFace {
+  Index from = 0;
+  Index to = -1;
+  double transmissibility = 0.0;  ///< T, m²/(Pa·s) (per m)
+  Vec2 offset = Vec2::Zero();     ///< x_to − x_from (centres, or the face's midpoint), m
+  double pressure = 0.0;          ///< a drained face's p, Pa
+};
+
 /// The pore water of a model with saturated elements (docs/method.md §10, fem/pore_fluid.hpp):
-/// nodal pressure p (compression positive) on the saturated elements' nodes, stored with
-/// the lumped storage S, driven by the skeleton's volume change and Darcy flow. Empty
-/// (active() false) for a dry model.
+/// one pore pressure p per saturated element (compression positive), stored with the
+/// element's storage S_e, driven by the element's volume change and by Darcy flow across
+/// its faces; the nodal p of the output is the storage-weighted mean of the elements
+/// around the node. Empty (active() false) for a dry model.
 struct PoreFluid {
   double density = 1000.0;          ///< ρ_w, kg/m³
   double bulk_modulus = 2.2e9;      ///< K_f, Pa
   double tension_limit = -100e3;    ///< lowest p, Pa
   Vec2 level_point = Vec2::Zero();  ///< a point of the water table, (0, level)
   Vec2 gravity = Vec2::Zero();      ///< g, m/s²
+  /// A reservoir's free surface: a point of it, (0, level); none without a reservoir.
+  std::optional<Vec2> reservoir_point;
 
   // Per element.
-  std::vector<std::uint8_t> saturated;  ///< 1: u–p (porous material, centre below the level)
-  std::vector<Vec2> mobility;           ///< (k_x, k_y)/γ_w, m²/(Pa·s) (per m)
-  // Per flux point: the Darcy term is integrated with the full rule of the element's
-  // shape (2×2 for quads, so that a one-point quad has no zero-energy pressure mode),
-  // on the reference geometry.
-  int flux_points = 1;                         ///< per element
-  std::vector<ShapeGradients> flux_gradients;  ///< ∂N_k/∂x, 1/m
-  std::vector<double> flux_weight;             ///< w·det J, m²
-  std::vector<ShapeValues> flux_shape;         ///< N_k at the flux rule's points
-  /// N_k at the mechanical rule's points (the same for every element): p at a Gauss point.
-  std::vector<ShapeValues> gauss_shape;
-  // Per node.
-  std::vector<double> storage;           ///< S_I = Σ_e (n_e/K_f) ∫N_I dA, m²/Pa (per m)
+  std::vector<std::uint8_t> saturated;      ///< 1: u–p (porous material, centre below the level)
+  std::vector<double> storage;              ///< S_e = (n_e/K_f) A_e, m²/Pa (per m; 0 when dry)
+  std::vector<double> element_hydrostatic;  ///< p_h at the centre (its nodes' mean), Pa
+  std::vector<FluidFace> faces;             ///< the faces water crosses
+  // Per node (the output's nodal p).
+  std::vector<double> node_storage;      ///< Σ S_e of the saturated elements around the node
   std::vector<std::uint8_t> prescribed;  ///< 1: p held at its hydrostatic value
   std::vector<double> hydrostatic;       ///< p_h(X_I), Pa (0 off the saturated elements)
 
@@ -110,8 +118,10 @@ struct PoreFluid {
 
 /// Per node, lumped (row sums).
 struct LumpedNodes {
-  std::vector<double> mass;         ///< m_I = Σ_e ∫ N_I ρ dA, kg (per m)
-  std::vector<Vec2> gravity_force;  ///< m_I g, N (per m)
+  std::vector<double> mass;  ///< m_I = Σ_e ∫ N_I ρ dA, kg (per m)
+  /// The constant external forces: m_I g, plus a reservoir's water load on the wetted
+  /// boundary (fem/pore_fluid.hpp), N (per m).
+  std::vector<Vec2> external_force;
 };
 
 /// Node → element slots (e·nodes_per_element + k), CSR: the forces of node n are the

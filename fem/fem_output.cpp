@@ -98,6 +98,12 @@ FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& check
         "has [fem.water]",
         file.string());
   }
+  if (!model.fluid.active()) {
+    state.element_pore_pressure.clear();
+  } else if (state.element_pore_pressure.empty()) {
+    // Written before elements carried p (fem/pore_fluid.hpp): each element's mean of its nodes.
+    state.element_pore_pressure = element_mean_of_nodes(model, state.pore_pressure);
+  }
   state.yielded.assign(state.stress.size(), 0);
   return state;
 }
@@ -215,7 +221,7 @@ struct PoreWaterFields {
 
   PoreWaterFields(const FemModel& model, const FemState& state)
       : excess(excess_pore_pressure(state)) {
-    gauss_point_pressure(model, state.pore_pressure, gauss_pressure);
+    gauss_point_pressure(model, state.element_pore_pressure, gauss_pressure);
     pore_pressure_ratio(model, state, gauss_ratio);
     ratio = element_pore_pressure_ratio(model, gauss_ratio);
   }

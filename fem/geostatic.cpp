@@ -121,12 +121,13 @@ Eigen::SparseMatrix<double> reduced_stiffness(const FemModel& model, const Reduc
 /// The reduced load Tᵀ f: gravity, and with pore water the hydrostatic pressure's push
 /// Q p_h on the skeleton, so that the solid carries the effective stress.
 Eigen::VectorXd reduced_load(const FemModel& model, const ReducedSystem& r) {
-  std::vector<Vec2> force = model.lumped.gravity_force;
+  std::vector<Vec2> force = model.lumped.external_force;
   if (model.fluid.active()) {
     const auto npe = static_cast<std::size_t>(model.nodes_per_element);
     std::vector<Vec2> element_force(static_cast<std::size_t>(model.element_count()) * npe,
                                     Vec2::Zero());
-    add_pore_pressure_forces(model, model.reference, model.fluid.hydrostatic, element_force);
+    add_pore_pressure_forces(model, model.reference, model.fluid.element_hydrostatic,
+                             element_force);
     for (std::size_t slot = 0; slot < element_force.size(); ++slot) {
       force[static_cast<std::size_t>(model.mesh.connectivity[slot])] += element_force[slot];
     }
@@ -199,6 +200,7 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
     // The state before shaking: r_u = (p − p_static)/σ′v0 from here on.
     state.pore_pressure = model.fluid.hydrostatic;
     state.static_pore_pressure = model.fluid.hydrostatic;
+    state.element_pore_pressure = model.fluid.element_hydrostatic;
     for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
       state.initial_vertical_effective_stress[gp] = -state.stress[gp][1];
     }

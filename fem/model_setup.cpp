@@ -101,10 +101,10 @@ void compute_masses(FemModel& model) {
     model.elements.mass[e] = density * model.elements.volume_reference[e];
     add_element_mass(m, ei, density, model.lumped.mass);
   }
-  model.lumped.gravity_force.resize(model.lumped.mass.size());
+  model.lumped.external_force.resize(model.lumped.mass.size());
   for (std::size_t n = 0; n < model.lumped.mass.size(); ++n) {
     if (!(model.lumped.mass[n] > 0.0)) throw Error("mesh: node {} belongs to no element", n);
-    model.lumped.gravity_force[n] = model.lumped.mass[n] * model.gravity;
+    model.lumped.external_force[n] = model.lumped.mass[n] * model.gravity;
   }
 }
 
@@ -156,6 +156,7 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
     model.fluid.bulk_modulus = water->bulk_modulus;
     model.fluid.tension_limit = water->tension_limit;
     model.fluid.level_point = Vec2(0.0, water->level);
+    if (water->reservoir) model.fluid.reservoir_point = Vec2(0.0, *water->reservoir);
     model.fluid.gravity = gravity;
   }
   compute_densities(model, water);

@@ -1,8 +1,11 @@
 #include "fem/pore_fluid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <tuple>
 
 #include "common/base/error.hpp"
 
@@ -15,89 +18,14 @@ namespace {
 /// model's gravity (a gravity-free verification model keeps its flow).
 constexpr double standard_gravity = 9.81;
 
-/// The rule the Darcy term is integrated with: the full rule of the element's shape.
-std::vector<QuadraturePoint> flux_rule(ElementShape shape) {
-  if (shape == ElementShape::quad4) return tensor_gauss_legendre(2, 2);
-  return {QuadraturePoint{reference_centre(shape), reference_measure(shape)}};
-}
-
-template <int NPE>
-double element_pressure(const Index* nodes, std::span<const double> p, const ShapeValues& n) {
-  double value = 0.0;
-  for (int k = 0; k < NPE; ++k)
-    value += n[static_cast<std::size_t>(k)] * p[static_cast<std::size_t>(nodes[k])];
-  return value;
-}
-
-template <int NPE>
-void add_forces(const FemModel& model, const ElementGeometry& geometry,
-                std::span<const double> pore_pressure, std::span<Vec2> element_force) {
-  const PoreFluid& fluid = model.fluid;
-  const int ngp = model.gauss_per_element();
-  const Index* connectivity = model.mesh.connectivity.data();
-  for (Index e = 0; e < model.element_count(); ++e) {
-    if (!fluid.saturated[static_cast<std::size_t>(e)]) continue;
-    const Index* nodes = connectivity + e * NPE;
-    for (int g = 0; g < ngp; ++g) {
-      const auto gp = static_cast<std::size_t>(e * ngp + g);
-      const double wp = geometry.weight[gp] *
-                        element_pressure<NPE>(nodes, pore_pressure,
-                                              fluid.gauss_shape[static_cast<std::size_t>(g)]);
-      const ShapeGradients& b = geometry.gradients[gp];
-      for (int k = 0; k < NPE; ++k) {
-        element_force[static_cast<std::size_t>(e * NPE + k)] += wp * Vec2(b(k, 0), b(k, 1));
-      }
-    }
-  }
-}
-
-template <int NPE>
-void pressure_rates(const FemModel& model, const ElementGeometry& geometry, const FemState& state,
-                    std::vector<double>& rate) {
-  const PoreFluid& fluid = model.fluid;
-  const int ngp = model.gauss_per_element();
-  const int nfp = fluid.flux_points;
-  const Index* connectivity = model.mesh.connectivity.data();
-  std::fill(rate.begin(), rate.end(), 0.0);
-  for (Index e = 0; e < model.element_count(); ++e) {
-    const auto ei = static_cast<std::size_t>(e);
-    if (!fluid.saturated[ei]) continue;
-    const Index* nodes = connectivity + e * NPE;
-    std::array<double, NPE> r{};
-    // −Qᵀ v: −Σ_gp w N_k(gp) ∇·v(gp), at the element's own Gauss points.
-    for (int g = 0; g < ngp; ++g) {
-      const auto gp = static_cast<std::size_t>(e * ngp + g);
-      const ShapeGradients& b = geometry.gradients[gp];
-      double divergence = 0.0;
-      for (int k = 0; k < NPE; ++k) {
-        const Vec2& v = state.velocity[static_cast<std::size_t>(nodes[k])];
-        divergence += b(k, 0) * v.x() + b(k, 1) * v.y();
-      }
-      const ShapeValues& n = fluid.gauss_shape[static_cast<std::size_t>(g)];
-      const double w = geometry.weight[gp] * divergence;
-      for (int k = 0; k < NPE; ++k)
-        r[static_cast<std::size_t>(k)] -= w * n[static_cast<std::size_t>(k)];
-    }
-    // Darcy: Σ_fp w ∇N_k · q, q = −(k/γ_w)(∇p − ρ_w (g − a)).
-    const Vec2& mobility = fluid.mobility[ei];
-    for (int f = 0; f < nfp; ++f) {
-      const auto fp = static_cast<std::size_t>(e * nfp + f);
-      const ShapeGradients& b = fluid.flux_gradients[fp];
-      const ShapeValues& n = fluid.flux_shape[static_cast<std::size_t>(f)];
-      Vec2 gradient = Vec2::Zero(), acceleration = Vec2::Zero();
-      for (int k = 0; k < NPE; ++k) {
-        const auto node = static_cast<std::size_t>(nodes[k]);
-        gradient += state.pore_pressure[node] * Vec2(b(k, 0), b(k, 1));
-        acceleration += n[static_cast<std::size_t>(k)] * state.acceleration[node];
-      }
-      const Vec2 drive = gradient - fluid.density * (fluid.gravity - acceleration);
-      const Vec2 flux = -fluid.flux_weight[fp] * mobility.cwiseProduct(drive);
-      for (int k = 0; k < NPE; ++k)
-        r[static_cast<std::size_t>(k)] += b(k, 0) * flux.x() + b(k, 1) * flux.y();
-    }
-    for (int k = 0; k < NPE; ++k)
-      rate[static_cast<std::size_t>(nodes[k])] += r[static_cast<std::size_t>(k)];
-  }
+/// t = L (d·K n)/(d·d), the half-transmissibility of a face from an element's centre
+/// (d = midpoint − centre, n the outward normal, L the face's length, K = diag(k)/γ_w); on
+/// a face so skewed that d·K n ≤ 0, the orthogonal part L (n·K n)/|d|.
+double half_transmissibility(const Vec2& d, const Vec2& normal, double length,
+                             const Vec2& mobility) {
+  const Vec2 flow = mobility.cwiseProduct(normal);
+  const double t = length * d.dot(flow) / d.squaredNorm();
+  return t > 0.0 ? t : length * normal.dot(flow) / d.norm();
 }
 
 /// Per node the hydrostatic p (suction above the table, down to the tension limit) and
@@ -109,10 +37,10 @@ void hold_nodes(FemModel& model, std::span<const std::string> drained) {
   fluid.hydrostatic.assign(n_nodes, 0.0);
   fluid.prescribed.assign(n_nodes, 0);
   for (std::size_t n = 0; n < n_nodes; ++n) {
-    if (fluid.storage[n] > 0.0) {
+    if (fluid.node_storage[n] > 0.0) {
       fluid.hydrostatic[n] = std::max(fluid.hydrostatic_at(mesh.nodes[n]), fluid.tension_limit);
     }
-    fluid.prescribed[n] = fluid.storage[n] > 0.0 && fluid.depth(mesh.nodes[n]) > 0.0 ? 0 : 1;
+    fluid.prescribed[n] = fluid.node_storage[n] > 0.0 && fluid.depth(mesh.nodes[n]) > 0.0 ? 0 : 1;
   }
   for (const std::string& name : drained) {
     const NodeSet* set = mesh.find_node_set(name);
@@ -120,6 +48,204 @@ void hold_nodes(FemModel& model, std::span<const std::string> drained) {
       throw Error("fem.water.drained: \"{}\" is not a node set of the mesh", name);
     }
     for (const Index node : set->nodes) fluid.prescribed[static_cast<std::size_t>(node)] = 1;
+  }
+}
+
+/// One side of an element: its end nodes (sorted, the key that finds its neighbour), the
+/// element and the side's place in it.
+struct Side {
+  Index low = 0, high = 0;
+  Index element = 0;
+  int corner = 0;  ///< the side runs from corner `corner` to the next one
+  auto key() const { return std::tie(low, high, element); }
+};
+
+/// The sides of the elements (of the saturated ones only when `saturated_only`), sorted so
+/// that a side two of them share is two neighbouring entries.
+std::vector<Side> sorted_sides(const FemModel& model, bool saturated_only) {
+  const int corners = model.nodes_per_element;
+  std::vector<Side> sides;
+  for (Index e = 0; e < model.mesh.element_count(); ++e) {
+    if (saturated_only && !model.fluid.saturated[static_cast<std::size_t>(e)]) continue;
+    const auto nodes = model.mesh.element(e);
+    for (int k = 0; k < corners; ++k) {
+      const Index a = nodes[static_cast<std::size_t>(k)];
+      const Index b = nodes[static_cast<std::size_t>((k + 1) % corners)];
+      sides.push_back(Side{std::min(a, b), std::max(a, b), e, k});
+    }
+  }
+  std::ranges::sort(sides, [](const Side& x, const Side& y) { return x.key() < y.key(); });
+  return sides;
+}
+
+/// A boundary side under a reservoir: its nodes (sorted) and the water's pressure at them.
+struct WettedSide {
+  Index low = 0, high = 0;
+  double p_low = 0.0, p_high = 0.0;  ///< Pa
+  Vec2 inward = Vec2::Zero();        ///< the unit normal into the body
+  auto key() const { return std::pair{low, high}; }
+};
+
+/// The model's boundary sides a reservoir wets: facing up (their outward normal against
+/// gravity) with their midpoint below the reservoir's surface. Sorted by their nodes.
+std::vector<WettedSide> wetted_sides(const FemModel& model) {
+  const PoreFluid& fluid = model.fluid;
+  std::vector<WettedSide> wetted;
+  if (!fluid.reservoir_point) return wetted;
+  const Mesh& mesh = model.mesh;
+  const double g = fluid.gravity.norm();
+  const Vec2 down = g > 0.0 ? Vec2(fluid.gravity / g) : Vec2(0.0, -1.0);
+  const auto depth = [&](const Vec2& x) { return down.dot(x - *fluid.reservoir_point); };
+  const std::vector<Side> sides = sorted_sides(model, false);
+  for (std::size_t i = 0; i < sides.size(); ++i) {
+    const Side& s = sides[i];
+    if (i + 1 < sides.size() && sides[i + 1].low == s.low && sides[i + 1].high == s.high) {
+      ++i;  // an inner side
+      continue;
+    }
+    const Vec2& a = mesh.nodes[static_cast<std::size_t>(s.low)];
+    const Vec2& b = mesh.nodes[static_cast<std::size_t>(s.high)];
+    const ElementNodes x = mesh.element_nodes(s.element, mesh.nodes);
+    const Vec2 inside = map_to_physical(mesh.shape(), x, reference_centre(mesh.shape()));
+    Vec2 normal(b.y() - a.y(), a.x() - b.x());
+    if (normal.dot(0.5 * (a + b) - inside) < 0.0) normal = -normal;
+    if (!(normal.dot(-down) > 1e-9 * normal.norm()) || !(depth(0.5 * (a + b)) > 0.0)) continue;
+    wetted.push_back(WettedSide{s.low, s.high, fluid.density * g * std::max(depth(a), 0.0),
+                                fluid.density * g * std::max(depth(b), 0.0),
+                                -normal / normal.norm()});
+  }
+  return wetted;
+}
+
+/// The reservoir's water load on the solid: on each wetted side the consistent nodal
+/// forces of the linear pressure, −n L (2 p_a + p_b)/6 and −n L (p_a + 2 p_b)/6.
+void add_reservoir_load(FemModel& model, const std::vector<WettedSide>& wetted) {
+  for (const WettedSide& w : wetted) {
+    const Vec2& a = model.mesh.nodes[static_cast<std::size_t>(w.low)];
+    const Vec2& b = model.mesh.nodes[static_cast<std::size_t>(w.high)];
+    const Vec2& inward = w.inward;
+    const double length = (b - a).norm();
+    model.lumped.external_force[static_cast<std::size_t>(w.low)] +=
+        inward * length * (2.0 * w.p_low + w.p_high) / 6.0;
+    model.lumped.external_force[static_cast<std::size_t>(w.high)] +=
+        inward * length * (w.p_low + 2.0 * w.p_high) / 6.0;
+  }
+}
+
+/// The faces water crosses: between saturated neighbours; drained faces of saturated
+/// elements, at the reservoir's pressure where it wets them, else at the hydrostatic
+/// pressure of the table where both nodes are held.
+void make_faces(FemModel& model, const std::vector<Vec2>& centre,
+                const std::vector<WettedSide>& wetted) {
+  PoreFluid& fluid = model.fluid;
+  const Mesh& mesh = model.mesh;
+  const std::vector<Side> sides = sorted_sides(model, true);
+  const auto mobility = [&](Index e) -> Vec2 {
+    const Material& m = model.material_of(e);
+    return Vec2(m.conductivity_x, m.conductivity_y) / (fluid.density * standard_gravity);
+  };
+  const auto geometry = [&](const Side& s) {
+    const Vec2& a = mesh.nodes[static_cast<std::size_t>(s.low)];
+    const Vec2& b = mesh.nodes[static_cast<std::size_t>(s.high)];
+    const Vec2 middle = 0.5 * (a + b);
+    Vec2 normal(b.y() - a.y(), a.x() - b.x());
+    const double length = normal.norm();
+    normal /= length;
+    if (normal.dot(middle - centre[static_cast<std::size_t>(s.element)]) < 0.0) normal = -normal;
+    return std::tuple{middle, normal, length};
+  };
+  fluid.faces.clear();
+  for (std::size_t i = 0; i < sides.size(); ++i) {
+    const Side& s = sides[i];
+    const auto [middle, normal, length] = geometry(s);
+    const auto from = static_cast<std::size_t>(s.element);
+    const double t_from =
+        half_transmissibility(middle - centre[from], normal, length, mobility(s.element));
+    if (i + 1 < sides.size() && sides[i + 1].low == s.low && sides[i + 1].high == s.high) {
+      const Side& other = sides[++i];
+      const auto to = static_cast<std::size_t>(other.element);
+      const double t_to =
+          half_transmissibility(middle - centre[to], -normal, length, mobility(other.element));
+      if (t_from > 0.0 && t_to > 0.0) {
+        fluid.faces.push_back(FluidFace{s.element, other.element, t_from * t_to / (t_from + t_to),
+                                        centre[to] - centre[from], 0.0});
+      }
+      continue;
+    }
+    auto wet = std::ranges::lower_bound(wetted, std::pair{s.low, s.high}, {}, &WettedSide::key);
+    if (wet != wetted.end() && wet->key() != std::pair{s.low, s.high}) wet = wetted.end();
+    const bool drained = fluid.prescribed[static_cast<std::size_t>(s.low)] &&
+                         fluid.prescribed[static_cast<std::size_t>(s.high)];
+    if (!(t_from > 0.0) || (wet == wetted.end() && !drained)) continue;
+    const double pressure = wet != wetted.end()
+                                ? 0.5 * (wet->p_low + wet->p_high)
+                                : std::max(fluid.hydrostatic_at(middle), fluid.tension_limit);
+    fluid.faces.push_back(FluidFace{s.element, -1, t_from, middle - centre[from], pressure});
+  }
+}
+
+template <int NPE>
+void add_forces(const FemModel& model, const ElementGeometry& geometry,
+                std::span<const double> element_pressure, std::span<Vec2> element_force) {
+  const PoreFluid& fluid = model.fluid;
+  const int ngp = model.gauss_per_element();
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    if (!fluid.saturated[ei]) continue;
+    for (int g = 0; g < ngp; ++g) {
+      const auto gp = static_cast<std::size_t>(e * ngp + g);
+      const double wp = geometry.weight[gp] * element_pressure[ei];
+      const ShapeGradients& b = geometry.gradients[gp];
+      for (int k = 0; k < NPE; ++k) {
+        element_force[static_cast<std::size_t>(e * NPE + k)] += wp * Vec2(b(k, 0), b(k, 1));
+      }
+    }
+  }
+}
+
+/// S_e ṗ_e of every element: −∫∇·v dA (at the element's own Gauss points) minus the flow out
+/// across its faces.
+template <int NPE>
+void pressure_rates(const FemModel& model, const ElementGeometry& geometry, const FemState& state,
+                    PressureScratch& scratch) {
+  const PoreFluid& fluid = model.fluid;
+  const int ngp = model.gauss_per_element();
+  const Index* connectivity = model.mesh.connectivity.data();
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    scratch.rate[ei] = 0.0;
+    if (!fluid.saturated[ei]) continue;
+    const Index* nodes = connectivity + e * NPE;
+    double volume_rate = 0.0;
+    Vec2 acceleration = Vec2::Zero();
+    for (int k = 0; k < NPE; ++k)
+      acceleration += state.acceleration[static_cast<std::size_t>(nodes[k])];
+    scratch.acceleration[ei] = acceleration / NPE;
+    for (int g = 0; g < ngp; ++g) {
+      const auto gp = static_cast<std::size_t>(e * ngp + g);
+      const ShapeGradients& b = geometry.gradients[gp];
+      double divergence = 0.0;
+      for (int k = 0; k < NPE; ++k) {
+        const Vec2& v = state.velocity[static_cast<std::size_t>(nodes[k])];
+        divergence += b(k, 0) * v.x() + b(k, 1) * v.y();
+      }
+      volume_rate += geometry.weight[gp] * divergence;
+    }
+    scratch.rate[ei] = -volume_rate;
+  }
+  const std::vector<double>& p = state.element_pore_pressure;
+  for (const FluidFace& face : fluid.faces) {
+    const auto a = static_cast<std::size_t>(face.from);
+    const bool inner = face.to >= 0;
+    const auto b = static_cast<std::size_t>(inner ? face.to : face.from);
+    const Vec2 drive_acceleration =
+        inner ? 0.5 * (scratch.acceleration[a] + scratch.acceleration[b]) : scratch.acceleration[a];
+    const double p_to = inner ? p[b] : face.pressure;
+    const double flow =
+        face.transmissibility *
+        (p[a] - p_to + fluid.density * (fluid.gravity - drive_acceleration).dot(face.offset));
+    scratch.rate[a] -= flow;
+    if (inner) scratch.rate[b] += flow;
   }
 }
 
@@ -131,39 +257,21 @@ void make_pore_fluid(FemModel& model, std::span<const std::string> drained) {
   const ElementShape shape = mesh.shape();
   const auto n_elements = static_cast<std::size_t>(mesh.element_count());
   const auto n_nodes = static_cast<std::size_t>(mesh.node_count());
-  const double unit_weight = fluid.density * standard_gravity;
-  const std::vector<QuadraturePoint> rule = flux_rule(shape);
-  fluid.flux_points = static_cast<int>(rule.size());
-  fluid.flux_shape.clear();
-  for (const QuadraturePoint& q : rule) fluid.flux_shape.push_back(shape_functions(shape, q.xi));
-  fluid.gauss_shape.clear();
-  for (const Vec2& xi : model.rule.local) fluid.gauss_shape.push_back(shape_functions(shape, xi));
-
   fluid.saturated.assign(n_elements, 0);
-  fluid.mobility.assign(n_elements, Vec2::Zero());
-  fluid.flux_gradients.resize(n_elements * rule.size());
-  fluid.flux_weight.resize(n_elements * rule.size());
-  fluid.storage.assign(n_nodes, 0.0);
-  const Vec2 centre = reference_centre(shape);
+  fluid.storage.assign(n_elements, 0.0);
+  fluid.element_hydrostatic.assign(n_elements, 0.0);
+  fluid.node_storage.assign(n_nodes, 0.0);
+  std::vector<Vec2> centre(n_elements);
   for (std::size_t e = 0; e < n_elements; ++e) {
     const auto ei = static_cast<Index>(e);
     const Material& material = model.material_of(ei);
     const ElementNodes x = mesh.element_nodes(ei, mesh.nodes);
-    for (std::size_t f = 0; f < rule.size(); ++f) {
-      double det = 0.0;
-      fluid.flux_gradients[e * rule.size() + f] = physical_gradients(shape, x, rule[f].xi, &det);
-      fluid.flux_weight[e * rule.size() + f] = rule[f].weight * det;
-    }
-    if (!material.saturable() || !(fluid.depth(map_to_physical(shape, x, centre)) > 0.0)) {
-      continue;
-    }
+    centre[e] = map_to_physical(shape, x, reference_centre(shape));
+    if (!material.saturable() || !(fluid.depth(centre[e]) > 0.0)) continue;
     fluid.saturated[e] = 1;
-    fluid.mobility[e] = Vec2(material.conductivity_x, material.conductivity_y) / unit_weight;
-    const ShapeValues storage =
-        lumped_element_mass(shape, x, material.porosity / fluid.bulk_modulus);
-    const auto nodes = mesh.element(ei);
-    for (std::size_t k = 0; k < nodes.size(); ++k) {
-      fluid.storage[static_cast<std::size_t>(nodes[k])] += storage[k];
+    fluid.storage[e] = material.porosity / fluid.bulk_modulus * std::abs(element_area(shape, x));
+    for (const Index n : mesh.element(ei)) {
+      fluid.node_storage[static_cast<std::size_t>(n)] += fluid.storage[e];
     }
   }
   if (std::ranges::none_of(fluid.saturated, [](std::uint8_t s) { return s != 0; })) {
@@ -173,40 +281,76 @@ void make_pore_fluid(FemModel& model, std::span<const std::string> drained) {
         fluid.level_point.y());
   }
   hold_nodes(model, drained);
+  // p_h at the centre as the mean of the nodes' (the field is linear, and so the excess
+  // p − mean of the nodal p_static of the rest state is exactly 0).
+  const std::vector<double> mean = element_mean_of_nodes(model, fluid.hydrostatic);
+  for (std::size_t e = 0; e < n_elements; ++e) {
+    if (fluid.saturated[e]) fluid.element_hydrostatic[e] = mean[e];
+  }
+  const std::vector<WettedSide> wetted = wetted_sides(model);
+  make_faces(model, centre, wetted);
+  add_reservoir_load(model, wetted);
 }
 
 void add_pore_pressure_forces(const FemModel& model, const ElementGeometry& geometry,
-                              std::span<const double> pore_pressure,
+                              std::span<const double> element_pressure,
                               std::span<Vec2> element_force) {
   if (!model.fluid.active()) return;
   if (model.nodes_per_element == 4) {
-    add_forces<4>(model, geometry, pore_pressure, element_force);
+    add_forces<4>(model, geometry, element_pressure, element_force);
   } else {
-    add_forces<3>(model, geometry, pore_pressure, element_force);
+    add_forces<3>(model, geometry, element_pressure, element_force);
   }
 }
 
 PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeometry& geometry,
-                                       double dt, FemState& state, std::vector<double>& rate) {
+                                       double dt, FemState& state, PressureScratch& scratch) {
   PorePressureStep result;
   const PoreFluid& fluid = model.fluid;
   if (!fluid.active()) return result;
-  rate.resize(fluid.storage.size());
+  scratch.rate.resize(fluid.storage.size());
+  scratch.acceleration.resize(fluid.storage.size());
   if (model.nodes_per_element == 4) {
-    pressure_rates<4>(model, geometry, state, rate);
+    pressure_rates<4>(model, geometry, state, scratch);
   } else {
-    pressure_rates<3>(model, geometry, state, rate);
+    pressure_rates<3>(model, geometry, state, scratch);
   }
-  for (std::size_t n = 0; n < rate.size(); ++n) {
-    if (fluid.prescribed[n]) {
-      state.pore_pressure[n] = fluid.hydrostatic[n];
-      continue;
-    }
-    const double p = state.pore_pressure[n] + dt * rate[n] / fluid.storage[n];
+  for (std::size_t e = 0; e < fluid.storage.size(); ++e) {
+    if (!fluid.saturated[e]) continue;
+    const double p = state.element_pore_pressure[e] + dt * scratch.rate[e] / fluid.storage[e];
     if (p < fluid.tension_limit) ++result.clamped;
-    state.pore_pressure[n] = std::max(p, fluid.tension_limit);
+    state.element_pore_pressure[e] = std::max(p, fluid.tension_limit);
   }
+  update_nodal_pore_pressure(model, state);
   return result;
+}
+
+void update_nodal_pore_pressure(const FemModel& model, FemState& state) {
+  const PoreFluid& fluid = model.fluid;
+  if (!fluid.active()) return;
+  std::vector<double>& p = state.pore_pressure;
+  std::ranges::fill(p, 0.0);
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    if (!fluid.saturated[ei]) continue;
+    const double share =
+        fluid.storage[ei] * (state.element_pore_pressure[ei] - fluid.element_hydrostatic[ei]);
+    for (const Index n : model.mesh.element(e)) p[static_cast<std::size_t>(n)] += share;
+  }
+  for (std::size_t n = 0; n < p.size(); ++n) {
+    p[n] = fluid.hydrostatic[n] + (fluid.prescribed[n] ? 0.0 : p[n] / fluid.node_storage[n]);
+  }
+}
+
+std::vector<double> element_mean_of_nodes(const FemModel& model, std::span<const double> nodal) {
+  std::vector<double> mean(static_cast<std::size_t>(model.element_count()), 0.0);
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const auto nodes = model.mesh.element(e);
+    double sum = 0.0;
+    for (const Index n : nodes) sum += nodal[static_cast<std::size_t>(n)];
+    mean[static_cast<std::size_t>(e)] = sum / static_cast<double>(nodes.size());
+  }
+  return mean;
 }
 
 void tie_pore_pressure(const FemModel& model, std::span<const std::pair<Index, Index>> tied,
@@ -215,76 +359,66 @@ void tie_pore_pressure(const FemModel& model, std::span<const std::pair<Index, I
   if (!fluid.active()) return;
   for (const auto& [i, j] : tied) {
     const auto a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(j);
-    double& pa = state.pore_pressure[a];
-    double& pc = state.pore_pressure[c];
-    if (fluid.prescribed[a] || fluid.prescribed[c]) {
-      if (!fluid.prescribed[c]) pc = pa;
-      if (!fluid.prescribed[a]) pa = pc;
-      continue;
-    }
+    if (!fluid.saturated[a] || !fluid.saturated[c]) continue;
+    double& pa = state.element_pore_pressure[a];
+    double& pc = state.element_pore_pressure[c];
     pa = pc =
         (fluid.storage[a] * pa + fluid.storage[c] * pc) / (fluid.storage[a] + fluid.storage[c]);
   }
+  update_nodal_pore_pressure(model, state);
 }
 
 double pore_fluid_time_step(const FemModel& model) {
   const PoreFluid& fluid = model.fluid;
   double smallest = std::numeric_limits<double>::infinity();
   if (!fluid.active()) return smallest;
-  const Mesh& mesh = model.mesh;
-  const int n = model.nodes_per_element;
-  const double area_factor = mesh.shape() == ElementShape::tri3 ? 2.0 : 1.0;
-  for (Index e = 0; e < mesh.element_count(); ++e) {
-    const auto ei = static_cast<std::size_t>(e);
-    if (!fluid.saturated[ei]) continue;
-    const double mobility = fluid.mobility[ei].maxCoeff();
-    if (!(mobility > 0.0)) continue;
-    const double diffusivity = mobility * fluid.bulk_modulus / model.material_of(e).porosity;
-    const ElementNodes x = mesh.element_nodes(e, mesh.nodes);
-    double longest = 0.0;
-    for (int k = 0; k < n; ++k) longest = std::max(longest, (x.row((k + 1) % n) - x.row(k)).norm());
-    const double h = area_factor * std::abs(element_area(mesh.shape(), x)) / longest;
-    smallest = std::min(smallest, h * h / (4.0 * diffusivity));
+  std::vector<double> conductance(fluid.storage.size(), 0.0);
+  for (const FluidFace& face : fluid.faces) {
+    conductance[static_cast<std::size_t>(face.from)] += face.transmissibility;
+    if (face.to >= 0) conductance[static_cast<std::size_t>(face.to)] += face.transmissibility;
+  }
+  for (std::size_t e = 0; e < conductance.size(); ++e) {
+    if (conductance[e] > 0.0) smallest = std::min(smallest, fluid.storage[e] / conductance[e]);
   }
   return smallest;
 }
 
-void gauss_point_pressure(const FemModel& model, std::span<const double> pore_pressure,
+void gauss_point_pressure(const FemModel& model, std::span<const double> element_pressure,
                           std::vector<double>& out) {
-  const int npe = model.nodes_per_element;
   const int ngp = model.gauss_per_element();
   out.assign(static_cast<std::size_t>(model.gauss_count()), 0.0);
   if (!model.fluid.active()) return;
   for (Index e = 0; e < model.element_count(); ++e) {
     if (!model.fluid.saturated[static_cast<std::size_t>(e)]) continue;
-    const auto nodes = model.mesh.element(e);
     for (int g = 0; g < ngp; ++g) {
-      double p = 0.0;
-      for (int k = 0; k < npe; ++k) {
-        p += model.fluid.gauss_shape[static_cast<std::size_t>(g)][static_cast<std::size_t>(k)] *
-             pore_pressure[static_cast<std::size_t>(nodes[static_cast<std::size_t>(k)])];
-      }
-      out[static_cast<std::size_t>(e * ngp + g)] = p;
+      out[static_cast<std::size_t>(e * ngp + g)] = element_pressure[static_cast<std::size_t>(e)];
     }
   }
 }
 
+namespace {
+
+/// Δp_e = p_e − the element's mean of the nodal p_static (the hydrostatic field is linear,
+/// so the mean is its value at the centre).
+double element_excess(const FemModel& model, const FemState& state, Index e) {
+  const auto nodes = model.mesh.element(e);
+  double base = 0.0;
+  for (const Index n : nodes) base += state.static_pore_pressure[static_cast<std::size_t>(n)];
+  return state.element_pore_pressure[static_cast<std::size_t>(e)] -
+         base / static_cast<double>(nodes.size());
+}
+
+}  // namespace
+
 ElementPoreWater element_pore_water(const FemModel& model, const FemState& state, Index e) {
   ElementPoreWater water;
   if (!model.fluid.active() || !model.fluid.saturated[static_cast<std::size_t>(e)]) return water;
-  const auto nodes = model.mesh.element(e);
   const int ngp = model.gauss_per_element();
+  const double excess = element_excess(model, state, e);
+  water.pressure = state.element_pore_pressure[static_cast<std::size_t>(e)];
   for (int g = 0; g < ngp; ++g) {
-    const ShapeValues& n = model.fluid.gauss_shape[static_cast<std::size_t>(g)];
-    double p = 0.0, excess = 0.0;
-    for (std::size_t k = 0; k < nodes.size(); ++k) {
-      const auto node = static_cast<std::size_t>(nodes[k]);
-      p += n[k] * state.pore_pressure[node];
-      excess += n[k] * (state.pore_pressure[node] - state.static_pore_pressure[node]);
-    }
     const double stress =
         state.initial_vertical_effective_stress[static_cast<std::size_t>(e * ngp + g)];
-    water.pressure += p / static_cast<double>(ngp);
     water.ratio += (stress >= min_ratio_stress ? excess / stress : 0.0) / static_cast<double>(ngp);
   }
   return water;
@@ -311,15 +445,17 @@ std::vector<double> excess_pore_pressure(const FemState& state) {
 }
 
 void pore_pressure_ratio(const FemModel& model, const FemState& state, std::vector<double>& out) {
-  const std::vector<double> excess = excess_pore_pressure(state);
-  if (excess.empty()) {
-    out.assign(static_cast<std::size_t>(model.gauss_count()), 0.0);
-    return;
-  }
-  gauss_point_pressure(model, excess, out);
-  for (std::size_t gp = 0; gp < out.size(); ++gp) {
-    const double stress = model.fluid.active() ? state.initial_vertical_effective_stress[gp] : 0.0;
-    out[gp] = stress >= min_ratio_stress ? out[gp] / stress : 0.0;
+  out.assign(static_cast<std::size_t>(model.gauss_count()), 0.0);
+  if (!model.fluid.active() || state.element_pore_pressure.empty()) return;
+  const int ngp = model.gauss_per_element();
+  for (Index e = 0; e < model.element_count(); ++e) {
+    if (!model.fluid.saturated[static_cast<std::size_t>(e)]) continue;
+    const double excess = element_excess(model, state, e);
+    for (int g = 0; g < ngp; ++g) {
+      const auto gp = static_cast<std::size_t>(e * ngp + g);
+      const double stress = state.initial_vertical_effective_stress[gp];
+      out[gp] = stress >= min_ratio_stress ? excess / stress : 0.0;
+    }
   }
 }
 

@@ -72,10 +72,10 @@ std::vector<Vec2> support_reactions(const FemModel& model, const FemState& state
   std::ranges::fill(at_rest.velocity, Vec2::Zero());
   compute_element_forces(model, model.reference, at_rest, element_force);
   // With pore water the supports also hold the water's thrust.
-  add_pore_pressure_forces(model, model.reference, state.pore_pressure, element_force);
+  add_pore_pressure_forces(model, model.reference, state.element_pore_pressure, element_force);
   std::vector<Vec2> reactions(static_cast<std::size_t>(model.node_count()));
   for (std::size_t n = 0; n < reactions.size(); ++n) {
-    Vec2 force = model.lumped.gravity_force[n];
+    Vec2 force = model.lumped.external_force[n];
     for (auto i = model.adjacency.offsets[n]; i < model.adjacency.offsets[n + 1]; ++i) {
       force += element_force[static_cast<std::size_t>(
           model.adjacency.slots[static_cast<std::size_t>(i)])];
@@ -134,6 +134,30 @@ struct Side {
   }
 };
 
+/// The element with both nodes a and b (−1 when there is none).
+Index element_with_side(const FemModel& model, Index a, Index b) {
+  const auto& adjacency = model.adjacency;
+  const auto npe = static_cast<Index>(model.nodes_per_element);
+  for (auto i = adjacency.offsets[static_cast<std::size_t>(a)];
+       i < adjacency.offsets[static_cast<std::size_t>(a) + 1]; ++i) {
+    const Index e = adjacency.slots[static_cast<std::size_t>(i)] / npe;
+    const auto nodes = model.mesh.element(e);
+    if (std::ranges::find(nodes, b) != nodes.end()) return e;
+  }
+  return -1;
+}
+
+/// boundary.tied_elements: for two consecutive tied pairs (i₁, j₁), (i₂, j₂), the element
+/// along i₁ i₂ with the one along j₁ j₂.
+void pair_side_elements(const FemModel& model, SeismicBoundary& boundary) {
+  for (std::size_t k = 0; k + 1 < boundary.tied.size(); ++k) {
+    const Index left = element_with_side(model, boundary.tied[k].first, boundary.tied[k + 1].first);
+    const Index right =
+        element_with_side(model, boundary.tied[k].second, boundary.tied[k + 1].second);
+    if (left >= 0 && right >= 0 && left != right) boundary.tied_elements.emplace_back(left, right);
+  }
+}
+
 /// Tied sides: nodes at equal elevation (within 1e-6 of the model's height) paired, each
 /// pair keeping its static horizontal reactions. Returns which nodes are paired.
 std::vector<std::uint8_t> tie_sides(const FemModel& model, const MotionSpec& spec, const Side& left,
@@ -156,6 +180,7 @@ std::vector<std::uint8_t> tie_sides(const FemModel& model, const MotionSpec& spe
       ++j;
     }
   }
+  pair_side_elements(model, boundary);
   if (boundary.tied.empty()) {
     throw Error(
         "fem.motion.lateral = \"{}\": no node of the left edge is at the elevation of a node "

@@ -48,6 +48,9 @@ struct SeismicBoundary {
   /// Left–right pairs sharing their horizontal velocity, and their vertical one when
   /// `tie_vertical`.
   std::vector<std::pair<Index, Index>> tied;
+  /// The elements of the tied sides paired likewise (the elements along two consecutive
+  /// pairs of nodes): they share their pore pressure (fem/pore_fluid.hpp).
+  std::vector<std::pair<Index, Index>> tied_elements;
   bool tie_vertical = false;
   /// Whether the dashpots act on the velocity relative to the base (a rigid base: the
   /// far field moves with it) or on the absolute one (a compliant base).

@@ -223,6 +223,7 @@ WaterSpec read_water(const Section& s, const std::vector<std::string_view>& name
   water.bulk_modulus = s.number("bulk_modulus", positive("Pa"), water.bulk_modulus);
   water.tension_limit = s.number(
       "tension_limit", Range{.max = 0.0, .max_closed = true, .unit = "Pa"}, water.tension_limit);
+  if (s.has("reservoir")) water.reservoir = s.number("reservoir", any_number());
   if (s.has("drained")) {
     const auto& items = s.reader().array(s.node("drained"), s.dotted("drained"));
     for (std::size_t i = 0; i < items.size(); ++i) {
@@ -295,8 +296,9 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh,
     if (!fem.failure_stage) motion->fail("start_time", "only used when fem.failure_stage = true");
     fem.motion = read_motion(*motion, case_folder, fem, mesh);
   }
-  if (auto water = s.optional_table(
-          "water", Section::Keys{"level", "density", "bulk_modulus", "tension_limit", "drained"})) {
+  if (auto water =
+          s.optional_table("water", Section::Keys{"level", "density", "bulk_modulus",
+                                                  "tension_limit", "drained", "reservoir"})) {
     fem.water = read_water(*water, names);
   }
   if (s.has("recorders")) {

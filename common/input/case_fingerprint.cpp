@@ -138,8 +138,9 @@ SolverSettings fem_fingerprint(const Case& c) {
     std::string drained;
     for (const std::string& name : w.drained) drained += (drained.empty() ? "" : " ") + name;
     add(s, "water",
-        fmt::format("level {} m, ρ_w {}, K_f {}, tension limit {}, drained [{}]", w.level,
-                    w.density, w.bulk_modulus, w.tension_limit, drained));
+        fmt::format("level {} m, ρ_w {}, K_f {}, tension limit {}, drained [{}]{}", w.level,
+                    w.density, w.bulk_modulus, w.tension_limit, drained,
+                    w.reservoir ? fmt::format(", reservoir {} m", *w.reservoir) : ""));
   }
   return s;
 }

@@ -1,9 +1,9 @@
 // The state of an FE model that evolves and that checkpoints carry: per node the
 // displacement, velocity, acceleration and pore pressure, per element the hourglass
-// forces of one-point quads, per Gauss point the stress, strain and the material's state.
-// fem-solve's FemState and the checkpoint module's FemCheckpoint both hold it, and
-// fe_fields lists it once (common/physics/field_table.hpp): sizing a state, checking
-// one read from a file and the checkpoint reader and writer walk the list.
+// forces of one-point quads and the pore pressure, per Gauss point the stress, strain and the
+// material's state. fem-solve's FemState and the checkpoint module's FemCheckpoint both hold it,
+// and fe_fields lists it once (common/physics/field_table.hpp): sizing a state, checking one read
+// from a file and the checkpoint reader and writer walk the list.
 #pragma once
 
 #include <tuple>
@@ -30,6 +30,9 @@ struct FeFields {
   // Elements: the hourglass generalised force Q = ∫ K_q dq of one-point quads, N (per m);
   // empty for the other element types.
   std::vector<Vec2> hourglass_force;
+  /// Saturated models only: the pore pressure of each element (the u–p unknown; the
+  /// nodal pore_pressure is its storage-weighted mean around the node), Pa.
+  std::vector<double> element_pore_pressure;
 
   // Gauss points, element by element in the order of the element's rule.
   std::vector<Vec4> stress;  ///< [σxx, σyy, σzz, σxy], Pa, tension positive
@@ -53,6 +56,8 @@ inline constexpr std::tuple fe_fields{
     field(&FeFields::static_pore_pressure, "static_pore_pressure", "Pa",
           {.rows = RowKind::node, .presence = Presence::when_used}),
     field(&FeFields::hourglass_force, "hourglass_force", "N/m",
+          {.rows = RowKind::element, .presence = Presence::when_used}),
+    field(&FeFields::element_pore_pressure, "pore_pressure", "Pa",
           {.rows = RowKind::element, .presence = Presence::when_used}),
     field(&FeFields::stress, "stress", "Pa", {.rows = RowKind::gauss_point}),
     field(&FeFields::strain, "strain", "1", {.rows = RowKind::gauss_point}),

@@ -81,14 +81,17 @@ struct RecorderSpec {
 
 /// [fem.water]: the pore water of saturated materials (docs/method.md §10). Below `level`
 /// the materials with a porosity are u–p mixtures starting from hydrostatic pressure; the
-/// nodes above it, and the nodes of `drained` node sets, keep the hydrostatic pressure of
-/// the level (0 above it); every other face is impermeable.
+/// faces on or above it, and the faces of `drained` node sets, keep the hydrostatic
+/// pressure of the level; a `reservoir` wets the model's upward-facing boundary below its
+/// surface (drained at the reservoir's pressure, which also loads the solid); every other
+/// face is impermeable.
 struct WaterSpec {
   double level = 0.0;                ///< elevation of the water table (phreatic level), m
   double density = 1000.0;           ///< ρ_w, kg/m³
   double bulk_modulus = 2.2e9;       ///< K_f, Pa
   double tension_limit = -100e3;     ///< the lowest pore pressure, Pa (suction negative)
   std::vector<std::string> drained;  ///< node sets where p is given
+  std::optional<double> reservoir;   ///< elevation of a reservoir's free surface, m
 };
 
 struct FemSpec {
