@@ -16,6 +16,7 @@
 #include "fem/geostatic.hpp"
 #include "fem/model_setup.hpp"
 #include "fem/pore_fluid.hpp"
+#include "fem/seismic_boundary.hpp"
 #include "tests/support/meshes.hpp"
 #include "tools/synthetic/soil.hpp"
 
@@ -207,6 +208,66 @@ TEST(PoreFluid, SubmergedBlockUnderAReservoirIsBuoyant) {
   // difference, 0.44 % at 1 m and 0.21 % at 0.5 m (59 % without the water's load).
   EXPECT_LT(differences[0], 0.01);
   EXPECT_LT(differences[1], 0.6 * differences[0]);
+}
+
+// A sealed saturated element in cyclic simple shear (docs/method.md §10, check 6): one
+// one-point quad, k = 0, on a fixed base, under a vertical load of 100 kPa carried by the
+// skeleton and a cyclic shear stress τ = 30 kPa sin(2π t) on its top (two cycles, brought
+// through quasi-statically by local damping). As K_f grows the element's stress path
+// becomes the soil's constant-volume one: Mohr–Coulomb (φ = 30°, c = 0, ψ = 10°) driven by
+// the element's own ε_xx and γ with ε_yy = −ε_xx — a dilatant sand whose pore water takes
+// the dilation away, so that σ′ climbs the failure line. The difference falls as 1/K_f.
+TEST(PoreFluid, SealedElementInCyclicSimpleShearIsConstantVolumeAsTheFluidStiffens) {
+  constexpr double q = 100e3, tau = 30e3, duration = 2.0;
+  Material soil = synthetic::soil(MaterialModel::mohr_coulomb, 2000.0);
+  soil.youngs_modulus = 20e6;
+  soil.poisson_ratio = 0.3;
+  soil.friction_angle = 30.0;
+  soil.cohesion = 0.0;
+  soil.dilation_angle = 10.0;
+  soil.porosity = 0.4;
+  const Vec4 initial(-soil.k0() * q, -q, -soil.k0() * q, 0.0);
+  std::vector<double> differences;
+  for (const double bulk_modulus : {2.2e8, 2.2e9, 2.2e10}) {
+    SCOPED_TRACE(fmt::format("K_f = {} Pa", bulk_modulus));
+    FemModel model =
+        make_model(rectangle_mesh(ElementType::quad4_1gp, 1, 1, 1.0, 1.0), {soil},
+                   Kinematics::small_strain, 1.0, Vec2::Zero(), water_at(10.0, bulk_modulus));
+    const std::vector<Index> top = model.mesh.find_node_set("top")->nodes;
+    for (const Index n : top)
+      model.lumped.external_force[static_cast<std::size_t>(n)].y() = -0.5 * q;
+    FemState state = make_rest_state(model);
+    state.stress[0] = initial;
+    const std::vector<ConstitutiveModel> models{ConstitutiveModel::from(soil)};
+    ExplicitSolver solver(
+        model, make_constraints(model.mesh, {{"base", BoundaryCondition::fixed}}, "test"), 0.0,
+        Damping{NodalDamping{0.0, 0.8}, 0.0}, models);
+    const double dt = solver.stable_time_step(state, 0.5);
+    Vec4 reference = initial, strain = Vec4::Zero();
+    MaterialState point;
+    double difference = 0.0, volume = 0.0;
+    while (state.time < duration - 0.5 * dt) {
+      // The solver reads the model's external forces each step: the shear load's history.
+      const double shear = tau * std::sin(2.0 * std::numbers::pi * state.time);
+      for (const Index n : top)
+        model.lumped.external_force[static_cast<std::size_t>(n)].x() = 0.5 * shear;
+      solver.step(state, dt);
+      const Vec4 increment = state.strain[0] - strain;
+      strain = state.strain[0];
+      models[0].update(reference, point, Vec4(increment[0], -increment[0], 0.0, increment[3]));
+      difference = std::max(difference, (state.stress[0] - reference).cwiseAbs().maxCoeff());
+      volume = std::max(volume, std::abs(strain[0] + strain[1]));
+    }
+    std::printf(
+        "simple shear, K_f = %.1e Pa: largest |σ′ − σ′ constant volume| %.4g Pa (%.3g of q), "
+        "|ε_v| ≤ %.2e, final σ′yy %.5g Pa (constant volume %.5g), γ %.5f\n",
+        bulk_modulus, difference, difference / q, volume, state.stress[0][1], reference[1],
+        strain[3]);
+    differences.push_back(difference / q);
+  }
+  EXPECT_LT(differences[2], 0.01);
+  EXPECT_LT(differences[1], 0.2 * differences[0]);
+  EXPECT_LT(differences[2], 0.2 * differences[1]);
 }
 
 /// A column 1 m wide of `rows` elements between rollers, no gravity, loaded on its top
