@@ -269,7 +269,7 @@ void ExplicitStage::log_pore_water() const {
   log_.info(
       "pore water: table at y = {} m, ρ_w = {} kg/m³, K_f = {:.4g} Pa, tension limit {:.4g} Pa; "
       "{} of {} elements saturated (u–p, one pressure each), {} faces between them, {} drained "
-      "(on or above the table, or in a drained set)",
+      "(on or above the table, in a drained set, or under the reservoir)",
       fluid.level_point.y(), fluid.density, fluid.bulk_modulus, fluid.tension_limit, saturated,
       model_.element_count(), static_cast<std::ptrdiff_t>(fluid.faces.size()) - drained, drained);
   // Skempton's B of an undrained element, 1/(1 + n K/K_f) with incompressible grains: the

@@ -15,6 +15,7 @@
 // points are stored element by element in the order of the element's quadrature rule.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -74,9 +75,10 @@ struct ElementConstants {
 struct FluidFace {
   Index from = 0;
   Index to = -1;
-  double transmissibility = 0.0;  ///< T, m²/(Pa·s) (per m)
-  Vec2 offset = Vec2::Zero();     ///< x_to − x_from (centres, or the face's midpoint), m
-  double pressure = 0.0;          ///< a drained face's p, Pa
+  double transmissibility = 0.0;      ///< T, m²/(Pa·s) (per m)
+  Vec2 offset = Vec2::Zero();         ///< x_to − x_from (centres, or the face's midpoint), m
+  double pressure = 0.0;              ///< a drained face's p, Pa
+  std::array<Index, 2> side{-1, -1};  ///< a drained face's two nodes (−1 for inner faces)
 };
 
 /// The pore water of a model with saturated elements (docs/method.md §10, fem/pore_fluid.hpp):

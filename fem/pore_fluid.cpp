@@ -180,7 +180,8 @@ void make_faces(FemModel& model, const std::vector<Vec2>& centre,
     const double pressure = wet != wetted.end()
                                 ? 0.5 * (wet->p_low + wet->p_high)
                                 : std::max(fluid.hydrostatic_at(middle), fluid.tension_limit);
-    fluid.faces.push_back(FluidFace{s.element, -1, t_from, middle - centre[from], pressure});
+    fluid.faces.push_back(
+        FluidFace{s.element, -1, t_from, middle - centre[from], pressure, {s.low, s.high}});
   }
 }
 
@@ -381,6 +382,17 @@ double pore_fluid_time_step(const FemModel& model) {
     if (conductance[e] > 0.0) smallest = std::min(smallest, fluid.storage[e] / conductance[e]);
   }
   return smallest;
+}
+
+double drained_outflow(const FemModel& model, const FemState& state, const FluidFace& face) {
+  const PoreFluid& fluid = model.fluid;
+  Vec2 acceleration = Vec2::Zero();
+  const auto nodes = model.mesh.element(face.from);
+  for (const Index n : nodes) acceleration += state.acceleration[static_cast<std::size_t>(n)];
+  acceleration /= static_cast<double>(nodes.size());
+  return face.transmissibility *
+         (state.element_pore_pressure[static_cast<std::size_t>(face.from)] - face.pressure +
+          fluid.density * (fluid.gravity - acceleration).dot(face.offset));
 }
 
 void gauss_point_pressure(const FemModel& model, std::span<const double> element_pressure,

@@ -118,6 +118,10 @@ struct ElementPoreWater {
 };
 ElementPoreWater element_pore_water(const FemModel& model, const FemState& state, Index e);
 
+/// The water leaving the soil through a drained face (face.to < 0), m³/s per m: the flow
+/// from its element to the face's held pressure.
+double drained_outflow(const FemModel& model, const FemState& state, const FluidFace& face);
+
 /// The pore pressure at each Gauss point, its element's p_e (0 in dry elements).
 void gauss_point_pressure(const FemModel& model, std::span<const double> element_pressure,
                           std::vector<double>& out);

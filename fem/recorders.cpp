@@ -84,6 +84,42 @@ std::string header(const std::vector<Index>& nodes, const std::vector<Index>& el
   return text + '\n';
 }
 
+/// Per element the means over its Gauss points of σ and ε, and with pore water p and r_u.
+void append_elements(const FemModel& model, const FemState& state,
+                     const std::vector<Index>& elements, std::string& rows) {
+  const int n_gauss = model.gauss_per_element();
+  for (const Index e : elements) {
+    Vec4 stress = Vec4::Zero(), strain = Vec4::Zero();
+    for (int g = 0; g < n_gauss; ++g) {
+      const auto gp = static_cast<std::size_t>(e * n_gauss + g);
+      stress += state.stress[gp];
+      strain += state.strain[gp];
+    }
+    for (int i = 0; i < 4; ++i) append(rows, stress[i] / n_gauss);
+    for (int i = 0; i < 4; ++i) append(rows, strain[i] / n_gauss);
+    if (model.fluid.active()) {
+      const auto [p, ratio] = element_pore_water(model, state, e);
+      append(rows, p);
+      append(rows, ratio);
+    }
+  }
+}
+
+/// The drained faces whose two nodes are both in `nodes`.
+std::vector<std::size_t> faces_of_set(const FemModel& model, const std::vector<Index>& nodes) {
+  std::vector<std::uint8_t> in_set(static_cast<std::size_t>(model.node_count()), 0);
+  for (const Index n : nodes) in_set[static_cast<std::size_t>(n)] = 1;
+  std::vector<std::size_t> faces;
+  for (std::size_t f = 0; f < model.fluid.faces.size(); ++f) {
+    const auto& side = model.fluid.faces[f].side;
+    if (side[0] >= 0 && in_set[static_cast<std::size_t>(side[0])] &&
+        in_set[static_cast<std::size_t>(side[1])]) {
+      faces.push_back(f);
+    }
+  }
+  return faces;
+}
+
 }  // namespace
 
 Recorders::Recorders(const FemModel& model, const std::vector<RecorderSpec>& specs,
@@ -106,6 +142,11 @@ Recorders::Recorders(const FemModel& model, const std::vector<RecorderSpec>& spe
     if (!spec.node_set.empty()) r.nodes = node_set_nodes(model, spec);
     for (const Vec2& p : spec.elements) r.elements.push_back(nearest_element(model, p));
     r.header = header(r.nodes, r.elements, model.fluid.active());
+    if (!spec.node_set.empty() && model.fluid.active()) {
+      r.drained_faces = faces_of_set(model, r.nodes);
+      r.header.back() = ',';
+      r.header += "outflow\n";
+    }
     recorders_.push_back(std::move(r));
   }
 }
@@ -185,7 +226,6 @@ void Recorders::record(const FemState& state, double dt) {
     base_v *= share;
     base_a *= share;
   }
-  const int n_gauss = model_.gauss_per_element();
   for (Recorder& r : recorders_) {
     if (!due(r)) continue;
     while (r.every > 0.0 && r.next <= t + 1e-9 * std::max(1.0, t)) r.next += r.every;
@@ -215,20 +255,13 @@ void Recorders::record(const FemState& state, double dt) {
         }
       }
     }
-    for (const Index e : r.elements) {
-      Vec4 stress = Vec4::Zero(), strain = Vec4::Zero();
-      for (int g = 0; g < n_gauss; ++g) {
-        const auto gp = static_cast<std::size_t>(e * n_gauss + g);
-        stress += state.stress[gp];
-        strain += state.strain[gp];
+    append_elements(model_, state, r.elements, r.rows);
+    if (r.drained_faces) {
+      double outflow = 0.0;
+      for (const std::size_t f : *r.drained_faces) {
+        outflow += drained_outflow(model_, state, model_.fluid.faces[f]);
       }
-      for (int i = 0; i < 4; ++i) append(r.rows, stress[i] / n_gauss);
-      for (int i = 0; i < 4; ++i) append(r.rows, strain[i] / n_gauss);
-      if (model_.fluid.active()) {
-        const auto [p, ratio] = element_pore_water(model_, state, e);
-        append(r.rows, p);
-        append(r.rows, ratio);
-      }
+      append(r.rows, outflow);
     }
     r.rows += '\n';
   }

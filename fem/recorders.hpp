@@ -23,6 +23,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,9 @@ class Recorders {
     std::string name;
     std::vector<Index> nodes;
     std::vector<Index> elements;
+    /// A node-set recorder of a saturated model: the drained faces (indices into
+    /// model.fluid.faces) with both nodes in the set, whose outflow it records.
+    std::optional<std::vector<std::size_t>> drained_faces;
     double every = 0.0;
     double next = 0.0;
     std::string header;

@@ -3,10 +3,12 @@
 
     seismic.py motion MOTION.csv PNG
         the processed base motion (acceleration, velocity, displacement) of a run
-    seismic.py column CASE_DIR RIGID_OUT COMPLIANT_OUT REPORT_DIR
+    seismic.py column CASE_DIR RIGID_OUT COMPLIANT_OUT REPORT_DIR [SATURATED_OUT]
         verifications 1 and 2 on cases/column-seismic: the rigid-base transfer function
-        against |1/cos(ωH/V_s*)| and the compliant base's Ricker pulse; report.md and
-        figures in REPORT_DIR; exit status 1 when a check fails
+        against |1/cos(ωH/V_s*)| and the compliant base's Ricker pulse (and, with
+        SATURATED_OUT, the same pulse through the saturated column of
+        compliant-saturated.toml); report.md and figures in REPORT_DIR; exit status 1 when
+        a check fails
     seismic.py sliding-block CASE.toml FEM_OUT MPM_OUT REPORT_DIR [--check fe]
         verification 3: the block's permanent slip in FE and MPM against the Newmark
         sliding-block integral of the same base motion; exit status 1 when a check fails
@@ -166,13 +168,13 @@ def rigid_column(case_dir, out, report):
     }
 
 
-def compliant_column(case_dir, out, report):
-    p = column_properties(pathlib.Path(case_dir) / "compliant.toml")
+def compliant_column(case_dir, out, report, case_name="compliant.toml", figure="compliant"):
+    p = column_properties(pathlib.Path(case_dir) / case_name)
     rec = read_table(pathlib.Path(out) / "recorders" / "surface.csv")
     motion = read_table(pathlib.Path(out) / "motion.csv")
     spec = p["case"]["fem"]["motion"]
     if spec.get("input", "incident") != "incident":
-        raise SystemExit("compliant.toml: the check expects input = \"incident\"")
+        raise SystemExit(f"{case_name}: the check expects input = \"incident\"")
     t = rec["time"]
     v = rec[node_columns(rec, "vx")[0]]
     travel = p["height"] / p["vs"]
@@ -201,7 +203,7 @@ def compliant_column(case_dir, out, report):
     ax.legend()
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    write_figure(fig, pathlib.Path(report) / "compliant_time_history.png")
+    write_figure(fig, pathlib.Path(report) / f"{figure}_time_history.png")
     return {
         "incident_peak": incident_peak,
         "surface_peak": surface_peak,
@@ -211,11 +213,15 @@ def compliant_column(case_dir, out, report):
     }
 
 
-def column(case_dir, rigid_out, compliant_out, report):
+def column(case_dir, rigid_out, compliant_out, report, saturated_out=None):
     report = pathlib.Path(report)
     report.mkdir(parents=True, exist_ok=True)
     r = rigid_column(case_dir, rigid_out, report)
     c = compliant_column(case_dir, compliant_out, report)
+    s = None
+    if saturated_out:
+        s = compliant_column(case_dir, saturated_out, report, "compliant-saturated.toml",
+                             "saturated")
     plot_motion(pathlib.Path(rigid_out) / "motion.csv", report / "rigid_motion.png")
     plot_motion(pathlib.Path(compliant_out) / "motion.csv", report / "compliant_motion.png")
     verdict = lambda ok: "pass" if ok else "**FAIL**"  # noqa: E731
@@ -231,7 +237,7 @@ Made by `tools/seismic.py column` from the runs of `case.toml` (rigid base) and
 | rigid base: transfer function, 0.5–15 Hz | | \\|1/cos(ωH/V_s*)\\| | max {100 * r['transfer_error']:.2f} % | | |
 | compliant base: surface peak velocity | {c['surface_peak']:.5f} m/s | 2 v_in = {2 * c['incident_peak']:.5f} m/s | {100 * c['doubling_error']:+.3f} % | 3 % | {verdict(abs(c['doubling_error']) <= DOUBLING_TOLERANCE)} |
 | compliant base: reflected energy | {c['reflected']:.2e} of the incident | 0 | | < 5 % | {verdict(c['reflected'] < REFLECTED_ENERGY_LIMIT)} |
-
+{saturated_rows(s, verdict)}
 The closed form's peak lies below V_s/4H because the damping (Kelvin–Voigt, ξ = πfβ_K)
 lowers the resonance slightly; the 1 % check is against V_s/4H as docs/method.md states it.
 
@@ -240,6 +246,7 @@ lowers the resonance slightly; the 1 % check is against V_s/4H as docs/method.md
 ![rigid base, time history](rigid_time_history.png)
 
 ![compliant base, time history](compliant_time_history.png)
+{"![saturated column, time history](saturated_time_history.png)" if s else ""}
 
 ![rigid base motion](rigid_motion.png)
 
@@ -251,8 +258,23 @@ lowers the resonance slightly; the 1 % check is against V_s/4H as docs/method.md
         f"transfer function within {100 * r['transfer_error']:.2f} % over 0.5–15 Hz; "
         f"compliant: surface peak {100 * c['doubling_error']:+.3f} % of 2 v_in, "
         f"reflected energy {c['reflected']:.2e}"
+        + (f"; saturated: surface peak {100 * s['doubling_error']:+.3f} % of 2 v_in, "
+           f"reflected energy {s['reflected']:.2e}" if s else "")
     )
-    return 0 if r["ok"] and c["ok"] else 1
+    return 0 if r["ok"] and c["ok"] and (s is None or s["ok"]) else 1
+
+
+def saturated_rows(s, verdict):
+    """The saturated column's two rows of the report's table (none without it)."""
+    if s is None:
+        return ""
+    return (
+        f"| saturated column (u–p): surface peak velocity | {s['surface_peak']:.5f} m/s | "
+        f"2 v_in = {2 * s['incident_peak']:.5f} m/s | {100 * s['doubling_error']:+.3f} % | 3 % | "
+        f"{verdict(abs(s['doubling_error']) <= DOUBLING_TOLERANCE)} |\n"
+        f"| saturated column (u–p): reflected energy | {s['reflected']:.2e} of the incident | 0 "
+        f"| | < 5 % | {verdict(s['reflected'] < REFLECTED_ENERGY_LIMIT)} |\n"
+    )
 
 
 # --------------------------------------------------------------------------- sliding block
@@ -360,7 +382,7 @@ def main(argv):
     if len(argv) >= 2 and argv[1] == "motion" and len(argv) == 4:
         plot_motion(argv[2], argv[3])
         return 0
-    if len(argv) >= 2 and argv[1] == "column" and len(argv) == 6:
+    if len(argv) >= 2 and argv[1] == "column" and len(argv) in (6, 7):
         return column(*argv[2:])
     if len(argv) >= 2 and argv[1] == "sliding-block" and len(argv) == 6:
         return sliding_block(*argv[2:])

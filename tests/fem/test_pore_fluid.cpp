@@ -364,6 +364,45 @@ TEST(PoreFluid, TerzaghiConsolidation) {
   }
 }
 
+// The water the drained faces let out (drained_outflow, the recorders' `outflow`) is the
+// water the column lost: over the quasi-static Terzaghi column's consolidation to T = 1,
+// ∫ outflow dt = −ΔV − Σ S_e Δp_e (the skeleton's volume change and the water's
+// compression), with ΔV the top's settlement times the column's width.
+TEST(PoreFluid, DrainedOutflowIsTheWaterTheColumnLoses) {
+  constexpr double height = 10.0, q = 100e3, k = 1e-3, bulk_modulus = 0.2e9;
+  const FemModel model = loaded_column(40, height, q, height, k, bulk_modulus);
+  FemState state = make_rest_state(model);
+  ExplicitSolver solver(model, make_constraints(model.mesh, box, "test"), 0.0,
+                        Damping{NodalDamping{0.0, 0.8}, 0.0}, models_of(model));
+  const double dt = solver.stable_time_step(state, 0.5);
+  const Material material = sand(k);
+  const double cv =
+      (k / (1000.0 * 9.81)) / (1.0 / material.p_wave_modulus() + material.porosity / bulk_modulus);
+  const auto outflow = [&] {
+    double sum = 0.0;
+    for (const FluidFace& face : model.fluid.faces) {
+      if (face.to < 0) sum += drained_outflow(model, state, face);
+    }
+    return sum;
+  };
+  double out = 0.0, rate = outflow();
+  while (state.time < height * height / cv) {
+    solver.step(state, dt);
+    const double next = outflow();
+    out += 0.5 * (rate + next) * dt;
+    rate = next;
+  }
+  const auto top = static_cast<std::size_t>(model.mesh.find_node_set("top")->nodes[0]);
+  const double volume_change = state.displacement[top].y() * 1.0;  // negative: settled
+  double compression = 0.0;
+  for (std::size_t e = 0; e < model.fluid.storage.size(); ++e) {
+    compression += model.fluid.storage[e] * state.element_pore_pressure[e];
+  }
+  std::printf("outflow %.6e m³/m, lost %.6e m³/m (settlement %.4e m)\n", out,
+              -volume_change - compression, -volume_change);
+  EXPECT_NEAR(out, -volume_change - compression, 1e-3 * std::abs(volume_change));
+}
+
 /// Every node held by a roller whose normal is `normal` (the velocity along it fixed).
 NodalConstraints everywhere(const FemModel& model, const Vec2& normal) {
   NodalConstraints c;
