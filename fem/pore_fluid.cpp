@@ -51,12 +51,11 @@ void hold_nodes(FemModel& model, std::span<const std::string> drained) {
   }
 }
 
-/// One side of an element: its end nodes (sorted, the key that finds its neighbour), the
-/// element and the side's place in it.
+/// One side of an element: its end nodes (sorted, the key that finds its neighbour) and
+/// the element.
 struct Side {
   Index low = 0, high = 0;
   Index element = 0;
-  int corner = 0;  ///< the side runs from corner `corner` to the next one
   auto key() const { return std::tie(low, high, element); }
 };
 
@@ -71,7 +70,7 @@ std::vector<Side> sorted_sides(const FemModel& model, bool saturated_only) {
     for (int k = 0; k < corners; ++k) {
       const Index a = nodes[static_cast<std::size_t>(k)];
       const Index b = nodes[static_cast<std::size_t>((k + 1) % corners)];
-      sides.push_back(Side{std::min(a, b), std::max(a, b), e, k});
+      sides.push_back(Side{std::min(a, b), std::max(a, b), e});
     }
   }
   std::ranges::sort(sides, [](const Side& x, const Side& y) { return x.key() < y.key(); });
