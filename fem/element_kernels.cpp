@@ -287,6 +287,11 @@ ElementMatrix element_stiffness(const FemModel& model, const ElementGeometry& ge
 }
 
 double courant_time_step(const FemModel& model, std::span<const Vec2> coordinates, double courant) {
+  return courant_time_step(model, coordinates, courant, model.elements.wave_speed);
+}
+
+double courant_time_step(const FemModel& model, std::span<const Vec2> coordinates, double courant,
+                         std::span<const double> wave_speed) {
   const Mesh& mesh = model.mesh;
   const int n = model.nodes_per_element;
   const double area_factor = mesh.shape() == ElementShape::tri3 ? 2.0 : 1.0;
@@ -298,13 +303,20 @@ double courant_time_step(const FemModel& model, std::span<const Vec2> coordinate
       longest = std::max(longest, (x.row((k + 1) % n) - x.row(k)).norm());
     }
     const double length = area_factor * std::abs(element_area(mesh.shape(), x)) / longest;
-    smallest = std::min(smallest, length / model.elements.wave_speed[static_cast<std::size_t>(e)]);
+    smallest = std::min(smallest, length / wave_speed[static_cast<std::size_t>(e)]);
   }
   return courant * smallest;
 }
 
 double damped_time_step(double critical_step, double courant, double rayleigh_stiffness) {
-  const double xi = rayleigh_stiffness / critical_step;  // ξ_max = β_K ω_max / 2
+  return damped_time_step(critical_step, courant, rayleigh_stiffness, critical_step);
+}
+
+double damped_time_step(double critical_step, double courant, double rayleigh_stiffness,
+                        double skeleton_step) {
+  // ξ = β_K ω_s,max² / (2 ω_max) = (β_K / dt_c) (dt_c / dt_c,s)²: β_K / dt_c when dry.
+  const double ratio = critical_step / skeleton_step;
+  const double xi = rayleigh_stiffness / critical_step * (ratio * ratio);
   return courant * critical_step / (std::sqrt(1.0 + xi * xi) + xi);
 }
 

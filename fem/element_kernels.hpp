@@ -79,6 +79,9 @@ ElementMatrix element_stiffness(const FemModel& model, const ElementGeometry& ge
 /// `coordinates`, and c_p the element's P-wave speed (ElementConstants::wave_speed:
 /// undrained in a saturated element).
 double courant_time_step(const FemModel& model, std::span<const Vec2> coordinates, double courant);
+/// The same with the given per-element speeds (e.g. ElementConstants::skeleton_wave_speed).
+double courant_time_step(const FemModel& model, std::span<const Vec2> coordinates, double courant,
+                         std::span<const double> wave_speed);
 
 /// Stable step with stiffness-proportional Rayleigh damping β_K (s), from the Courant step
 /// at C = 1, dt_c = min_e(l_e / c_p) (`critical_step`), and the Courant number C.
@@ -96,5 +99,17 @@ double courant_time_step(const FemModel& model, std::span<const Vec2> coordinate
 /// (The mass term's α_M/(2 ω_max) is small, 1.1e-3 for column-short at ξ = 5 % at 1 and
 /// 10 Hz, and is left to C ≤ 0.5.)
 double damped_time_step(double critical_step, double courant, double rayleigh_stiffness);
+
+/// The same when the damped stiffness is not all of the stiffness: with pore water the
+/// viscous stress β_K D ε̇ acts on the skeleton, while the highest frequency comes from
+/// the water's bulk modulus in the undrained P wave. Per mode the condition is
+/// ω² dt² + 2 c dt ≤ 4 with c = β_K k_s/m ≤ β_K ω_s,max², ω_s,max = 2/dt_c,s the highest
+/// frequency of the skeleton alone (`skeleton_step`, the Courant step with
+/// ElementConstants::skeleton_wave_speed); so ξ_max = β_K ω_s,max²/(2 ω_max) =
+/// (β_K/dt_c)(dt_c/dt_c,s)². Dry, dt_c,s = dt_c and this is the one above, bit for bit.
+/// (A saturated element's skeleton alone is 6–40 times slower than the undrained mixture,
+/// and the step grows as much where β_K bound it.)
+double damped_time_step(double critical_step, double courant, double rayleigh_stiffness,
+                        double skeleton_step);
 
 }  // namespace slide::fem

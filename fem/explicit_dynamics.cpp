@@ -98,8 +98,16 @@ double ExplicitSolver::critical_time_step(const FemState& state) {
   return courant_time_step(model_, ul_.coordinates, 1.0);
 }
 
+double ExplicitSolver::skeleton_time_step(const FemState& state) {
+  const auto& speed = model_.elements.skeleton_wave_speed;
+  if (!updated_lagrangian_) return courant_time_step(model_, model_.mesh.nodes, 1.0, speed);
+  update_coordinates(model_, state, ul_.coordinates);
+  return courant_time_step(model_, ul_.coordinates, 1.0, speed);
+}
+
 double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
-  return std::min(damped_time_step(critical_time_step(state), courant, damping_.rayleigh_stiffness),
+  return std::min(damped_time_step(critical_time_step(state), courant, damping_.rayleigh_stiffness,
+                                   skeleton_time_step(state)),
                   fluid_step_);
 }
 

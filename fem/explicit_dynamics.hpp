@@ -65,6 +65,9 @@ class ExplicitSolver {
   /// Courant step at C = 1, dt_c = min_e(l_e/c_p), of the reference (small strain) or
   /// current (updated Lagrangian) geometry, without damping.
   double critical_time_step(const FemState& state);
+  /// The same with the skeleton's speeds (ElementConstants::skeleton_wave_speed): the
+  /// frequency the stiffness damping acts on; critical_time_step when dry.
+  double skeleton_time_step(const FemState& state);
 
   /// The step the run takes: C·dt_c, lowered by the stiffness damping β_K
   /// (damped_time_step in fem/element_kernels.hpp; equal to C·dt_c when β_K = 0).

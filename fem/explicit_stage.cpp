@@ -127,7 +127,9 @@ ExplicitStage::ExplicitStage(const FemPlan& plan, const FemModel& model, const L
   time_step_ = fem.time_step > 0.0
                    ? fem.time_step
                    : damped_time_step(courant_time_step(model, model.mesh.nodes, 1.0), fem.courant,
-                                      fem.damping.rayleigh_stiffness);
+                                      fem.damping.rayleigh_stiffness,
+                                      courant_time_step(model, model.mesh.nodes, 1.0,
+                                                        model.elements.skeleton_wave_speed));
   if (!fem.failure_stage) return;
   // A run too long to finish (a huge stiffness, a tiny fixed step) and a bad motion are
   // refused now, before the geostatic checkpoint is written.
@@ -198,8 +200,9 @@ void ExplicitStage::choose_time_step(bool announce) {
   const FemSpec& fem = plan_.source.fem;
   const DampingSpec& damping = fem.damping;
   const double critical_step = solver_->critical_time_step(state_);
+  const double skeleton_step = solver_->skeleton_time_step(state_);
   const double mechanical_step =
-      damped_time_step(critical_step, fem.courant, damping.rayleigh_stiffness);
+      damped_time_step(critical_step, fem.courant, damping.rayleigh_stiffness, skeleton_step);
   const double reduction = mechanical_step / (fem.courant * critical_step);
   // With pore water, the Darcy term's forward Euler may bind instead (fem/pore_fluid.hpp).
   const double fluid_step = solver_->fluid_time_step();
@@ -225,9 +228,14 @@ void ExplicitStage::choose_time_step(bool announce) {
                                     fem.courant, mechanical_step)
                               : fmt::format("Courant C = {}", fem.courant);
   if (damping.rayleigh_stiffness > 0.0) {
-    step_kind +=
-        fmt::format(", × {:.4g} for β_K: ξ_max = {:.4g} at ω_max = 2/dt_c = {:.4g} rad/s",
-                    reduction, damping.rayleigh_stiffness / critical_step, 2.0 / critical_step);
+    const double ratio = critical_step / skeleton_step;
+    step_kind += fmt::format(
+        ", × {:.4g} for β_K: ξ_max = {:.4g} at ω_max = 2/dt_c = {:.4g} rad/s{}", reduction,
+        damping.rayleigh_stiffness / critical_step * (ratio * ratio), 2.0 / critical_step,
+        skeleton_step > critical_step
+            ? fmt::format(" (β_K damps the skeleton, whose ω_max is {:.4g} rad/s)",
+                          2.0 / skeleton_step)
+            : "");
   }
   log_.info("failure stage: {} kinematics, dt = {:.4g} s ({}), t = {:.3f} → {:.3f} s{}",
             to_string(fem.kinematics), time_step_, step_kind, state_.time, plan_.run.end_time(),

@@ -67,6 +67,9 @@ struct ElementConstants {
   /// The P-wave speed of the Courant step: the material's c_p, or undrained
   /// V_p,u = sqrt((M + K_f/n)/ρ_sat) in a saturated element (docs/method.md §10), m/s.
   std::vector<double> wave_speed;
+  /// The P-wave speed of the skeleton alone, sqrt(M/ρ) (the stiffness β_K damps): the
+  /// wave_speed of a dry element, less in a saturated one, m/s.
+  std::vector<double> skeleton_wave_speed;
 };
 
 /// A face the pore water flows through (two-point flux, fem/pore_fluid.hpp): between the

@@ -57,6 +57,7 @@ void compute_densities(FemModel& model, const std::optional<WaterSpec>& water) {
   const auto n_elements = static_cast<std::size_t>(m.element_count());
   model.elements.density.resize(n_elements);
   model.elements.wave_speed.resize(n_elements);
+  model.elements.skeleton_wave_speed.resize(n_elements);
   const Vec2 centre = reference_centre(m.shape());
   for (std::size_t e = 0; e < n_elements; ++e) {
     const auto ei = static_cast<Index>(e);
@@ -64,6 +65,7 @@ void compute_densities(FemModel& model, const std::optional<WaterSpec>& water) {
     model.elements.density[e] = material.density;
     model.elements.wave_speed[e] =
         model.elastic.wave_speed[static_cast<std::size_t>(m.material_id[e])];
+    model.elements.skeleton_wave_speed[e] = model.elements.wave_speed[e];
     if (!water || !material.saturable()) continue;
     const Vec2 x = map_to_physical(m.shape(), m.element_nodes(ei, m.nodes), centre);
     if (model.fluid.depth(x) > 0.0) {
@@ -79,6 +81,7 @@ void compute_densities(FemModel& model, const std::optional<WaterSpec>& water) {
       }
       model.elements.wave_speed[e] =
           std::sqrt(material.p_wave_modulus() / model.elements.density[e]);
+      model.elements.skeleton_wave_speed[e] = model.elements.wave_speed[e];
     }
   }
 }

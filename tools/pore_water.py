@@ -104,15 +104,25 @@ def history_figure(history, shaking, path):
     write_figure(figure, path)
 
 
-def recorder_figure(nodes, elements, shaking, path):
+def place(label, checkpoint):
+    """'n610 (55, 5)': a recorder's node or element with its reference position."""
+    with h5py.File(checkpoint, "r") as f:
+        x = f["nodes/reference_coordinates"][...]
+        cells = f["elements/connectivity"][...]
+    index = int(label[1:])
+    point = x[index] if label[0] == "n" else x[cells[index]].mean(axis=0)
+    return f"{label} ({point[0]:.3g}, {point[1]:.3g}) m"
+
+
+def recorder_figure(nodes, elements, shaking, path, checkpoint):
     """Δp at the recorder's nodes, r_u at its elements."""
     figure, axes = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
     for name in nodes:
         if name.endswith("_dp"):
-            axes[0].plot(nodes["time"], nodes[name] / 1e3, label=name[:-3])
+            axes[0].plot(nodes["time"], nodes[name] / 1e3, label=place(name[:-3], checkpoint))
     for name in elements:
         if name.endswith("_ru"):
-            axes[1].plot(elements["time"], elements[name], label=name[:-3])
+            axes[1].plot(elements["time"], elements[name], label=place(name[:-3], checkpoint))
     axes[0].set_ylabel("Δp (kPa)")
     axes[1].set_ylabel("r_u")
     axes[1].set_xlabel("t (s)")
@@ -179,14 +189,16 @@ def main(argv):
             elements = table
     lines += ["", "![largest r_u and the area above 0.7](pore_water_history.png)", ""]
     if nodes or elements:
-        recorder_figure(nodes, elements, shaking, report / "pore_water_recorders.png")
+        first = fem_out / f"fem_t{times[0]:.3f}.h5"
+        recorder_figure(nodes, elements, shaking, report / "pore_water_recorders.png", first)
         for name in nodes:
             if name.endswith("_dp"):
-                lines.append(f"- recorder node {name[:-3]}: Δp from "
+                lines.append(f"- recorder node {place(name[:-3], first)}: Δp from "
                              f"{nodes[name].min() / 1e3:.2f} to {nodes[name].max() / 1e3:.2f} kPa")
         for name in elements:
             if name.endswith("_ru"):
-                lines.append(f"- recorder element {name[:-3]}: r_u up to {elements[name].max():.4f}")
+                lines.append(f"- recorder element {place(name[:-3], first)}: r_u up to "
+                             f"{elements[name].max():.4f}")
         lines += ["", "![recorders](pore_water_recorders.png)", ""]
     lines += ["![snapshots of Δp and r_u](pore_water_snapshots.png)", ""]
     temporary = report / "report.md.tmp"
