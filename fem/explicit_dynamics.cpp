@@ -106,8 +106,11 @@ double ExplicitSolver::skeleton_time_step(const FemState& state) {
 }
 
 double ExplicitSolver::stable_time_step(const FemState& state, double courant) {
-  return std::min(damped_time_step(critical_time_step(state), courant, damping_.rayleigh_stiffness,
-                                   skeleton_time_step(state)),
+  const double critical = critical_time_step(state);
+  // Only a saturated model's skeleton is slower than the mixture, and only β_K asks.
+  const bool skeleton = model_.fluid.active() && damping_.rayleigh_stiffness > 0.0;
+  return std::min(damped_time_step(critical, courant, damping_.rayleigh_stiffness,
+                                   skeleton ? skeleton_time_step(state) : critical),
                   fluid_step_);
 }
 

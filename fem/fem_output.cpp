@@ -59,6 +59,30 @@ FemCheckpoint make_checkpoint(const FemModel& model, const FemState& state,
   return checkpoint;
 }
 
+namespace {
+
+/// A checkpoint's pore water for `model`: refused without its references when the case is
+/// saturated; none for a dry case; the elements' p of a file written before elements
+/// carried it taken from the nodes (element_pressure_from_nodes).
+void restore_pore_water(const FemModel& model, const std::filesystem::path& file, FemState& state) {
+  if (!model.fluid.active()) {
+    state.element_pore_pressure.clear();
+    return;
+  }
+  if (state.static_pore_pressure.empty() || state.initial_vertical_effective_stress.empty()) {
+    throw Error(
+        "{}: has no /nodes/static_pore_pressure or /gauss_points/"
+        "initial_vertical_effective_stress: it was written without pore water, and this case "
+        "has [fem.water]",
+        file.string());
+  }
+  if (state.element_pore_pressure.empty()) {
+    state.element_pore_pressure = element_pressure_from_nodes(model, state.pore_pressure);
+  }
+}
+
+}  // namespace
+
 FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& checkpoint,
                                const std::filesystem::path& file) {
   const auto require_rows = [&](RowKind kind, Index expected, std::string_view group) {
@@ -90,20 +114,7 @@ FemState state_from_checkpoint(const FemModel& model, const FemCheckpoint& check
     state.surface_stress.resize(state.stress.size());
   }
   if (!model.hourglass) state.hourglass_force.clear();
-  if (model.fluid.active() &&
-      (state.static_pore_pressure.empty() || state.initial_vertical_effective_stress.empty())) {
-    throw Error(
-        "{}: has no /nodes/static_pore_pressure or /gauss_points/"
-        "initial_vertical_effective_stress: it was written without pore water, and this case "
-        "has [fem.water]",
-        file.string());
-  }
-  if (!model.fluid.active()) {
-    state.element_pore_pressure.clear();
-  } else if (state.element_pore_pressure.empty()) {
-    // Written before elements carried p (fem/pore_fluid.hpp): each element's mean of its nodes.
-    state.element_pore_pressure = element_mean_of_nodes(model, state.pore_pressure);
-  }
+  restore_pore_water(model, file, state);
   state.yielded.assign(state.stress.size(), 0);
   return state;
 }

@@ -80,8 +80,12 @@ std::vector<Side> sorted_sides(const FemModel& model, bool saturated_only) {
 /// A boundary side under a reservoir: its nodes (sorted) and the water's pressure at them.
 struct WettedSide {
   Index low = 0, high = 0;
-  double p_low = 0.0, p_high = 0.0;  ///< Pa
-  Vec2 inward = Vec2::Zero();        ///< the unit normal into the body
+  /// ρ_w g times the depth below the reservoir's surface at the two nodes (negative above
+  /// it: a side the surface crosses is wet on one part only), Pa.
+  double p_low = 0.0, p_high = 0.0;
+  Vec2 inward = Vec2::Zero();  ///< the unit normal into the body
+  /// The pressure at the side's midpoint (> 0: it is below the surface), Pa.
+  double middle() const { return 0.5 * (p_low + p_high); }
   auto key() const { return std::pair{low, high}; }
 };
 
@@ -109,25 +113,39 @@ std::vector<WettedSide> wetted_sides(const FemModel& model) {
     Vec2 normal(b.y() - a.y(), a.x() - b.x());
     if (normal.dot(0.5 * (a + b) - inside) < 0.0) normal = -normal;
     if (!(normal.dot(-down) > 1e-9 * normal.norm()) || !(depth(0.5 * (a + b)) > 0.0)) continue;
-    wetted.push_back(WettedSide{s.low, s.high, fluid.density * g * std::max(depth(a), 0.0),
-                                fluid.density * g * std::max(depth(b), 0.0),
-                                -normal / normal.norm()});
+    wetted.push_back(WettedSide{s.low, s.high, fluid.density * g * depth(a),
+                                fluid.density * g * depth(b), -normal / normal.norm()});
   }
   return wetted;
 }
 
+/// ∫ N_a p ds and ∫ N_b p ds over a side of length L whose water pressure is linear from
+/// p_a to p_b where it is positive and 0 above the surface: L (2 p_a + p_b)/6 and
+/// L (p_a + 2 p_b)/6 when the side is all wet; when the surface crosses it at t₀ (from a),
+/// with only b wet, L p_b (1 − t₀)²/6 and L p_b (1 − t₀)(2 + t₀)/6.
+std::array<double, 2> wet_side_shares(double p_a, double p_b, double length) {
+  if (p_a >= 0.0 && p_b >= 0.0) {
+    return {length * (2.0 * p_a + p_b) / 6.0, length * (p_a + 2.0 * p_b) / 6.0};
+  }
+  if (p_a <= 0.0 && p_b <= 0.0) return {0.0, 0.0};
+  if (p_a < 0.0) {
+    const double t0 = p_a / (p_a - p_b);
+    return {length * p_b * (1.0 - t0) * (1.0 - t0) / 6.0,
+            length * p_b * (1.0 - t0) * (2.0 + t0) / 6.0};
+  }
+  const auto [to_b, to_a] = wet_side_shares(p_b, p_a, length);
+  return {to_a, to_b};
+}
+
 /// The reservoir's water load on the solid: on each wetted side the consistent nodal
-/// forces of the linear pressure, −n L (2 p_a + p_b)/6 and −n L (p_a + 2 p_b)/6.
+/// forces of its pressure along the inward normal (wet_side_shares).
 void add_reservoir_load(FemModel& model, const std::vector<WettedSide>& wetted) {
   for (const WettedSide& w : wetted) {
     const Vec2& a = model.mesh.nodes[static_cast<std::size_t>(w.low)];
     const Vec2& b = model.mesh.nodes[static_cast<std::size_t>(w.high)];
-    const Vec2& inward = w.inward;
-    const double length = (b - a).norm();
-    model.lumped.external_force[static_cast<std::size_t>(w.low)] +=
-        inward * length * (2.0 * w.p_low + w.p_high) / 6.0;
-    model.lumped.external_force[static_cast<std::size_t>(w.high)] +=
-        inward * length * (w.p_low + 2.0 * w.p_high) / 6.0;
+    const auto [share_a, share_b] = wet_side_shares(w.p_low, w.p_high, (b - a).norm());
+    model.lumped.external_force[static_cast<std::size_t>(w.low)] += share_a * w.inward;
+    model.lumped.external_force[static_cast<std::size_t>(w.high)] += share_b * w.inward;
   }
 }
 
@@ -177,7 +195,7 @@ void make_faces(FemModel& model, const std::vector<Vec2>& centre,
                          fluid.prescribed[static_cast<std::size_t>(s.high)];
     if (!(t_from > 0.0) || (wet == wetted.end() && !drained)) continue;
     const double pressure = wet != wetted.end()
-                                ? 0.5 * (wet->p_low + wet->p_high)
+                                ? wet->middle()
                                 : std::max(fluid.hydrostatic_at(middle), fluid.tension_limit);
     fluid.faces.push_back(
         FluidFace{s.element, -1, t_from, middle - centre[from], pressure, {s.low, s.high}});
@@ -351,6 +369,15 @@ std::vector<double> element_mean_of_nodes(const FemModel& model, std::span<const
     mean[static_cast<std::size_t>(e)] = sum / static_cast<double>(nodes.size());
   }
   return mean;
+}
+
+std::vector<double> element_pressure_from_nodes(const FemModel& model,
+                                                std::span<const double> nodal) {
+  std::vector<double> p = element_mean_of_nodes(model, nodal);
+  for (std::size_t e = 0; e < p.size(); ++e) {
+    if (!model.fluid.active() || !model.fluid.saturated[e]) p[e] = 0.0;
+  }
+  return p;
 }
 
 void tie_pore_pressure(const FemModel& model, std::span<const std::pair<Index, Index>> tied,

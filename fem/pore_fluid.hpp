@@ -80,9 +80,13 @@ PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeome
 /// it (so that the hydrostatic field is exact at the nodes too); held nodes keep p_h.
 void update_nodal_pore_pressure(const FemModel& model, FemState& state);
 
-/// Each element's mean of its nodes' values: the element pore pressure of a checkpoint
-/// written before elements carried it (schema version 2 from before this change).
+/// Each element's mean of its nodes' values.
 std::vector<double> element_mean_of_nodes(const FemModel& model, std::span<const double> nodal);
+
+/// The elements' p from a nodal p: each saturated element's mean of its nodes, 0 in dry
+/// ones (a checkpoint written before elements carried p; an OpenSees u–p recorder).
+std::vector<double> element_pressure_from_nodes(const FemModel& model,
+                                                std::span<const double> nodal);
 
 /// Tied side pairs of elements (the free-field columns of a shaken stage,
 /// fem/seismic_boundary.hpp) share their pore pressure as they share their motion: the

@@ -31,6 +31,8 @@ HIGH_RATIO = 0.7
 def read_table(path):
     """A CSV with a header line, as a dict of numpy columns."""
     data = np.genfromtxt(path, delimiter=",", names=True)
+    if data.dtype.names is None or data.size == 0:  # a header without rows
+        return {}
     return {name: np.atleast_1d(data[name]) for name in data.dtype.names}
 
 
@@ -55,9 +57,13 @@ def element_fields(path):
         gauss_element = f["gauss_points/element"][...]
         time = float(f.attrs["time"])
     excess = p - static[cells].mean(axis=1)
+    # r_u per Gauss point (0 where σ′v0 < 1 kPa), then the element's mean, as fem-solve.
+    point_excess = excess[gauss_element]
+    point_ratio = np.where(stress0 >= MIN_RATIO_STRESS,
+                           point_excess / np.maximum(stress0, MIN_RATIO_STRESS), 0.0)
     per_element = np.bincount(gauss_element, minlength=len(cells))
-    stress = np.bincount(gauss_element, weights=stress0, minlength=len(cells)) / per_element
-    ratio = np.where(stress >= MIN_RATIO_STRESS, excess / np.maximum(stress, 1.0), 0.0)
+    ratio = np.bincount(gauss_element, weights=point_ratio, minlength=len(cells)) / per_element
+    # A dry element's p is 0 (fem/pore_fluid.hpp); a saturated one's is not, below the table.
     saturated = p != 0.0
     return time, x, cells, excess, ratio, saturated
 
@@ -66,8 +72,9 @@ def snapshot_figure(snapshots, path):
     """Δp and r_u over the mesh, one row per checkpoint."""
     figure, axes = plt.subplots(len(snapshots), 2, figsize=(13, 2.6 * len(snapshots)),
                                 squeeze=False)
-    excess_limit = max(np.abs(s[3]).max() for s in snapshots) or 1.0
-    ratio_limit = max(1.0, max(s[4].max() for s in snapshots))
+    wet = [s for s in snapshots if s[5].any()]
+    excess_limit = max((np.abs(s[3][s[5]]).max() for s in wet), default=0.0) or 1.0
+    ratio_limit = max([1.0] + [s[4][s[5]].max() for s in wet])
     for row, (time, x, cells, excess, ratio, saturated) in enumerate(snapshots):
         polygons = x[cells]
         for column, (values, label, limits, colours) in enumerate(
@@ -114,15 +121,15 @@ def place(label, checkpoint):
     return f"{label} ({point[0]:.3g}, {point[1]:.3g}) m"
 
 
-def recorder_figure(nodes, elements, shaking, path, checkpoint):
-    """Δp at the recorder's nodes, r_u at its elements."""
+def recorder_figure(tables, shaking, path, checkpoint):
+    """Δp at the recorders' nodes, r_u at their elements (every recorder file)."""
     figure, axes = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
-    for name in nodes:
-        if name.endswith("_dp"):
-            axes[0].plot(nodes["time"], nodes[name] / 1e3, label=place(name[:-3], checkpoint))
-    for name in elements:
-        if name.endswith("_ru"):
-            axes[1].plot(elements["time"], elements[name], label=place(name[:-3], checkpoint))
+    for table in tables:
+        for name in table:
+            if name.endswith("_dp"):
+                axes[0].plot(table["time"], table[name] / 1e3, label=place(name[:-3], checkpoint))
+            elif name.endswith("_ru"):
+                axes[1].plot(table["time"], table[name], label=place(name[:-3], checkpoint))
     axes[0].set_ylabel("Δp (kPa)")
     axes[1].set_ylabel("r_u")
     axes[1].set_xlabel("t (s)")
@@ -175,30 +182,30 @@ def main(argv):
     lines.append(f"| largest area with r_u ≥ {HIGH_RATIO} | "
                  f"{history['high_pore_pressure_area'].max():.2f} m² |")
     for time, _, _, excess, ratio, saturated in snapshots:
+        if not saturated.any():
+            lines.append(f"| t = {time:g} s | no saturated element |")
+            continue
         lines.append(f"| t = {time:g} s: Δp range, mean r_u of the saturated elements | "
                      f"{excess[saturated].min() / 1e3:.2f} … {excess[saturated].max() / 1e3:.2f}"
                      f" kPa, {ratio[saturated].mean():.4f} |")
     recorders = fem_out / "recorders"
-    node_files = sorted(recorders.glob("*.csv")) if recorders.exists() else []
-    nodes, elements = {}, {}
-    for path in node_files:
+    tables = []
+    for path in sorted(recorders.glob("*.csv")) if recorders.exists() else []:
         table = read_table(path)
-        if any(n.endswith("_dp") for n in table):
-            nodes = table
-        if any(n.endswith("_ru") for n in table):
-            elements = table
+        if "time" in table and any(n.endswith(("_dp", "_ru")) for n in table):
+            tables.append(table)
     lines += ["", "![largest r_u and the area above 0.7](pore_water_history.png)", ""]
-    if nodes or elements:
+    if tables:
         first = fem_out / f"fem_t{times[0]:.3f}.h5"
-        recorder_figure(nodes, elements, shaking, report / "pore_water_recorders.png", first)
-        for name in nodes:
-            if name.endswith("_dp"):
-                lines.append(f"- recorder node {place(name[:-3], first)}: Δp from "
-                             f"{nodes[name].min() / 1e3:.2f} to {nodes[name].max() / 1e3:.2f} kPa")
-        for name in elements:
-            if name.endswith("_ru"):
-                lines.append(f"- recorder element {place(name[:-3], first)}: r_u up to "
-                             f"{elements[name].max():.4f}")
+        recorder_figure(tables, shaking, report / "pore_water_recorders.png", first)
+        for table in tables:
+            for name in table:
+                if name.endswith("_dp"):
+                    lines.append(f"- recorder node {place(name[:-3], first)}: Δp from "
+                                 f"{table[name].min() / 1e3:.2f} to {table[name].max() / 1e3:.2f} kPa")
+                elif name.endswith("_ru"):
+                    lines.append(f"- recorder element {place(name[:-3], first)}: r_u up to "
+                                 f"{table[name].max():.4f}")
         lines += ["", "![recorders](pore_water_recorders.png)", ""]
     lines += ["![snapshots of Δp and r_u](pore_water_snapshots.png)", ""]
     temporary = report / "report.md.tmp"

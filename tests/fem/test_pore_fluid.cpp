@@ -271,6 +271,51 @@ TEST(PoreFluid, SealedElementInCyclicSimpleShearIsConstantVolumeAsTheFluidStiffe
   EXPECT_LT(differences[2], 0.2 * differences[1]);
 }
 
+// A reservoir whose surface crosses the sloping top between nodes (at y = 7 m, the top
+// going from 8 to 5.44 m), with the table at the same level: the state is hydrostatic and
+// at rest. The side the surface crosses is drained at the pressure of its midpoint and
+// loaded only where it is wet; a pressure averaged from the nodes would push water in
+// from the first step.
+TEST(PoreFluid, AReservoirSurfaceCrossingASideLeavesTheSlopeAtRest) {
+  constexpr double g = 9.81;
+  Mesh mesh = rectangle_mesh(ElementType::quad4_1gp, 8, 8, 8.0, 8.0);
+  for (Vec2& x : mesh.nodes) x.y() *= 1.0 - 0.04 * x.x();
+  WaterSpec water = water_at(7.0);
+  water.reservoir = 7.0;
+  const FemModel model = make_model(std::move(mesh), {sand(1e-4)}, Kinematics::small_strain, 1.0,
+                                    Vec2(0.0, -g), water);
+  FemState state = make_rest_state(model);
+  solve_geostatic(model, make_constraints(model.mesh, box, "test"), state);
+  ExplicitSolver solver(model, make_constraints(model.mesh, box, "test"), 0.0, {},
+                        models_of(model));
+  const double dt = solver.stable_time_step(state, 0.5);
+  const std::vector<double> p0 = state.element_pore_pressure;
+  for (int i = 0; i < 500; ++i) solver.step(state, dt);
+  double speed = 0.0, p_change = 0.0;
+  for (const Vec2& v : state.velocity) speed = std::max(speed, v.norm());
+  for (std::size_t e = 0; e < p0.size(); ++e) {
+    p_change = std::max(p_change, std::abs(state.element_pore_pressure[e] - p0[e]));
+  }
+  EXPECT_LT(speed, 1e-9);
+  EXPECT_LT(p_change, 1e-9 * 1000.0 * g * 8.0);
+}
+
+// The elements' p from a nodal one (a checkpoint written before elements carried p, an
+// OpenSees u–p recorder): the mean of the nodes in saturated elements, 0 in dry ones.
+TEST(PoreFluid, ElementPressureFromNodesIsZeroInDryElements) {
+  const FemModel model =
+      make_model(rectangle_mesh(ElementType::quad4_1gp, 1, 10, 1.0, 10.0), {sand(1e-4)},
+                 Kinematics::small_strain, 1.0, Vec2(0.0, -9.81), water_at(6.0));
+  std::vector<double> nodal(static_cast<std::size_t>(model.node_count()));
+  for (std::size_t n = 0; n < nodal.size(); ++n) nodal[n] = model.mesh.nodes[n].y();
+  const std::vector<double> p = element_pressure_from_nodes(model, nodal);
+  for (Index e = 0; e < model.element_count(); ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    EXPECT_EQ(p[ei], model.fluid.saturated[ei] ? static_cast<double>(e) + 0.5 : 0.0) << e;
+  }
+  EXPECT_EQ(std::ranges::count(model.fluid.saturated, std::uint8_t{1}), 6);
+}
+
 /// A column 1 m wide of `rows` elements between rollers, no gravity, loaded on its top
 /// by q (nodal forces), the water table at `level`, under local damping α for the
 /// quasi-static runs. Returns the model with the load in its external forces.

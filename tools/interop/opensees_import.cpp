@@ -15,6 +15,7 @@
 #include "fem/fem_output.hpp"
 #include "fem/mesh_quality.hpp"
 #include "fem/model_setup.hpp"
+#include "fem/pore_fluid.hpp"
 
 namespace slide::interop {
 namespace {
@@ -343,19 +344,9 @@ FemCheckpoint import_opensees(const Case& c, double time, const Logger* logger) 
       model, state, import_context(c, model, state, model_tags.element_class, time));
   checkpoint.header.producer = "opensees2fem (" + version_string() + ")";
   checkpoint.pore_pressure = pore_pressure;
-  if (!spec.pore_pressure.empty()) {
-    // The u–p unknown of this project is the element's (fem/pore_fluid.hpp): each
-    // element's mean of its nodes' recorded p.
-    const Mesh& imported = checkpoint.mesh;
-    checkpoint.element_pore_pressure.assign(static_cast<std::size_t>(imported.element_count()),
-                                            0.0);
-    for (Index e = 0; e < imported.element_count(); ++e) {
-      const auto nodes = imported.element(e);
-      double sum = 0.0;
-      for (const Index n : nodes) sum += pore_pressure[static_cast<std::size_t>(n)];
-      checkpoint.element_pore_pressure[static_cast<std::size_t>(e)] =
-          sum / static_cast<double>(nodes.size());
-    }
+  if (!spec.pore_pressure.empty() && model.fluid.active()) {
+    // The u–p unknown of this project is the element's (fem/pore_fluid.hpp).
+    checkpoint.element_pore_pressure = fem::element_pressure_from_nodes(model, pore_pressure);
   }
   return checkpoint;
 }
