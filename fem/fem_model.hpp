@@ -87,8 +87,9 @@ struct FluidFace {
 /// The pore water of a model with saturated elements (docs/method.md §10, fem/pore_fluid.hpp):
 /// one pore pressure p per saturated element (compression positive), stored with the
 /// element's storage S_e, driven by the element's volume change and by Darcy flow across
-/// its faces; the nodal p of the output is the storage-weighted mean of the elements
-/// around the node. Empty (active() false) for a dry model.
+/// its faces; the nodal p of the output is the node's hydrostatic p plus the
+/// storage-weighted mean excess of the elements around it. Empty (active() false) for a
+/// dry model.
 struct PoreFluid {
   double density = 1000.0;          ///< ρ_w, kg/m³
   double bulk_modulus = 2.2e9;      ///< K_f, Pa

@@ -1,9 +1,9 @@
 // The state of an FE model that evolves and that checkpoints carry: per node the
-// displacement, velocity, acceleration and pore pressure, per element the hourglass
-// forces of one-point quads and the pore pressure, per Gauss point the stress, strain and the
-// material's state. fem-solve's FemState and the checkpoint module's FemCheckpoint both hold it,
-// and fe_fields lists it once (common/physics/field_table.hpp): sizing a state, checking one read
-// from a file and the checkpoint reader and writer walk the list.
+// displacement, velocity, acceleration and pore pressure, per element the hourglass forces
+// of one-point quads and the pore pressure, per Gauss point the stress, strain and the
+// material's state. fem-solve's FemState and the checkpoint module's FemCheckpoint both
+// hold it, and fe_fields lists it once (common/physics/field_table.hpp): sizing a state,
+// checking one read from a file and the checkpoint reader and writer walk the list.
 #pragma once
 
 #include <tuple>
@@ -31,7 +31,7 @@ struct FeFields {
   // empty for the other element types.
   std::vector<Vec2> hourglass_force;
   /// Saturated models only: the pore pressure of each element (the u–p unknown; the
-  /// nodal pore_pressure is its storage-weighted mean around the node), Pa.
+  /// nodal pore_pressure is derived from it, fem/pore_fluid.hpp), Pa.
   std::vector<double> element_pore_pressure;
 
   // Gauss points, element by element in the order of the element's rule.
