@@ -242,14 +242,19 @@ void ExplicitSolver::element_forces(const FemState& state) {
   add_pore_pressure_forces(model_, geometry, state.element_pore_pressure, element_force_);
 }
 
+void ExplicitSolver::advance_water(const ElementGeometry& geometry, double dt, FemState& state) {
+  std::span<const std::pair<Index, Index>> tied;
+  if (seismic_ != nullptr) tied = seismic_->tied_elements;
+  pressure_clamps_ +=
+      advance_pore_pressure(model_, geometry, dt, tied, state, pressure_scratch_).clamped;
+}
+
 Index ExplicitSolver::step(FemState& state, double dt) {
   element_forces(state);
   if (!updated_lagrangian_) {
     update_nodes(state, dt);
     update_stresses(model_, model_.reference, models_, dt, false, state);
-    pressure_clamps_ +=
-        advance_pore_pressure(model_, model_.reference, dt, state, pressure_scratch_).clamped;
-    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied_elements, state);
+    advance_water(model_.reference, dt, state);
   } else {
     ul_.saved_displacement = state.displacement;
     ul_.saved_velocity = state.velocity;
@@ -267,9 +272,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
       return inverted;
     }
     update_stresses(model_, ul_.current, models_, dt, true, state);
-    pressure_clamps_ +=
-        advance_pore_pressure(model_, ul_.current, dt, state, pressure_scratch_).clamped;
-    if (seismic_ != nullptr) tie_pore_pressure(model_, seismic_->tied_elements, state);
+    advance_water(ul_.current, dt, state);
     ul_.geometry_step = state.step + 1;
   }
   state.time += dt;

@@ -110,6 +110,9 @@ class ExplicitSolver {
   /// The elements' nodal forces of `state` into element_force_: internal, hourglass and
   /// damping forces, and the pore pressure's.
   void element_forces(const FemState& state);
+  /// The pore pressure's step (advance_pore_pressure), the tied side elements sharing it
+  /// in a shaken stage.
+  void advance_water(const ElementGeometry& geometry, double dt, FemState& state);
   void update_nodes(FemState& state, double dt);
   Vec2 nodal_force(Index node) const;
 

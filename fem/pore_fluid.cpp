@@ -89,9 +89,16 @@ struct WettedSide {
   auto key() const { return std::pair{low, high}; }
 };
 
+/// The unit normal of the side a–b that points away from `inside` (its element's centre).
+Vec2 outward_normal(const Vec2& a, const Vec2& b, const Vec2& inside) {
+  Vec2 normal(b.y() - a.y(), a.x() - b.x());
+  normal.normalize();
+  return normal.dot(0.5 * (a + b) - inside) < 0.0 ? Vec2(-normal) : normal;
+}
+
 /// The model's boundary sides a reservoir wets: facing up (their outward normal against
 /// gravity) with their midpoint below the reservoir's surface. Sorted by their nodes.
-std::vector<WettedSide> wetted_sides(const FemModel& model) {
+std::vector<WettedSide> wetted_sides(const FemModel& model, const std::vector<Vec2>& centre) {
   const PoreFluid& fluid = model.fluid;
   std::vector<WettedSide> wetted;
   if (!fluid.reservoir_point) return wetted;
@@ -108,13 +115,10 @@ std::vector<WettedSide> wetted_sides(const FemModel& model) {
     }
     const Vec2& a = mesh.nodes[static_cast<std::size_t>(s.low)];
     const Vec2& b = mesh.nodes[static_cast<std::size_t>(s.high)];
-    const ElementNodes x = mesh.element_nodes(s.element, mesh.nodes);
-    const Vec2 inside = map_to_physical(mesh.shape(), x, reference_centre(mesh.shape()));
-    Vec2 normal(b.y() - a.y(), a.x() - b.x());
-    if (normal.dot(0.5 * (a + b) - inside) < 0.0) normal = -normal;
-    if (!(normal.dot(-down) > 1e-9 * normal.norm()) || !(depth(0.5 * (a + b)) > 0.0)) continue;
+    const Vec2 normal = outward_normal(a, b, centre[static_cast<std::size_t>(s.element)]);
+    if (!(normal.dot(-down) > 1e-9) || !(depth(0.5 * (a + b)) > 0.0)) continue;
     wetted.push_back(WettedSide{s.low, s.high, fluid.density * g * depth(a),
-                                fluid.density * g * depth(b), -normal / normal.norm()});
+                                fluid.density * g * depth(b), -normal});
   }
   return wetted;
 }
@@ -164,12 +168,9 @@ void make_faces(FemModel& model, const std::vector<Vec2>& centre,
   const auto geometry = [&](const Side& s) {
     const Vec2& a = mesh.nodes[static_cast<std::size_t>(s.low)];
     const Vec2& b = mesh.nodes[static_cast<std::size_t>(s.high)];
-    const Vec2 middle = 0.5 * (a + b);
-    Vec2 normal(b.y() - a.y(), a.x() - b.x());
-    const double length = normal.norm();
-    normal /= length;
-    if (normal.dot(middle - centre[static_cast<std::size_t>(s.element)]) < 0.0) normal = -normal;
-    return std::tuple{middle, normal, length};
+    return std::tuple{Vec2(0.5 * (a + b)),
+                      outward_normal(a, b, centre[static_cast<std::size_t>(s.element)]),
+                      (b - a).norm()};
   };
   fluid.faces.clear();
   for (std::size_t i = 0; i < sides.size(); ++i) {
@@ -305,7 +306,7 @@ void make_pore_fluid(FemModel& model, std::span<const std::string> drained) {
   for (std::size_t e = 0; e < n_elements; ++e) {
     if (fluid.saturated[e]) fluid.element_hydrostatic[e] = mean[e];
   }
-  const std::vector<WettedSide> wetted = wetted_sides(model);
+  const std::vector<WettedSide> wetted = wetted_sides(model, centre);
   make_faces(model, centre, wetted);
   add_reservoir_load(model, wetted);
 }
@@ -322,7 +323,8 @@ void add_pore_pressure_forces(const FemModel& model, const ElementGeometry& geom
 }
 
 PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeometry& geometry,
-                                       double dt, FemState& state, PressureScratch& scratch) {
+                                       double dt, std::span<const std::pair<Index, Index>> tied,
+                                       FemState& state, PressureScratch& scratch) {
   PorePressureStep result;
   const PoreFluid& fluid = model.fluid;
   if (!fluid.active()) return result;
@@ -338,6 +340,14 @@ PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeome
     const double p = state.element_pore_pressure[e] + dt * scratch.rate[e] / fluid.storage[e];
     if (p < fluid.tension_limit) ++result.clamped;
     state.element_pore_pressure[e] = std::max(p, fluid.tension_limit);
+  }
+  for (const auto& [i, j] : tied) {
+    const auto a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(j);
+    if (!fluid.saturated[a] || !fluid.saturated[c]) continue;
+    double& pa = state.element_pore_pressure[a];
+    double& pc = state.element_pore_pressure[c];
+    pa = pc =
+        (fluid.storage[a] * pa + fluid.storage[c] * pc) / (fluid.storage[a] + fluid.storage[c]);
   }
   update_nodal_pore_pressure(model, state);
   return result;
@@ -378,21 +388,6 @@ std::vector<double> element_pressure_from_nodes(const FemModel& model,
     if (!model.fluid.active() || !model.fluid.saturated[e]) p[e] = 0.0;
   }
   return p;
-}
-
-void tie_pore_pressure(const FemModel& model, std::span<const std::pair<Index, Index>> tied,
-                       FemState& state) {
-  const PoreFluid& fluid = model.fluid;
-  if (!fluid.active()) return;
-  for (const auto& [i, j] : tied) {
-    const auto a = static_cast<std::size_t>(i), c = static_cast<std::size_t>(j);
-    if (!fluid.saturated[a] || !fluid.saturated[c]) continue;
-    double& pa = state.element_pore_pressure[a];
-    double& pc = state.element_pore_pressure[c];
-    pa = pc =
-        (fluid.storage[a] * pa + fluid.storage[c] * pc) / (fluid.storage[a] + fluid.storage[c]);
-  }
-  update_nodal_pore_pressure(model, state);
 }
 
 double pore_fluid_time_step(const FemModel& model) {

@@ -70,10 +70,14 @@ struct PressureScratch {
   std::vector<Vec2> acceleration;  ///< the mean nodal acceleration, per element
 };
 
-/// p_{n+1} from p_n, the mid-step velocities and the accelerations in `state` over `dt`,
-/// then the nodal p of the output (update_nodal_pore_pressure).
+/// p_{n+1} from p_n, the mid-step velocities and the accelerations in `state` over `dt`;
+/// then the `tied` pairs of elements (the free-field columns of a shaken stage,
+/// fem/seismic_boundary.hpp; empty otherwise) share their pore pressure as they share their
+/// motion, the storage-weighted mean of the pair; then the nodal p of the output
+/// (update_nodal_pore_pressure), once.
 PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeometry& geometry,
-                                       double dt, FemState& state, PressureScratch& scratch);
+                                       double dt, std::span<const std::pair<Index, Index>> tied,
+                                       FemState& state, PressureScratch& scratch);
 
 /// state.pore_pressure from state.element_pore_pressure: the node's hydrostatic p plus the
 /// storage-weighted mean of the excess p_e − p_h(centre) of the saturated elements around
@@ -87,12 +91,6 @@ std::vector<double> element_mean_of_nodes(const FemModel& model, std::span<const
 /// ones (a checkpoint written before elements carried p; an OpenSees u–p recorder).
 std::vector<double> element_pressure_from_nodes(const FemModel& model,
                                                 std::span<const double> nodal);
-
-/// Tied side pairs of elements (the free-field columns of a shaken stage,
-/// fem/seismic_boundary.hpp) share their pore pressure as they share their motion: the
-/// storage-weighted mean of the pair.
-void tie_pore_pressure(const FemModel& model, std::span<const std::pair<Index, Index>> tied,
-                       FemState& state);
 
 /// The step of the flow's forward Euler, min_e S_e/Σ_faces T (infinite without saturated
 /// elements or without flow).

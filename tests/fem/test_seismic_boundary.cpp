@@ -22,6 +22,16 @@ struct Column {
   GroundMotion motion;
 };
 
+/// The geostatic state of `model` on rollers at its left, right and base.
+FemState geostatic_on_rollers(const FemModel& model) {
+  FemState state = make_rest_state(model);
+  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
+                              {"right", BoundaryCondition::roller},
+                              {"base", BoundaryCondition::roller}};
+  solve_geostatic(model, make_constraints(model.mesh, rollers, "test"), state);
+  return state;
+}
+
 /// A 2 m wide, 4 m high elastic column of 0.5 m quads in geostatic equilibrium on
 /// rollers, and a motion at rest (the boundaries do not depend on it).
 Column column() {
@@ -29,11 +39,7 @@ Column column() {
                       {synthetic::soil()}, Kinematics::small_strain, 1.0),
            {},
            GroundMotion(AccelerationRecord{{0.0, 1.0}, {0.0, 0.0}}, {}, 0.0, 0.1, false)};
-  c.geostatic = make_rest_state(c.model);
-  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
-                              {"right", BoundaryCondition::roller},
-                              {"base", BoundaryCondition::roller}};
-  solve_geostatic(c.model, make_constraints(c.model.mesh, rollers, "test"), c.geostatic);
+  c.geostatic = geostatic_on_rollers(c.model);
   return c;
 }
 
@@ -132,11 +138,7 @@ SaturatedColumn saturated_column(double level, double bulk_modulus, bool distort
       sand,
       make_model(std::move(mesh), {sand}, Kinematics::small_strain, 1.0, gravity_vector(), water),
       {}};
-  c.state = make_rest_state(c.model);
-  const BoundaryTable rollers{{"left", BoundaryCondition::roller},
-                              {"right", BoundaryCondition::roller},
-                              {"base", BoundaryCondition::roller}};
-  solve_geostatic(c.model, make_constraints(c.model.mesh, rollers, "test"), c.state);
+  c.state = geostatic_on_rollers(c.model);
   return c;
 }
 
