@@ -1,6 +1,8 @@
 // The case reader's [[materials]] tables: names, models and their parameters.
 // Section, the ranges and the shared readers are in case_file_reader.hpp.
 #include "common/input/case_file_reader.hpp"
+#include "common/physics/element_test.hpp"
+#include "common/physics/pm4sand.hpp"
 
 namespace slide::case_reader {
 
@@ -45,6 +47,92 @@ void read_pore_water(const Section& s, Material& m) {
   }
 }
 
+/// PM4Sand's secondary parameters: the keys of [materials.pm4sand] and their members.
+constexpr std::array<std::pair<std::string_view, double Pm4SandParameters::*>, 18>
+    pm4sand_secondary{{
+        {"atmospheric_pressure", &Pm4SandParameters::atmospheric_pressure},
+        {"h0", &Pm4SandParameters::h0},
+        {"e_max", &Pm4SandParameters::e_max},
+        {"e_min", &Pm4SandParameters::e_min},
+        {"n_b", &Pm4SandParameters::n_b},
+        {"n_d", &Pm4SandParameters::n_d},
+        {"a_do", &Pm4SandParameters::a_do},
+        {"z_max", &Pm4SandParameters::z_max},
+        {"c_z", &Pm4SandParameters::c_z},
+        {"c_e", &Pm4SandParameters::c_e},
+        {"critical_friction_angle", &Pm4SandParameters::critical_friction_angle},
+        {"c_gd", &Pm4SandParameters::c_gd},
+        {"c_dr", &Pm4SandParameters::c_dr},
+        {"c_kaf", &Pm4SandParameters::c_kaf},
+        {"q", &Pm4SandParameters::q},
+        {"r", &Pm4SandParameters::r},
+        {"m", &Pm4SandParameters::m},
+        {"strain_step", &Pm4SandParameters::strain_step},
+    }};
+
+/// h_po from the element test: undrained cyclic simple shear reaches 3 % strain in 15
+/// cycles at CSR = `target_crr` (default: Idriss–Boulanger 2008 at (N1)60cs = 46 D_R²).
+void calibrate_pm4sand(const Section& s, const Section& material, Material& m) {
+  Pm4SandParameters& p = m.pm4sand;
+  // Check the other parameters first: the calibration runs the model.
+  p.contraction_rate = 1.0;
+  validate_material(m, material);
+  const double crr =
+      s.number("target_crr", Range{.min = 0.0, .max = 2.0, .unit = {}, .note = {}},
+               element_test::idriss_boulanger_crr(element_test::blow_count(p.relative_density)));
+  try {
+    const auto result = element_test::calibrate_contraction_rate(m, crr);
+    p.contraction_rate = result.contraction_rate;
+    p.calibrated_crr = crr;
+    p.calibrated_cycles = result.cycles;
+  } catch (const Error& error) {
+    s.fail("calibrate_to_crr", error.what());
+  }
+}
+
+/// PM4Sand's [materials.pm4sand] table: D_R, and G₀ and h_po or their derivations
+/// (docs/method.md §10), the secondary parameters' overrides; E of the elastic stage.
+void read_pm4sand(const Section& material, Material& m) {
+  Section::Keys keys{"relative_density", "shear_modulus_coefficient", "contraction_rate",
+                     "calibrate_to_crr", "target_crr"};
+  for (const auto& entry : pm4sand_secondary) keys.push_back(entry.first);
+  const Section s = material.table("pm4sand", keys);
+  Pm4SandParameters& p = m.pm4sand;
+  p.relative_density = s.number("relative_density", any_number());
+  p.shear_modulus_coefficient =
+      s.number("shear_modulus_coefficient", any_number(), Pm4SandParameters::derived);
+  for (const auto& [key, member] : pm4sand_secondary) {
+    p.*member = s.number(key, any_number(), p.*member);
+  }
+  m.youngs_modulus = pm4sand::elastic_stage_youngs_modulus(m);
+  const bool calibrate = s.boolean("calibrate_to_crr", false);
+  if (calibrate == s.has("contraction_rate")) {
+    s.fail("contraction_rate", "give either contraction_rate (h_po) or calibrate_to_crr = true");
+  }
+  if (calibrate) {
+    calibrate_pm4sand(s, material, m);
+  } else {
+    s.reject("target_crr", "only used with calibrate_to_crr = true");
+    p.contraction_rate = s.number("contraction_rate", any_number());
+  }
+}
+
+/// ν, and E or (PM4Sand) the model's parameters, from which E follows.
+void read_elasticity(const Section& s, Material& m) {
+  m.poisson_ratio = s.number("poisson_ratio", any_number(), 0.3);
+  if (m.uses(MaterialModel::pm4sand)) {
+    // The elastic (geostatic) stage of PM4Sand has G = G₀ p_A (the reference
+    // implementations' elastic stage): E follows.
+    s.reject("youngs_modulus",
+             "not used with model \"pm4sand\" (its elastic stage has G = G₀ p_A)");
+    read_pm4sand(s, m);
+    return;
+  }
+  s.reject("pm4sand", "only used with model \"pm4sand\"");
+  m.youngs_modulus = s.number("youngs_modulus", any_number());
+  if (!s.has("poisson_ratio")) s.missing("poisson_ratio");
+}
+
 MaterialModel read_model(const Section& s, std::string_view key) {
   return parse_material_model(s.string(key), fmt::format("{}: {}", s.where(key), s.dotted(key)));
 }
@@ -62,14 +150,14 @@ Material read_material(const Section& s) {
   if (s.has("mpm_model")) m.mpm_model = read_model(s, "mpm_model");
   // Only finiteness here: the ranges are Material::validate's.
   m.density = s.number("density", any_number());
-  m.youngs_modulus = s.number("youngs_modulus", any_number());
-  m.poisson_ratio = s.number("poisson_ratio", any_number());
+  read_elasticity(s, m);
   const bool mohr_coulomb = m.uses(MaterialModel::mohr_coulomb);
   const bool multi_yield = m.uses(MaterialModel::pressure_independent_multi_yield);
   if (!mohr_coulomb && !multi_yield) {
     for (std::string_view key :
          {"friction_angle", "cohesion", "dilation_angle", "tension_cutoff"}) {
-      s.reject(key, "not used by model \"linear-elastic\" (remove it, or use \"mohr-coulomb\")");
+      s.reject(key, fmt::format("not used by model \"{}\" (remove it, or use \"mohr-coulomb\")",
+                                to_string(m.model)));
     }
   } else {
     m.friction_angle = s.number("friction_angle", any_number());
@@ -107,7 +195,7 @@ MaterialTable read_materials(const Section& root) {
                            "poisson_ratio",  "friction_angle", "cohesion",
                            "dilation_angle", "tension_cutoff", "peak_shear_strain",
                            "yield_surfaces", "porosity",       "conductivity",
-                           "conductivity_x", "conductivity_y"};
+                           "conductivity_x", "conductivity_y", "pm4sand"};
   MaterialTable materials;
   for (const Section& s : root.tables("materials", keys)) {
     Material material = read_material(s);

@@ -44,6 +44,16 @@ std::string materials_line(const MaterialTable& materials) {
                         to_string(m.model_of(Phase::mpm)), m.density, m.youngs_modulus,
                         m.poisson_ratio, m.friction_angle, m.cohesion, m.dilation_angle,
                         m.tension_cutoff, m.peak_shear_strain, m.yield_surfaces);
+    if (m.uses(MaterialModel::pm4sand)) {
+      const Pm4SandParameters& p = m.pm4sand;
+      line += fmt::format(
+          " pm4sand D_R {} G0 {} h_po {} p_A {} h0 {} e ({}, {}) n ({}, {}) A_do {} z_max {} c_z "
+          "{} "
+          "c_e {} φ_cv {} C_GD {} C_DR {} C_kaf {} Q {} R {} m {} step {}",
+          p.relative_density, p.shear_modulus_coefficient, p.contraction_rate,
+          p.atmospheric_pressure, p.h0, p.e_max, p.e_min, p.n_b, p.n_d, p.a_do, p.z_max, p.c_z,
+          p.c_e, p.critical_friction_angle, p.c_gd, p.c_dr, p.c_kaf, p.q, p.r, p.m, p.strain_step);
+    }
     // Porous materials only, so that dry cases' fingerprints stay as they were.
     if (m.saturable()) {
       line += fmt::format(" n {} k ({}, {})", m.porosity, m.conductivity_x, m.conductivity_y);

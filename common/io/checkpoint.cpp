@@ -28,6 +28,7 @@
 #include "common/base/names.hpp"
 #include "common/io/atomic_file.hpp"
 #include "common/io/hdf5_file.hpp"
+#include "common/physics/pm4sand.hpp"
 
 namespace slide {
 
@@ -287,6 +288,64 @@ constexpr std::array<Attribute<Material>, 3> pore_water_numbers{{
     {"conductivity_y", &Material::conductivity_y},
 }};
 
+/// PM4Sand's parameters (model "pm4sand" only), as attributes pm4sand_<name>, every
+/// default resolved from D_R; a_do and z_max only when given (otherwise each point
+/// derives them at the switch and keeps them in its state records).
+constexpr std::array<Attribute<Pm4SandParameters>, 21> pm4sand_numbers{{
+    {"pm4sand_relative_density", &Pm4SandParameters::relative_density},
+    {"pm4sand_shear_modulus_coefficient", &Pm4SandParameters::shear_modulus_coefficient},
+    {"pm4sand_contraction_rate", &Pm4SandParameters::contraction_rate},
+    {"pm4sand_atmospheric_pressure", &Pm4SandParameters::atmospheric_pressure},
+    {"pm4sand_h0", &Pm4SandParameters::h0},
+    {"pm4sand_e_max", &Pm4SandParameters::e_max},
+    {"pm4sand_e_min", &Pm4SandParameters::e_min},
+    {"pm4sand_n_b", &Pm4SandParameters::n_b},
+    {"pm4sand_n_d", &Pm4SandParameters::n_d},
+    {"pm4sand_c_z", &Pm4SandParameters::c_z},
+    {"pm4sand_c_e", &Pm4SandParameters::c_e},
+    {"pm4sand_critical_friction_angle", &Pm4SandParameters::critical_friction_angle},
+    {"pm4sand_c_gd", &Pm4SandParameters::c_gd},
+    {"pm4sand_c_dr", &Pm4SandParameters::c_dr},
+    {"pm4sand_c_kaf", &Pm4SandParameters::c_kaf},
+    {"pm4sand_q", &Pm4SandParameters::q},
+    {"pm4sand_r", &Pm4SandParameters::r},
+    {"pm4sand_m", &Pm4SandParameters::m},
+    {"pm4sand_strain_step", &Pm4SandParameters::strain_step},
+    {"pm4sand_a_do", &Pm4SandParameters::a_do},
+    {"pm4sand_z_max", &Pm4SandParameters::z_max},
+}};
+/// The last two of pm4sand_numbers are optional.
+constexpr std::size_t pm4sand_required = pm4sand_numbers.size() - 2;
+
+/// The parameters with every default derived from D_R written out (pm4sand::Constants).
+Pm4SandParameters resolved(const Material& m) {
+  const pm4sand::Constants c = pm4sand::Constants::of(m);
+  Pm4SandParameters p = m.pm4sand;
+  p.shear_modulus_coefficient = c.g0;
+  p.h0 = c.h0;
+  p.c_e = c.c_e;
+  p.c_dr = c.c_dr;
+  p.c_kaf = c.c_kaf;
+  return p;
+}
+
+void write_pm4sand(hdf5::Group& g, const Material& m) {
+  const Pm4SandParameters p = resolved(m);
+  for (std::size_t i = 0; i < pm4sand_numbers.size(); ++i) {
+    const double value = p.*std::get<double Pm4SandParameters::*>(pm4sand_numbers[i].member);
+    if (i >= pm4sand_required && std::isnan(value)) continue;
+    g.write_double_attribute(pm4sand_numbers[i].name, value);
+  }
+}
+
+void read_pm4sand(const hdf5::Group& g, Material& m) {
+  for (std::size_t i = 0; i < pm4sand_numbers.size(); ++i) {
+    const auto member = std::get<double Pm4SandParameters::*>(pm4sand_numbers[i].member);
+    if (i >= pm4sand_required && !g.has_attribute(pm4sand_numbers[i].name)) continue;
+    m.pm4sand.*member = g.read_double_attribute(pm4sand_numbers[i].name);
+  }
+}
+
 /// How fem2mpm made the particles (/transfer).
 constexpr std::array<Attribute<TransferSettings>, 6> transfer_attributes{{
     {"transfer_time", &TransferSettings::transfer_time},
@@ -508,6 +567,7 @@ void write_materials(Writer& writer, const MaterialTable& materials) {
       g.write_double_attribute("peak_shear_strain", m.peak_shear_strain);
       g.write_int_attribute("yield_surfaces", m.yield_surfaces);
     }
+    if (m.uses(MaterialModel::pm4sand)) write_pm4sand(g, m);
     // Porous materials only (schema version 6): dry ones keep the attributes they had.
     if (m.saturable()) write_attributes(g, m, pore_water_numbers);
     write_attributes(g, m, material_numbers);
@@ -910,6 +970,7 @@ MaterialTable read_materials(const Reader& reader) {
       }
       m.yield_surfaces = static_cast<int>(surfaces);
     }
+    if (m.uses(MaterialModel::pm4sand)) read_pm4sand(g, m);
     m.validate(g.where());
   }
   return materials;

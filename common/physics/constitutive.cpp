@@ -301,6 +301,11 @@ ConstitutiveModel ConstitutiveModel::from(const Material& material, Phase phase)
       model.strength_intercept_ =
           sin_phi > 0.0 ? 3.0 * material.cohesion / std::numbers::sqrt2 : 2.0 * material.cohesion;
       return model;
+    case MaterialModel::pm4sand:
+      model.model_ = MaterialModel::pm4sand;
+      model.surfaces_ = pm4sand::records;
+      model.pm4sand_ = pm4sand::Constants::of(material);
+      return model;
     case MaterialModel::mohr_coulomb:
       break;
   }
@@ -333,6 +338,9 @@ double ConstitutiveModel::frozen_peak_strength(const Vec4& stress) const {
 
 bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
                                std::span<Vec4> surfaces) const {
+  if (model_ == MaterialModel::pm4sand) {
+    return pm4sand::update(pm4sand_, stress, state, strain_increment, surfaces);
+  }
   if (model_ == MaterialModel::pressure_independent_multi_yield) {
     const auto c =
         multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
@@ -355,6 +363,8 @@ bool ConstitutiveModel::start(Vec4& stress, MaterialState& state, std::span<Vec4
       return false;
     case MaterialModel::mohr_coulomb:
       return update(stress, state, Vec4::Zero());
+    case MaterialModel::pm4sand:
+      return pm4sand::start(pm4sand_, stress, surfaces);
     case MaterialModel::pressure_independent_multi_yield:
       break;
   }
@@ -372,6 +382,11 @@ bool ConstitutiveModel::start(Vec4& stress, MaterialState& state, std::span<Vec4
 
 double ConstitutiveModel::yield_function(const Vec4& stress, const MaterialState& state) const {
   if (model_ == MaterialModel::linear_elastic) return -infinity;
+  if (model_ == MaterialModel::pm4sand) {  // q − M_b p at the initial D_R
+    const double p = std::max(mean_stress(stress), 0.0);
+    const double m_b = pm4sand::ratios(pm4sand_, p, pm4sand_.relative_density).bounding;
+    return pm4sand::stress_ratio(stress) * p - m_b * p;
+  }
   if (model_ == MaterialModel::pressure_independent_multi_yield) {
     return von_mises_stress(stress) - state.peak_strength;
   }
@@ -405,6 +420,14 @@ void rotate_jaumann(Vec4& stress, double spin_increment) {
   stress[3] = sxy + spin_increment * (syy - sxx);
 }
 
+void ConstitutiveModel::rotate_records(std::span<Vec4> surfaces, double spin_increment) const {
+  if (model_ == MaterialModel::pm4sand) {
+    pm4sand::rotate(surfaces, spin_increment);
+    return;
+  }
+  for (Vec4& s : surfaces) rotate_jaumann(s, spin_increment);
+}
+
 bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
                    bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
                    Vec4& strain) {
@@ -413,7 +436,7 @@ bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient
   if (objective) {
     const double spin = 0.5 * dt * (l[1] - l[2]);
     rotate_jaumann(stress, spin);
-    for (Vec4& s : surfaces) rotate_jaumann(s, spin);
+    model.rotate_records(surfaces, spin);
   }
   const bool yielded = model.update(stress, state, increment, surfaces);
   strain += increment;
@@ -442,6 +465,7 @@ std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stre
       break;
     case MaterialModel::mohr_coulomb:
     case MaterialModel::pressure_independent_multi_yield:
+    case MaterialModel::pm4sand:
       for (std::size_t i = 0; i < n; ++i) {
         const auto own =
             per_point > 0 ? surfaces.subspan(i * per_point, per_point) : std::span<Vec4>{};
@@ -459,6 +483,9 @@ std::size_t surfaces_needed(const MaterialTable& materials, Phase phase) {
   for (const Material& m : materials) {
     if (m.model_of(phase) == MaterialModel::pressure_independent_multi_yield) {
       n = std::max(n, static_cast<std::size_t>(m.yield_surfaces));
+    }
+    if (m.model_of(phase) == MaterialModel::pm4sand) {
+      n = std::max(n, static_cast<std::size_t>(pm4sand::records));
     }
   }
   return n;

@@ -17,6 +17,10 @@
 // peak strength is frozen at the switch from the point's confinement; the deviatoric
 // stress each surface carries is per-point state passed as a span (`surfaces`), empty
 // for the other models.
+//
+// PM4Sand (common/physics/pm4sand.hpp): a bounding-surface model for sands that liquefy;
+// its state (back-stress ratios, fabric, the constants fixed at the switch) is the same
+// per-point span, pm4sand::records entries.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +30,7 @@
 #include "common/base/types.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/material_state.hpp"
+#include "common/physics/pm4sand.hpp"
 
 namespace slide {
 
@@ -43,9 +48,14 @@ class ConstitutiveModel {
   MaterialModel model() const { return model_; }
   double shear_modulus() const { return shear_; }
   double lame_lambda() const { return lambda_; }
-  /// Per-point surface state the model needs (deviatoric stresses, one per yield
-  /// surface): the multi-yield model's number of surfaces, 0 for the others.
+  /// Per-point records the model needs: the multi-yield model's surfaces (a deviatoric
+  /// stress each), PM4Sand's state records, 0 for the others.
   int surfaces() const { return surfaces_; }
+  /// PM4Sand's constants (meaningful only for that model).
+  const pm4sand::Constants& pm4sand_constants() const { return pm4sand_; }
+  /// Rotates the per-point records that are tensors by a spin increment (the objective
+  /// update; the stress is rotated by the caller).
+  void rotate_records(std::span<Vec4> surfaces, double spin_increment) const;
   /// Multi-yield: the peak strength q_f = M p′₀ + q₀ frozen from the mean effective
   /// stress p′₀ = max(p, 0) at the switch (common/physics/multi_yield.hpp).
   double frozen_peak_strength(const Vec4& stress) const;
@@ -86,6 +96,7 @@ class ConstitutiveModel {
   double strength_slope_ = 0.0;
   double strength_intercept_ = 0.0;
   double peak_shear_strain_ = 0.0;
+  pm4sand::Constants pm4sand_{};
 };
 
 /// The plane-strain elasticity matrix on [εxx, εyy, γxy]: [[λ+2G, λ, 0], [λ, λ+2G, 0],

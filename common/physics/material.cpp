@@ -12,10 +12,11 @@ namespace slide {
 
 namespace {
 
-constexpr std::array<Named<MaterialModel>, 3> material_model_names{{
+constexpr std::array<Named<MaterialModel>, 4> material_model_names{{
     {"linear-elastic", MaterialModel::linear_elastic},
     {"mohr-coulomb", MaterialModel::mohr_coulomb},
     {"pressure-independent-multi-yield", MaterialModel::pressure_independent_multi_yield},
+    {"pm4sand", MaterialModel::pm4sand},
 }};
 
 }  // namespace
@@ -25,7 +26,8 @@ std::string_view to_string(MaterialModel model) {
 }
 
 bool has_strength(MaterialModel model) {
-  return model != MaterialModel::linear_elastic;
+  return model == MaterialModel::mohr_coulomb ||
+         model == MaterialModel::pressure_independent_multi_yield;
 }
 
 MaterialModel parse_material_model(std::string_view text, std::string_view where) {
@@ -50,6 +52,48 @@ double Material::apex_stress() const {
   return cohesion / std::tan(phi);
 }
 
+void Material::validate_pm4sand(std::string_view where) const {
+  const Pm4SandParameters& p = pm4sand;
+  auto require = [&](bool ok, std::string_view key, double value, std::string_view expected) {
+    if (!ok) throw Error("{}: pm4sand.{} = {} is not admissible ({})", where, key, value, expected);
+  };
+  // A derived (NaN) secondary parameter passes; a given one must be in range.
+  auto given_in = [](double v, double lo, double hi) {
+    return std::isnan(v) || (std::isfinite(v) && v > lo && v < hi);
+  };
+  const double dr = p.relative_density;
+  require(std::isfinite(dr) && dr >= 0.1 && dr <= 1.0, "relative_density", dr,
+          "expected 0.1 ≤ D_R ≤ 1 (the model is calibrated for D_R from 0.35 to 0.75)");
+  require(given_in(p.shear_modulus_coefficient, 0.0, 1e5), "shear_modulus_coefficient",
+          p.shear_modulus_coefficient, "expected 0 < G₀ < 1e5 (typically 300 to 1500)");
+  require(std::isfinite(p.contraction_rate) && p.contraction_rate > 0.0 && p.contraction_rate < 1e3,
+          "contraction_rate", p.contraction_rate,
+          "expected 0 < h_po < 1000 (typically 0.05 to 2; or calibrate_to_crr = true)");
+  require(std::isfinite(p.atmospheric_pressure) && p.atmospheric_pressure > 0.0,
+          "atmospheric_pressure", p.atmospheric_pressure, "expected p_A > 0 Pa");
+  require(given_in(p.h0, 0.0, 100.0), "h0", p.h0, "expected 0 < h0 < 100");
+  require(std::isfinite(p.e_min) && std::isfinite(p.e_max) && p.e_min > 0.0 && p.e_max > p.e_min,
+          "e_max", p.e_max, "expected 0 < e_min < e_max");
+  require(std::isfinite(p.n_b) && p.n_b >= 0.0, "n_b", p.n_b, "expected n_b ≥ 0");
+  require(std::isfinite(p.n_d) && p.n_d >= 0.0, "n_d", p.n_d, "expected n_d ≥ 0");
+  require(given_in(p.a_do, 0.0, 100.0), "a_do", p.a_do, "expected 0 < A_do < 100");
+  require(given_in(p.z_max, 0.0, 100.0), "z_max", p.z_max, "expected 0 < z_max < 100");
+  require(std::isfinite(p.c_z) && p.c_z > 0.0, "c_z", p.c_z, "expected c_z > 0");
+  require(given_in(p.c_e, 0.0, 100.0), "c_e", p.c_e, "expected 0 < c_e < 100");
+  require(std::isfinite(p.critical_friction_angle) && p.critical_friction_angle > 0.0 &&
+              p.critical_friction_angle < 60.0,
+          "critical_friction_angle", p.critical_friction_angle, "expected 0 < φ_cv < 60 degrees");
+  require(std::isfinite(p.c_gd) && p.c_gd > 0.0, "c_gd", p.c_gd, "expected C_GD > 0");
+  require(given_in(p.c_dr, 0.0, 1e3), "c_dr", p.c_dr, "expected C_DR > 0");
+  require(given_in(p.c_kaf, 0.0, 1e3), "c_kaf", p.c_kaf, "expected C_kaf > 0");
+  require(std::isfinite(p.q) && p.q > std::log(100.0) + 1.0, "q", p.q,
+          "expected Q > ln 100 + 1 (the critical state line must stay positive to 1 atm)");
+  require(std::isfinite(p.r) && p.r > 0.0, "r", p.r, "expected R > 0");
+  require(std::isfinite(p.m) && p.m > 0.0 && p.m < 0.5, "m", p.m, "expected 0 < m < 0.5");
+  require(std::isfinite(p.strain_step) && p.strain_step >= 1e-7 && p.strain_step <= 1e-3,
+          "strain_step", p.strain_step, "expected 1e-7 ≤ strain step ≤ 1e-3");
+}
+
 void Material::validate(std::string_view where) const {
   auto require = [&](bool ok, std::string_view key, double value, std::string_view expected) {
     if (!ok) throw Error("{}: {} = {} is not admissible ({})", where, key, value, expected);
@@ -66,6 +110,7 @@ void Material::validate(std::string_view where) const {
     require(yield_surfaces >= 1 && yield_surfaces <= max_yield_surfaces, "yield_surfaces",
             yield_surfaces, "expected 1 to 40 surfaces");
   }
+  if (uses(MaterialModel::pm4sand)) validate_pm4sand(where);
   require(finite(porosity) && porosity >= 0.0 && porosity < 1.0, "porosity", porosity,
           "expected 0 ≤ n < 1 (0: dry)");
   if (saturable()) {

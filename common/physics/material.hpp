@@ -12,13 +12,18 @@
 namespace slide {
 
 /// A handful of models: an enum and a switch, no factory (common/physics/constitutive.md).
-enum class MaterialModel { linear_elastic, mohr_coulomb, pressure_independent_multi_yield };
+enum class MaterialModel {
+  linear_elastic,
+  mohr_coulomb,
+  pressure_independent_multi_yield,
+  pm4sand
+};
 
 std::string_view to_string(MaterialModel model);
-/// Parses "linear-elastic", "mohr-coulomb" or "pressure-independent-multi-yield"; throws
-/// Error naming `where` otherwise.
+/// Parses "linear-elastic", "mohr-coulomb", "pressure-independent-multi-yield" or
+/// "pm4sand"; throws Error naming `where` otherwise.
 MaterialModel parse_material_model(std::string_view text, std::string_view where);
-/// True for the models that read φ and c (every model but linear elasticity).
+/// True for the models that read φ and c (Mohr–Coulomb and multi-yield).
 bool has_strength(MaterialModel model);
 
 /// The two phases that may run different models of one material (docs/method.md §3).
@@ -26,6 +31,38 @@ enum class Phase { fem, mpm };
 
 /// Largest number of yield surfaces of the multi-yield model (OpenSees allows 40 too).
 inline constexpr int max_yield_surfaces = 40;
+
+/// PM4Sand's parameters (common/physics/pm4sand.hpp) as the user gives them: the three
+/// primary ones, then the secondary ones with the report's defaults. NaN: derived (from
+/// D_R, or for z_max and A_do from each point's stress at the switch).
+struct Pm4SandParameters {
+  static constexpr double derived = std::numeric_limits<double>::quiet_NaN();
+  double relative_density = derived;           ///< D_R (required)
+  double shear_modulus_coefficient = derived;  ///< G₀; default 167 sqrt(46 D_R² + 2.5)
+  double contraction_rate = derived;           ///< h_po (or calibrated to a CRR)
+  double atmospheric_pressure = 101.3e3;       ///< p_A, Pa
+  double h0 = derived;                         ///< default max(0.3, (0.25 + D_R)/2)
+  double e_max = 0.8;
+  double e_min = 0.5;
+  double n_b = 0.5;
+  double n_d = 0.1;
+  double a_do = derived;
+  double z_max = derived;
+  double c_z = 250.0;
+  double c_e = derived;
+  double critical_friction_angle = 33.0;  ///< φ_cv, degrees
+  double c_gd = 2.0;
+  double c_dr = derived;
+  double c_kaf = derived;
+  double q = 10.0;
+  double r = 1.5;
+  double m = 0.01;
+  double strain_step = 1e-5;  ///< largest strain component of one sub-increment
+  /// When h_po was calibrated (calibrate_to_crr): the target CRR and the cycles to 3 %
+  /// strain the calibrated h_po gives; NaN otherwise. Not stored in checkpoints.
+  double calibrated_crr = derived;
+  double calibrated_cycles = derived;
+};
 
 struct Material {
   std::string name;
@@ -58,6 +95,9 @@ struct Material {
   double porosity = 0.0;
   double conductivity_x = 0.0;  ///< k_x, m/s
   double conductivity_y = 0.0;  ///< k_y, m/s
+  /// PM4Sand only. Its elastic stage (the geostatic one) has G = G₀ p_A and ν:
+  /// `youngs_modulus` is then 2 (1 + ν) G₀ p_A, set by the case reader.
+  Pm4SandParameters pm4sand;
 
   /// The model of one phase.
   MaterialModel model_of(Phase phase) const {
@@ -83,6 +123,9 @@ struct Material {
   /// Checks every parameter for physical admissibility; throws Error naming `where`
   /// (e.g. "case.toml: materials[0]") and the offending key otherwise.
   void validate(std::string_view where) const;
+
+ private:
+  void validate_pm4sand(std::string_view where) const;
 };
 
 using MaterialTable = std::vector<Material>;

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "common/physics/material.hpp"
+#include "common/physics/pm4sand.hpp"
 
 namespace slide::synthetic {
 
@@ -32,6 +33,17 @@ inline Material material(std::string name, MaterialModel model, double density,
 inline Material soil(MaterialModel model = MaterialModel::linear_elastic, double density = 1700.0) {
   Material m = material("soil", model, density, 23.8e6, 0.23, 22.2, 1000.0);
   m.tension_cutoff = m.apex_stress();
+  return m;
+}
+
+/// A PM4Sand sand of relative density D_R and contraction rate h_po, every other
+/// parameter at its default (G₀ from D_R, ν = 0.3), ρ = 2000 kg/m³; E is the elastic
+/// stage's 2(1 + ν) G₀ p_A, as the case reader sets it.
+inline Material sand(double relative_density, double contraction_rate) {
+  Material m = material("sand", MaterialModel::pm4sand, 2000.0, 1.0, 0.3);
+  m.pm4sand.relative_density = relative_density;
+  m.pm4sand.contraction_rate = contraction_rate;
+  m.youngs_modulus = pm4sand::elastic_stage_youngs_modulus(m);
   return m;
 }
 
