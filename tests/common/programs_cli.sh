@@ -110,6 +110,28 @@ run "mpm-solve garbage particles" nonzero "$bin/mpm-solve" \
   "$src/cases/column-short/case.toml" -o "$work/out-mpm" --particles "$work/garbage.h5"
 one_error_line "mpm-solve garbage particles" "garbage.h5"
 
+# slide-element (PM4Sand's element tests): usage, a refused command line, a broken case, a
+# material the case does not have, an inadmissible D_R; none leaves a file behind.
+element="$bin/slide-element"
+run "slide-element --help" 0 "$element" --help
+grep -q "Usage:" "$work/out" || fail "slide-element --help: no usage on stdout"
+run "slide-element without a subcommand" 2 "$element"
+one_error_line "slide-element without a subcommand" "slide-element: error:"
+run "slide-element unknown option" 2 "$element" cyclic "$work/c.csv" --relative-density 0.5 \
+  --contraction-rate 0.5 --no-such-option
+one_error_line "slide-element unknown option" "--no-such-option"
+run "slide-element broken case" nonzero "$element" cyclic "$work/c.csv" --case "$broken_case" \
+  --material soil
+one_error_line "slide-element broken case" "case.toml:$broken_line:"
+run "slide-element unknown material" nonzero "$element" cyclic "$work/c.csv" \
+  --case "$src/cases/liquefiable-deposit/case.toml" --material clay
+one_error_line "slide-element unknown material" "no material called \"clay\""
+run "slide-element absurd D_R" nonzero "$element" calibrate "$work/cal" --relative-density 7
+one_error_line "slide-element absurd D_R" "relative_density = 7"
+run "slide-element no h_po" nonzero "$element" cyclic "$work/c.csv" --relative-density 0.5
+one_error_line "slide-element no h_po" "--contraction-rate"
+[[ ! -e $work/c.csv && ! -e $work/cal ]] || fail "slide-element: a refused run left a file"
+
 if ((failures > 0)); then
   echo "$failures failure(s)"
   exit 1

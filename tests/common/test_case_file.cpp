@@ -670,5 +670,101 @@ TEST(CaseFile, BothFormsOfRayleighDampingAreAOneLineErrorNamingTheKeys) {
   }
 }
 
+// ----------------------------------------------------------------------------- PM4Sand
+
+namespace pm4sand_case {
+
+/// The small case with its soil turned into a PM4Sand sand: `table` is the body of
+/// [materials.pm4sand]; `material_lines` are added to the material.
+std::string text(std::string_view table, std::string_view material_lines = "") {
+  std::string text = small_case();
+  const std::string mohr_coulomb = R"(model = "mohr-coulomb"
+density = 1700.0
+youngs_modulus = 23.8e6
+poisson_ratio = 0.23
+friction_angle = 22.2
+cohesion = 1000.0
+dilation_angle = 0.0
+)";
+  const std::string sand =
+      fmt::format("model = \"pm4sand\"\ndensity = 1950.0\n{}\n[materials.pm4sand]\n{}\n",
+                  material_lines, table);
+  text.replace(text.find(mohr_coulomb), mohr_coulomb.size(), sand);
+  return text;
+}
+
+}  // namespace pm4sand_case
+
+TEST(CaseFile, Pm4SandTakesItsParametersAndDerivesTheElasticStage) {
+  const Case c = parse_case(pm4sand_case::text("relative_density = 0.55\ncontraction_rate = 0.45\n"
+                                               "c_z = 300.0\n"),
+                            "case.toml");
+  const Material& m = c.materials.at(0);
+  EXPECT_EQ(m.model, MaterialModel::pm4sand);
+  EXPECT_EQ(m.pm4sand.relative_density, 0.55);
+  EXPECT_EQ(m.pm4sand.contraction_rate, 0.45);
+  EXPECT_EQ(m.pm4sand.c_z, 300.0);
+  EXPECT_TRUE(std::isnan(m.pm4sand.shear_modulus_coefficient));  // derived from D_R
+  EXPECT_EQ(m.poisson_ratio, 0.3);
+  const double g0 = 167.0 * std::sqrt(46.0 * 0.55 * 0.55 + 2.5);
+  EXPECT_DOUBLE_EQ(m.youngs_modulus, 2.0 * 1.3 * g0 * 101.3e3);
+}
+
+TEST(CaseFile, Pm4SandCalibratesItsContractionRateToTheCrr) {
+  const Case c = parse_case(
+      pm4sand_case::text("relative_density = 0.55\ncalibrate_to_crr = true\n"), "case.toml");
+  const Pm4SandParameters& p = c.materials.at(0).pm4sand;
+  // The Idriss–Boulanger CRR at (N1)60cs = 46 × 0.55² (METHOD §10: 0.147).
+  EXPECT_NEAR(p.calibrated_crr, 0.147, 5e-4);
+  EXPECT_NEAR(p.calibrated_cycles, 15.0, 0.15);
+  EXPECT_GT(p.contraction_rate, 0.1);
+  EXPECT_LT(p.contraction_rate, 2.0);
+}
+
+TEST(CaseFile, Pm4SandMistakesAreOneLineErrorsNamingTheKey) {
+  const std::array<std::pair<std::string, std::string_view>, 6> broken{{
+      {pm4sand_case::text("relative_density = 0.5\ncontraction_rate = 0.5\n",
+                          "youngs_modulus = 1e8"),
+       "youngs_modulus: not used with model \"pm4sand\""},
+      {pm4sand_case::text("relative_density = 0.5\n"), "give either contraction_rate"},
+      {pm4sand_case::text(
+           "relative_density = 0.5\ncontraction_rate = 0.5\ncalibrate_to_crr = true\n"),
+       "give either contraction_rate"},
+      {pm4sand_case::text("relative_density = 0.5\ncontraction_rate = 0.5\nhpo = 1\n"),
+       "materials[0].pm4sand.hpo: unknown key"},
+      {pm4sand_case::text("relative_density = 2.0\ncontraction_rate = 0.5\n"),
+       "pm4sand.relative_density = 2 is not admissible"},
+      {pm4sand_case::text("relative_density = 0.5\ncontraction_rate = 0.5\ntarget_crr = 0.2\n"),
+       "target_crr: only used with calibrate_to_crr"},
+  }};
+  for (const auto& [text, fragment] : broken) {
+    try {
+      parse_case(text, "case.toml");
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const Error& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+      EXPECT_TRUE(message.starts_with("case.toml:")) << message;
+      EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+  }
+  // A pm4sand table on another model.
+  std::string text = small_case();
+  text.replace(text.find("dilation_angle = 0.0\n"), 21,
+               "dilation_angle = 0.0\n\n[materials.pm4sand]\nrelative_density = 0.5\n");
+  EXPECT_THROW(
+      {
+        try {
+          parse_case(text, "case.toml");
+        } catch (const Error& error) {
+          EXPECT_NE(std::string(error.what()).find("pm4sand: only used with model"),
+                    std::string::npos)
+              << error.what();
+          throw;
+        }
+      },
+      Error);
+}
+
 }  // namespace
 }  // namespace slide
