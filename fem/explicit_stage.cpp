@@ -261,6 +261,15 @@ void ExplicitStage::open_outputs(bool resume) {
 
 run::StartOutput ExplicitStage::start() {
   if (model_.fluid.active()) log_pore_water();
+  // PM4Sand's contraction rate, when the case reader calibrated it (docs/method.md §10).
+  for (const Material& m : model_.materials) {
+    if (!m.uses(MaterialModel::pm4sand) || std::isnan(m.pm4sand.calibrated_crr)) continue;
+    log_.info(
+        "PM4Sand: material \"{}\": D_R = {}, h_po = {:.4g} calibrated: 3 % strain in {:.2f} "
+        "cycles of undrained simple shear at CSR = CRR = {:.4g}",
+        m.name, m.pm4sand.relative_density, m.pm4sand.contraction_rate,
+        m.pm4sand.calibrated_cycles, m.pm4sand.calibrated_crr);
+  }
   if (!plan_.restart) {
     run_geostatic_stage();
     // A case without a failure stage: the geostatic state's row and frame.

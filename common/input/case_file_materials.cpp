@@ -93,12 +93,20 @@ void calibrate_pm4sand(const Section& s, const Section& material, Material& m) {
 /// PM4Sand's [materials.pm4sand] table: D_R, and G₀ and h_po or their derivations
 /// (docs/method.md §10), the secondary parameters' overrides; E of the elastic stage.
 void read_pm4sand(const Section& material, Material& m) {
-  Section::Keys keys{"relative_density", "shear_modulus_coefficient", "contraction_rate",
-                     "calibrate_to_crr", "target_crr"};
+  Section::Keys keys{"relative_density", "blow_count",       "shear_modulus_coefficient",
+                     "contraction_rate", "calibrate_to_crr", "target_crr"};
   for (const auto& entry : pm4sand_secondary) keys.push_back(entry.first);
   const Section s = material.table("pm4sand", keys);
   Pm4SandParameters& p = m.pm4sand;
-  p.relative_density = s.number("relative_density", any_number());
+  // D_R, or (N1)60 with D_R = sqrt((N1)60/46) (the report's field correlation).
+  if (s.has("relative_density") == s.has("blow_count")) {
+    s.fail("relative_density", "give either relative_density (D_R) or blow_count ((N1)60)");
+  }
+  p.relative_density =
+      s.has("blow_count")
+          ? element_test::relative_density_of(
+                s.number("blow_count", Range{.min = 0.0, .max = 200.0, .unit = {}, .note = {}}))
+          : s.number("relative_density", any_number());
   p.shear_modulus_coefficient =
       s.number("shear_modulus_coefficient", any_number(), Pm4SandParameters::derived);
   for (const auto& [key, member] : pm4sand_secondary) {

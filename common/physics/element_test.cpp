@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <numbers>
+#include <string>
+#include <string_view>
 
 #include "common/base/error.hpp"
 #include "common/physics/constitutive.hpp"
@@ -107,13 +110,53 @@ double phase(int segment, double direction, double tau, double amplitude) {
   return theta / (2.0 * pi);
 }
 
+/// Refuses a non-positive (or NaN) argument of a test, naming them all.
+void require_positive(std::initializer_list<double> values, std::string_view names) {
+  for (double v : values) {
+    if (!(v > 0.0)) {
+      std::string list;
+      for (double w : values) list += fmt::format("{}{}", list.empty() ? "" : ", ", w);
+      throw Error("element test: {} = {} must all be > 0", names, list);
+    }
+  }
+}
+
+/// The single-amplitude strain peak of each half cycle, for the cycles at which their
+/// envelope crosses a strain limit.
+class PeakEnvelope {
+ public:
+  void observe(double strain, double cycles) {
+    if (strain > current_.strain) current_ = {strain, cycles};
+  }
+  void next_half_cycle() {
+    previous_ = current_;
+    current_ = {};
+  }
+  /// Where the envelope crosses `limit` between the last two peaks: log-linear in strain,
+  /// linear from the unsheared start.
+  double crossing(double limit) const {
+    const bool from_start = previous_.strain <= 0.0;
+    const double a = from_start ? 0.0 : std::log(previous_.strain);
+    const double b = from_start ? current_.strain : std::log(current_.strain);
+    const double x = from_start ? limit : std::log(limit);
+    const double share = b > a ? std::clamp((x - a) / (b - a), 0.0, 1.0) : 1.0;
+    return previous_.cycles + share * (current_.cycles - previous_.cycles);
+  }
+
+ private:
+  struct Peak {
+    double strain = 0.0;
+    double cycles = 0.0;
+  };
+  Peak current_;
+  Peak previous_;
+};
+
 }  // namespace
 
 std::vector<Sample> monotonic(const Material& material, const Consolidation& start,
                               Drainage drainage, double gamma_max, double d_gamma) {
-  if (!(d_gamma > 0.0) || !(gamma_max > 0.0)) {
-    throw Error("element test: γ_max = {} and dγ = {} must be > 0", gamma_max, d_gamma);
-  }
+  require_positive({gamma_max, d_gamma}, "γ_max, dγ");
   Specimen specimen(material, start);
   std::vector<Sample> history{specimen.sample(0.0)};
   const auto steps = static_cast<std::size_t>(std::ceil(gamma_max / d_gamma));
@@ -127,25 +170,16 @@ std::vector<Sample> monotonic(const Material& material, const Consolidation& sta
 CyclicResult cyclic(const Material& material, const Consolidation& start, double csr,
                     double max_cycles, double strain_limit, double d_gamma,
                     std::size_t keep_every) {
-  if (!(csr > 0.0) || !(d_gamma > 0.0) || !(strain_limit > 0.0) || !(max_cycles > 0.0)) {
-    throw Error("element test: CSR = {}, dγ = {}, strain limit = {}, cycles = {} must be > 0", csr,
-                d_gamma, strain_limit, max_cycles);
-  }
+  require_positive({csr, d_gamma, strain_limit, max_cycles}, "CSR, dγ, strain limit, cycles");
   constexpr double reach = 1e-3;  // a reversal within 0.1 % of the target stress
   const double amplitude = csr * start.vertical_stress;
   Specimen specimen(material, start);
-  CyclicResult result;
-  result.history.push_back(specimen.sample(0.0));
+  CyclicResult result{.history = {specimen.sample(0.0)}};
   int segment = 0;
   double direction = 1.0;
   double step = d_gamma;
   std::size_t count = 0;
-  // The single-amplitude strain peak of the segment under way and of the one before,
-  // with their phases.
-  struct Peak {
-    double strain = 0.0;
-    double cycles = 0.0;
-  } current, previous;
+  PeakEnvelope peaks;
   bool crossed = false;
   // A bound on the work: every half cycle is at most a few strain limits long.
   const double budget = (2.0 * max_cycles + 2.0) * (4.0 * strain_limit / d_gamma + 1e4);
@@ -164,17 +198,11 @@ CyclicResult cyclic(const Material& material, const Consolidation& start, double
         std::max(result.max_pore_pressure_ratio, now.pore_pressure_ratio);
     if (++count % keep_every == 0) result.history.push_back(now);
     const double strain = std::abs(specimen.shear_strain());
-    if (strain > current.strain) current = {strain, cycles};
+    peaks.observe(strain, cycles);
     crossed = crossed || strain >= strain_limit;
     const bool reversal = tau >= amplitude * (1.0 - reach);
     if (crossed && (reversal || strain >= 10.0 * strain_limit)) {
-      // The envelope of the peaks crosses the limit between the last two peaks
-      // (log-linear in strain; linear from the unsheared start).
-      const double a = previous.strain > 0.0 ? std::log(previous.strain) : 0.0;
-      const double b = previous.strain > 0.0 ? std::log(current.strain) : current.strain;
-      const double x = previous.strain > 0.0 ? std::log(strain_limit) : strain_limit;
-      const double share = b > a ? std::clamp((x - a) / (b - a), 0.0, 1.0) : 1.0;
-      result.cycles_to_strain = previous.cycles + share * (current.cycles - previous.cycles);
+      result.cycles_to_strain = peaks.crossing(strain_limit);
       result.history.push_back(now);
       return result;
     }
@@ -184,11 +212,35 @@ CyclicResult cyclic(const Material& material, const Consolidation& start, double
       direction = -direction;
       ++segment;
       step = d_gamma;
-      previous = current;
-      current = {};
+      peaks.next_half_cycle();
     }
   }
   throw Error("element test: cyclic simple shear did not finish within {} steps", budget);
+}
+
+std::vector<Sample> cyclic_strain(const Material& material, const Consolidation& start,
+                                  double amplitude, double cycles, double d_gamma) {
+  if (!(amplitude > 0.0) || !(cycles > 0.0) || !(d_gamma > 0.0) || d_gamma > amplitude) {
+    throw Error("element test: strain amplitude {}, cycles {}, dγ {}: expected 0 < dγ ≤ amplitude",
+                amplitude, cycles, d_gamma);
+  }
+  Specimen specimen(material, start);
+  std::vector<Sample> history{specimen.sample(0.0)};
+  // γ follows a triangle wave 0 → a → −a → 0 …, each quarter cycle in equal steps.
+  const auto per_quarter = static_cast<std::size_t>(std::ceil(amplitude / d_gamma));
+  const double step = amplitude / static_cast<double>(per_quarter);
+  const auto quarters = static_cast<std::size_t>(std::ceil(4.0 * cycles));
+  for (std::size_t q = 0; q < quarters; ++q) {
+    const double direction = (q % 4 == 0 || q % 4 == 3) ? 1.0 : -1.0;
+    for (std::size_t k = 1; k <= per_quarter; ++k) {
+      specimen.shear(direction * step, Drainage::undrained);
+      const double phase =
+          (static_cast<double>(q) + static_cast<double>(k) / static_cast<double>(per_quarter)) /
+          4.0;
+      history.push_back(specimen.sample(phase));
+    }
+  }
+  return history;
 }
 
 double idriss_boulanger_crr(double n) {

@@ -10,6 +10,7 @@
 // pressure a sealed sample with incompressible water would carry, r_u = 1 − σ′v/σ′v0.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -61,12 +62,20 @@ CyclicResult cyclic(const Material& material, const Consolidation& start, double
                     double max_cycles, double strain_limit = 0.03, double d_gamma = 1e-5,
                     std::size_t keep_every = 1);
 
+/// Undrained (constant-volume) strain-controlled cyclic simple shear: γ reversed at
+/// ±`amplitude` for `cycles` uniform cycles (the phase is γ's: a cycle is 4 amplitudes).
+std::vector<Sample> cyclic_strain(const Material& material, const Consolidation& start,
+                                  double amplitude, double cycles, double d_gamma = 1e-5);
+
 /// The Idriss & Boulanger (2008) SPT triggering curve for M = 7.5 and σ′v = 1 atm:
 /// CRR = exp(N/14.1 + (N/126)² − (N/23.6)³ + (N/25.4)⁴ − 2.8), N = (N1)60cs.
 double idriss_boulanger_crr(double n160cs);
-/// (N1)60 = 46 D_R² (the correlation PM4Sand's report uses).
+/// (N1)60 = 46 D_R² (the correlation PM4Sand's report uses), and its inverse.
 inline double blow_count(double relative_density) {
   return 46.0 * relative_density * relative_density;
+}
+inline double relative_density_of(double n160) {
+  return std::sqrt(n160 / 46.0);
 }
 
 /// h_po such that undrained cyclic simple shear at σ′v = 1 atm, K0 = 0.5 and CSR =

@@ -174,6 +174,80 @@ struct Flow {
   Tensor alpha_d;  // dilatancy back-stress ratio
 };
 
+/// The fabric's cumulative factors C_zpk1, C_zpk2 (plastic modulus, contraction).
+double peak_factor_1(const Point& pt) {
+  return pt.z_peak / (pt.z_cum + pt.z_max / 5.0);
+}
+double peak_factor_2(const Point& pt) {
+  return std::min(pt.z_peak / (pt.z_cum + pt.z_max / 100.0), 1.0 - tiny);
+}
+
+/// The hardening ratio h and the plastic modulus K_p ("Plastic modulus").
+void plastic_modulus(const Constants& c, Flow& f, const Tensor& alpha, const Point& pt, double p,
+                     double shear) {
+  const Tensor& n = f.n;
+  const double b_n = dot(f.b, n);
+  const double c_pzp2 = macaulay(pt.p_zp - p) / (macaulay(pt.p_zp - p) + pt.p_min);
+  const double c_gamma1 = c.h0 / 200.0;
+  constexpr double c_kp = 2.0;
+  const double from_apparent = macaulay(dot(alpha - pt.alpha_in, n));
+  const double from_true = macaulay(dot(alpha - pt.alpha_in_true, n));
+  const double c_ka =
+      1.0 + c.c_kaf / (1.0 + std::pow(2.5 * from_true, 2)) * c_pzp2 * peak_factor_1(pt);
+  if (std::abs(b_n) < tiny) {
+    f.h = 1e10;
+  } else {
+    f.h = 1.5 * shear * c.h0 / p / (std::exp(from_apparent) - 1.0 + c_gamma1) /
+          std::sqrt(std::abs(b_n)) * c_ka /
+          (1.0 + c_kp * pt.z_peak / pt.z_max * macaulay(b_n) * std::sqrt(1.0 - peak_factor_2(pt)));
+    if (dot(alpha - pt.alpha_in_p, n) <= 0.0) {
+      f.h *= (from_apparent + c_gamma1) / (from_true + c_gamma1);
+    }
+  }
+  f.k_p = 2.0 / 3.0 * f.h * p * b_n;
+}
+
+/// D when dilating past the rotated dilatancy surface ("Dilatancy", first case).
+double dilation(const Constants& c, const Tensor& sigma, const Point& pt, double p,
+                const Ratios& bd, double z_n, double c_zin1, double to_d, double to_dr) {
+  const double c_pzp = pt.p_zp == 0.0 ? 1.0 : 1.0 / (1.0 + std::pow(2.5 * p / pt.p_zp, 5));
+  const double c_pmin = 1.0 / (1.0 + std::pow(10.0 * pt.p_min / p, 2));
+  const double excess = c_zin1 * (pt.z_cum - pt.z_peak) / (3.0 * pt.z_max);
+  const double c_zin2 = (1.0 + excess) / (1.0 + 3.0 * excess);
+  const double erased = std::pow(1.0 - macaulay(-z_n) / sqrt2 / pt.z_peak, 3);
+  const double a_d =
+      pt.a_do * c_zin2 /
+      (pt.z_cum * pt.z_cum / pt.z_max * erased * c.c_e * c.c_e * c_pzp * c_pmin * c_zin1 + 1.0);
+  double d = a_d * to_d;
+  const double d_rot = a_d * macaulay(-z_n) / (sqrt2 * pt.z_max) * to_dr / c.c_dr;
+  if (d > d_rot) {
+    const double below = macaulay(bd.bounding - ratio_of(sigma, pt.p_min));
+    d += (d_rot - d) * below / (below + 0.01);
+  }
+  if (pt.p_min <= p && p <= 2.0 * pt.p_min) {
+    d = std::min(
+        d, -3.5 * pt.a_do * macaulay(bd.bounding - bd.dilatancy) * (2.0 * pt.p_min - p) / pt.p_min);
+  }
+  return d;
+}
+
+/// D when contracting ("Dilatancy", second case).
+double contraction(const Constants& c, const Tensor& alpha, const Point& pt, double p,
+                   const Ratios& bd, const Tensor& n, double z_n, double to_d) {
+  const double h_p =
+      c.h_po * std::exp(-0.7 + 7.0 * std::pow(macaulay(0.5 - bd.state_parameter), 2));
+  const double c_rot2 = 1.0 - peak_factor_2(pt);
+  const double c_dz = std::max(
+      (1.0 - c_rot2 * sqrt2 * pt.z_peak / pt.z_max) * (pt.z_max / (pt.z_max + c_rot2 * pt.z_cum)),
+      1.0 / (1.0 + pt.z_max / 2.0));
+  const double a_dc = pt.a_do * (1.0 + macaulay(z_n)) / h_p / c_dz;
+  const double c_in = 2.0 * macaulay(z_n) / sqrt2 / pt.z_max;
+  const double d = std::min(a_dc * std::pow(dot(alpha - pt.alpha_in, n) + c_in, 2), 1.5 * pt.a_do) *
+                   to_d / (to_d + 0.16);
+  // No contraction near p_min, full contraction above 18 p_min (the small-p′ rule).
+  return d * std::clamp((p - 2.0 * pt.p_min) / (16.0 * pt.p_min), 0.0, 1.0);
+}
+
 Flow flow(const Constants& c, const Tensor& sigma, const Tensor& alpha, const Tensor& z,
           const Point& pt, double relative_density, double shear) {
   Flow f;
@@ -181,33 +255,11 @@ Flow flow(const Constants& c, const Tensor& sigma, const Tensor& alpha, const Te
   const Ratios bd = ratios(c, p, relative_density);
   f.n = normal(sigma, alpha);
   const Tensor& n = f.n;
-  const Tensor alpha_b = ((bd.bounding - c.m) / sqrt2) * n;
   f.alpha_d = ((bd.dilatancy - c.m) / sqrt2) * n;
-  f.b = alpha_b - alpha;
-  const double b_n = dot(f.b, n);
+  f.b = ((bd.bounding - c.m) / sqrt2) * n - alpha;
+  plastic_modulus(c, f, alpha, pt, p, shear);
 
-  // Plastic modulus.
-  const double c_zpk1 = pt.z_peak / (pt.z_cum + pt.z_max / 5.0);
-  const double c_zpk2 = std::min(pt.z_peak / (pt.z_cum + pt.z_max / 100.0), 1.0 - tiny);
-  const double c_pzp2 = macaulay(pt.p_zp - p) / (macaulay(pt.p_zp - p) + pt.p_min);
-  const double c_gamma1 = c.h0 / 200.0;
-  constexpr double c_kp = 2.0;
-  const double from_apparent = macaulay(dot(alpha - pt.alpha_in, n));
-  const double from_true = macaulay(dot(alpha - pt.alpha_in_true, n));
-  const double c_ka = 1.0 + c.c_kaf / (1.0 + std::pow(2.5 * from_true, 2)) * c_pzp2 * c_zpk1;
-  if (std::abs(b_n) < tiny) {
-    f.h = 1e10;
-  } else {
-    f.h = 1.5 * shear * c.h0 / p / (std::exp(from_apparent) - 1.0 + c_gamma1) /
-          std::sqrt(std::abs(b_n)) * c_ka /
-          (1.0 + c_kp * pt.z_peak / pt.z_max * macaulay(b_n) * std::sqrt(1.0 - c_zpk2));
-    if (dot(alpha - pt.alpha_in_p, n) <= 0.0) {
-      f.h *= (from_apparent + c_gamma1) / (from_true + c_gamma1);
-    }
-  }
-  f.k_p = 2.0 / 3.0 * f.h * p * b_n;
-
-  // Dilatancy: rotated dilatancy surface, then dilation or contraction.
+  // Dilatancy: the rotated dilatancy surface decides between dilation and contraction.
   const double z_n = dot(z, n);
   const double c_zin1 =
       macaulay(1.0 - std::exp(-2.0 * std::abs((dot(pt.z_in, n) - z_n) / pt.z_max)));
@@ -216,40 +268,11 @@ Flow flow(const Constants& c, const Tensor& sigma, const Tensor& alpha, const Te
   const Tensor alpha_dr = ((bd.dilatancy / c_rot1 - c.m) / sqrt2) * n;
   const double to_d = dot(f.alpha_d - alpha, n);
   const double to_dr = dot(alpha_dr - alpha, n);
-  const double p_min2 = 10.0 * pt.p_min;
   if (to_dr <= 0.0) {
-    const double c_pzp = pt.p_zp == 0.0 ? 1.0 : 1.0 / (1.0 + std::pow(2.5 * p / pt.p_zp, 5));
-    const double c_pmin = 1.0 / (1.0 + std::pow(p_min2 / p, 2));
-    const double excess = c_zin1 * (pt.z_cum - pt.z_peak) / (3.0 * pt.z_max);
-    const double c_zin2 = (1.0 + excess) / (1.0 + 3.0 * excess);
-    const double erased = std::pow(1.0 - macaulay(-z_n) / sqrt2 / pt.z_peak, 3);
-    const double a_d =
-        pt.a_do * c_zin2 /
-        (pt.z_cum * pt.z_cum / pt.z_max * erased * c.c_e * c.c_e * c_pzp * c_pmin * c_zin1 + 1.0);
-    f.d = a_d * to_d;
-    const double d_rot = a_d * macaulay(-z_n) / (sqrt2 * pt.z_max) * to_dr / c.c_dr;
-    if (f.d > d_rot) {
-      const double below = macaulay(bd.bounding - ratio_of(sigma, pt.p_min));
-      f.d += (d_rot - f.d) * below / (below + 0.01);
-    }
-    if (pt.p_min <= p && p <= 2.0 * pt.p_min) {
-      f.d = std::min(f.d, -3.5 * pt.a_do * macaulay(bd.bounding - bd.dilatancy) *
-                              (2.0 * pt.p_min - p) / pt.p_min);
-    }
+    f.d = dilation(c, sigma, pt, p, bd, z_n, c_zin1, to_d, to_dr);
   } else {
     f.k_p = std::max(0.0, f.k_p);
-    const double h_p =
-        c.h_po * std::exp(-0.7 + 7.0 * std::pow(macaulay(0.5 - bd.state_parameter), 2));
-    const double c_rot2 = 1.0 - c_zpk2;
-    const double c_dz = std::max(
-        (1.0 - c_rot2 * sqrt2 * pt.z_peak / pt.z_max) * (pt.z_max / (pt.z_max + c_rot2 * pt.z_cum)),
-        1.0 / (1.0 + pt.z_max / 2.0));
-    const double a_dc = pt.a_do * (1.0 + macaulay(z_n)) / h_p / c_dz;
-    const double c_in = 2.0 * macaulay(z_n) / sqrt2 / pt.z_max;
-    f.d = std::min(a_dc * std::pow(dot(alpha - pt.alpha_in, n) + c_in, 2), 1.5 * pt.a_do) * to_d /
-          (to_d + 0.16);
-    // No contraction near p_min, full contraction above 18 p_min (the small-p′ rule).
-    f.d *= std::clamp((p - 2.0 * pt.p_min) / (16.0 * pt.p_min), 0.0, 1.0);
+    f.d = contraction(c, alpha, pt, p, bd, n, z_n, to_d);
   }
   return f;
 }

@@ -2,16 +2,18 @@
 //
 //   OMP_NUM_THREADS=1 build/tools/benchmarks/fem/bench_fem [CASE.toml] [ELEMENT...] [MODEL...]
 //
-// MODEL (mohr-coulomb, pressure-independent-multi-yield, case) picks the variants below
-// (default: all three), e.g. for an instruction count of one of them under callgrind.
+// MODEL (mohr-coulomb, pressure-independent-multi-yield, pm4sand, case) picks the variants
+// below (default: all four), e.g. for an instruction count of one of them under callgrind.
 // For the case (default cases/column-short/case.toml) and each element type (default:
 // quad4-1gp, quad4-2x2, tri3): geostatic stage, switch to the failure models, then the
 // failure stage from t = 0 to fem.end_time with the Courant step and no output at all:
 // the cost of the physics alone (element forces, nodal update, stress update). Prints
 // element-steps per second of that loop, for each element type three times: with every
-// material's FE model set to Mohr–Coulomb, to pressure-independent multi-yield (both
-// without damping and with the same step, so the two differ by the constitutive update
-// only), and with the case's own models and damping.
+// material's FE model set to Mohr–Coulomb, to pressure-independent multi-yield, to
+// PM4Sand (D_R = 0.55, h_po = 0.45, G₀ p_A the case's G so that its elastic stage is the
+// case's; a PM4Sand material of the case keeps its own parameters, and becomes a
+// cohesionless φ_cv soil for the other two; all without damping and with the same step, so
+// they differ by the constitutive update only), and with the case's own models and damping.
 #include <chrono>
 #include <string>
 #include <vector>
@@ -71,13 +73,16 @@ int main(int argc, char** argv) {
     std::vector<std::string> variants;
     for (int i = 2; i < argc; ++i) {
       const std::string arg = argv[i];
-      if (arg == "case" || arg == "mohr-coulomb" || arg == "pressure-independent-multi-yield") {
+      if (arg == "case" || arg == "mohr-coulomb" || arg == "pressure-independent-multi-yield" ||
+          arg == "pm4sand") {
         variants.push_back(arg);
       } else {
         types.push_back(parse_element_type(arg, "bench_fem"));
       }
     }
-    if (variants.empty()) variants = {"mohr-coulomb", "pressure-independent-multi-yield", "case"};
+    if (variants.empty()) {
+      variants = {"mohr-coulomb", "pressure-independent-multi-yield", "pm4sand", "case"};
+    }
     if (types.empty()) types = {ElementType::quad4_1gp, ElementType::quad4_2x2, ElementType::tri3};
     fmt::print("bench_fem: {} ({}), failure stage 0 → {} s, no output\n", c.name,
                to_string(c.fem.kinematics), c.fem.end_time);
@@ -89,7 +94,21 @@ int main(int argc, char** argv) {
         }
         Case variant = c;
         variant.fem.damping = {};
-        for (Material& m : variant.materials) m.model = parse_material_model(name, "bench_fem");
+        for (Material& m : variant.materials) {
+          const MaterialModel was = m.model;
+          m.model = parse_material_model(name, "bench_fem");
+          if (m.model == MaterialModel::pm4sand && was != MaterialModel::pm4sand) {
+            m.pm4sand.relative_density = 0.55;
+            m.pm4sand.contraction_rate = 0.45;
+            m.pm4sand.shear_modulus_coefficient =
+                m.shear_modulus() / m.pm4sand.atmospheric_pressure;
+          } else if (has_strength(m.model) && was == MaterialModel::pm4sand) {
+            // A sand's strength at critical state, cohesionless.
+            m.friction_angle = m.pm4sand.critical_friction_angle;
+            m.cohesion = 0.0;
+            m.tension_cutoff = 0.0;
+          }
+        }
         benchmark(variant, type, name + " (undamped)");
       }
     }
