@@ -267,8 +267,8 @@ run::StartOutput ExplicitStage::start() {
     log_.info(
         "PM4Sand: material \"{}\": D_R = {}, h_po = {:.4g} calibrated: 3 % strain in {:.2f} "
         "cycles of undrained simple shear at CSR = CRR = {:.4g}",
-        m.name, m.pm4sand.relative_density, m.pm4sand.contraction_rate,
-        m.pm4sand.calibrated_cycles, m.pm4sand.calibrated_crr);
+        m.name, m.pm4sand.relative_density, m.pm4sand.contraction_rate, m.pm4sand.calibrated_cycles,
+        m.pm4sand.calibrated_crr);
   }
   if (!plan_.restart) {
     run_geostatic_stage();

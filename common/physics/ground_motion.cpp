@@ -16,6 +16,15 @@ constexpr double pi = std::numbers::pi;
 
 AccelerationRecord sample(double duration, double step, auto&& function) {
   AccelerationRecord record;
+  // A wavelet or a sine train is sampled whole: at most 1e8 samples (1.6 GB). A duration
+  // of 2^31 s (a fuzzer's mutant) is refused in one line, not allocated.
+  constexpr double most_samples = 1e8;
+  if (!(duration / step < most_samples)) {
+    throw Error(
+        "motion: {:g} s sampled every {:g} s would need {:.3g} samples (at most {:g}): shorten "
+        "the motion (peak_time, duration)",
+        duration, step, duration / step, most_samples);
+  }
   const auto n = static_cast<std::size_t>(std::ceil(duration / step - 1e-9)) + 1;
   record.time.reserve(n);
   record.acceleration.reserve(n);

@@ -14,7 +14,9 @@
 #    at 9.75 m r_u at 12 s is below its largest by more than 0.05;
 #  - r_u never exceeds 1 (p′ stays positive) and the surface settles;
 #  - a restart from the 5 s checkpoint reproduces the 6 s one bit for bit (stress, pore
-#    pressure and PM4Sand's state records), in the liquefied state.
+#    pressure and PM4Sand's state records), in the liquefied state;
+#  - fem2mpm carries each element's PM4Sand records to its particles unchanged (element
+#    interpolation).
 set -euo pipefail
 source=$1 bin=$2 python=$3 work=$4
 rm -rf "$work"
@@ -66,6 +68,17 @@ for name in ("gauss_points/stress", "gauss_points/state/surface_stress", "elemen
 records = a["gauss_points/state/surface_stress"][()]
 assert records.shape[1] == 40 and (records[:, 38] > 0).all(), "PM4Sand records: not switched"
 print("restart from 5 s: the 6 s checkpoint bit for bit")
+PY
+"$bin/fem2mpm" "$work/fem/fem_t12.000.h5" -o "$work/particles.h5" \
+  --case "$source/cases/liquefiable-deposit/case.toml" --quiet
+"$python" - "$work/fem/fem_t12.000.h5" "$work/particles.h5" <<'PY'
+import sys, h5py, numpy
+fem, particles = (h5py.File(p, "r") for p in sys.argv[1:3])
+gauss = fem["gauss_points/state/surface_stress"][()]
+carried = particles["particles/state/surface_stress"][()]
+element = particles["particles/element"][()]
+assert numpy.array_equal(carried, gauss[element]), "transfer: PM4Sand records changed"
+print(f"transfer: {len(carried)} particles carry their element's PM4Sand records")
 PY
 grep -q '^| depth (m) |' "$work/report/liquefaction.md"
 for figure in report/liquefaction_ru report/liquefaction_profiles report/pore_water_snapshots element/element element/crr_curve; do
