@@ -16,6 +16,7 @@
 #include <numbers>
 
 #include "common/base/error.hpp"
+#include "common/physics/constitutive.hpp"
 
 namespace slide::pm4sand {
 namespace {
@@ -693,13 +694,7 @@ bool update(const Constants& c, Vec4& stress, MaterialState& state, const Vec4& 
 
 void rotate(std::span<Vec4> point, double spin_increment) {
   for (int k = back_stress; k <= fabric_at_reversal; ++k) {
-    Vec4& t = point[static_cast<std::size_t>(k)];
-    const double xx = t[0];
-    const double yy = t[1];
-    const double xy = t[3];
-    t[0] = xx + 2.0 * spin_increment * xy;
-    t[1] = yy - 2.0 * spin_increment * xy;
-    t[3] = xy + spin_increment * (yy - xx);
+    rotate_jaumann(point[static_cast<std::size_t>(k)], spin_increment);
   }
 }
 

@@ -678,18 +678,14 @@ namespace pm4sand_case {
 /// [materials.pm4sand]; `material_lines` are added to the material.
 std::string text(std::string_view table, std::string_view material_lines = "") {
   std::string text = small_case();
-  const std::string mohr_coulomb = R"(model = "mohr-coulomb"
-density = 1700.0
-youngs_modulus = 23.8e6
-poisson_ratio = 0.23
-friction_angle = 22.2
-cohesion = 1000.0
-dilation_angle = 0.0
-)";
+  // The soil's model and Mohr–Coulomb parameters give way to the sand's.
+  const auto from = text.find("model = \"mohr-coulomb\"");
+  const std::string last = "dilation_angle = 0.0\n";
+  const auto to = text.find(last, from) + last.size();
   const std::string sand =
       fmt::format("model = \"pm4sand\"\ndensity = 1950.0\n{}\n[materials.pm4sand]\n{}\n",
                   material_lines, table);
-  text.replace(text.find(mohr_coulomb), mohr_coulomb.size(), sand);
+  text.replace(from, to - from, sand);
   return text;
 }
 
