@@ -306,10 +306,21 @@ void ExplicitStage::log_pore_water() const {
   }
 }
 
+namespace {
+
+/// The geostatic stage's tied side pairs ([fem.geostatic] lateral = "tied"), or none.
+std::vector<std::pair<Index, Index>> geostatic_ties(const FemModel& model, const FemSpec& fem) {
+  if (!fem.geostatic_tied_sides) return {};
+  return pair_sides(model, "fem.geostatic.lateral = \"tied\"");
+}
+
+}  // namespace
+
 void ExplicitStage::run_geostatic_stage() {
   const NodalConstraints constraints = make_constraints(
       model_.mesh, plan_.source.fem.geostatic_boundaries, "fem.geostatic.boundaries");
-  const GeostaticReport report = solve_geostatic(model_, constraints, state_);
+  const GeostaticReport report =
+      solve_geostatic(model_, constraints, state_, geostatic_ties(model_, plan_.source.fem));
   guard_.pe0 =
       compute_energies(model_, model_.reference, state_, state_.velocity, model_.mesh.nodes)
           .potential;
@@ -362,7 +373,7 @@ void ExplicitStage::start_shaking(bool from_geostatic_state) {
     FemState geostatic = make_rest_state(model_);
     solve_geostatic(
         model_, make_constraints(model_.mesh, fem.geostatic_boundaries, "fem.geostatic.boundaries"),
-        geostatic);
+        geostatic, geostatic_ties(model_, fem));
     reactions = support_reactions(model_, geostatic);
   }
   shaking_.boundary = make_seismic_boundary(model_, spec, *shaking_.motion, reactions);

@@ -1,5 +1,6 @@
 #include "fem/geostatic.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -73,20 +74,38 @@ double smallest_pivot_ratio(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<doub
 /// index of its first unknown; equations = the number of unknowns.
 struct ReducedSystem {
   std::vector<FreeDirections> free;
-  std::vector<Index> first_equation;
+  std::vector<Index> first_equation;  ///< of each node (tied nodes share their leader's)
   Index equations = 0;
 };
 
-ReducedSystem reduce(const FemModel& model, const NodalConstraints& constraints) {
+/// The unknowns: each node's free directions, numbered node by node; the second node of
+/// a tied pair takes the first one's numbers (it moves with it).
+ReducedSystem reduce(const FemModel& model, const NodalConstraints& constraints,
+                     std::span<const std::pair<Index, Index>> tied) {
   const auto n_nodes = static_cast<std::size_t>(model.node_count());
   ReducedSystem r;
   r.free.resize(n_nodes);
-  r.first_equation.assign(n_nodes + 1, 0);
+  r.first_equation.assign(n_nodes, 0);
+  std::vector<Index> leader(n_nodes, -1);
+  for (const auto& [first, second] : tied) leader[static_cast<std::size_t>(second)] = first;
   for (std::size_t n = 0; n < n_nodes; ++n) {
     r.free[n] = free_directions(constraints.of(static_cast<Index>(n)));
-    r.first_equation[n + 1] = r.first_equation[n] + r.free[n].count;
+    if (leader[n] >= 0) continue;
+    r.first_equation[n] = r.equations;
+    r.equations += r.free[n].count;
   }
-  r.equations = r.first_equation[n_nodes];
+  for (const auto& [first, second] : tied) {
+    const auto a = static_cast<std::size_t>(first);
+    const auto b = static_cast<std::size_t>(second);
+    if (r.free[a].count != r.free[b].count ||
+        (r.free[a].count == 1 && !r.free[a].direction[0].isApprox(r.free[b].direction[0]))) {
+      throw Error(
+          "geostatic stage: tied nodes {} and {} have different constraints (fem.geostatic.lateral "
+          "= \"tied\" needs the same boundary on the left and right edges)",
+          first, second);
+    }
+    r.first_equation[b] = r.first_equation[a];
+  }
   return r;
 }
 
@@ -132,10 +151,10 @@ Eigen::VectorXd reduced_load(const FemModel& model, const ReducedSystem& r) {
       force[static_cast<std::size_t>(model.mesh.connectivity[slot])] += element_force[slot];
     }
   }
-  Eigen::VectorXd load(r.equations);
+  Eigen::VectorXd load = Eigen::VectorXd::Zero(r.equations);
   for (std::size_t n = 0; n < r.free.size(); ++n) {
     for (int a = 0; a < r.free[n].count; ++a) {
-      load[r.first_equation[n] + a] =
+      load[r.first_equation[n] + a] +=
           r.free[n].direction[static_cast<std::size_t>(a)].dot(force[n]);
     }
   }
@@ -162,8 +181,8 @@ void set_elastic_state(const FemModel& model, const std::vector<Vec2>& displacem
 }  // namespace
 
 GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& constraints,
-                                FemState& state) {
-  const ReducedSystem r = reduce(model, constraints);
+                                FemState& state, std::span<const std::pair<Index, Index>> tied) {
+  const ReducedSystem r = reduce(model, constraints, tied);
   if (r.equations == 0) throw Error("geostatic stage: every node is fixed, nothing to solve");
   const Eigen::SparseMatrix<double> stiffness = reduced_stiffness(model, r);
   const Eigen::VectorXd load = reduced_load(model, r);
@@ -206,6 +225,37 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
     }
   }
   return report;
+}
+
+std::vector<std::pair<Index, Index>> pair_sides(const FemModel& model, std::string_view what) {
+  auto by_elevation = [&](const char* name) {
+    const NodeSet* set = model.mesh.find_node_set(name);
+    if (set == nullptr) throw Error("{}: the mesh has no node set \"{}\"", what, name);
+    std::vector<std::pair<double, Index>> nodes;
+    for (const Index n : set->nodes)
+      nodes.emplace_back(model.mesh.nodes[static_cast<std::size_t>(n)].y(), n);
+    std::ranges::sort(nodes);
+    return nodes;
+  };
+  const auto left = by_elevation("left");
+  const auto right = by_elevation("right");
+  const double tolerance = 1e-6 * std::max(model.extent.height, 1.0);
+  std::vector<std::pair<Index, Index>> pairs;
+  std::size_t j = 0;
+  for (const auto& [y, node] : left) {
+    while (j < right.size() && right[j].first < y - tolerance) ++j;
+    if (j < right.size() && std::abs(right[j].first - y) <= tolerance) {
+      pairs.emplace_back(node, right[j].second);
+      ++j;
+    }
+  }
+  if (pairs.size() != left.size() || pairs.size() != right.size()) {
+    throw Error(
+        "{}: the left and right edges' nodes are not at the same elevations ({} and {} "
+        "nodes, {} paired)",
+        what, left.size(), right.size(), pairs.size());
+  }
+  return pairs;
 }
 
 }  // namespace slide::fem

@@ -12,6 +12,11 @@
 // the failure stage starts from this stressed but undeformed state.
 #pragma once
 
+#include <span>
+#include <string_view>
+#include <utility>
+#include <vector>
+
 #include "fem/fem_model.hpp"
 
 namespace slide::fem {
@@ -23,9 +28,17 @@ struct GeostaticReport {
 };
 
 /// Solves the geostatic stage and writes the stressed, undeformed state into `state`
-/// (which must have the model's sizes). Throws Error when the boundary conditions
-/// leave a rigid-body motion free (singular stiffness).
+/// (which must have the model's sizes). `tied` pairs nodes that share their displacement
+/// (periodic sides: the free field of an infinite layer or slope, which then carries a
+/// turned gravity's downslope weight by base shear); the two nodes of a pair must have
+/// the same constraints. Throws Error when the boundary conditions leave a rigid-body
+/// motion free (singular stiffness).
 GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& constraints,
-                                FemState& state);
+                                FemState& state,
+                                std::span<const std::pair<Index, Index>> tied = {});
+
+/// The left and right edges' nodes at equal elevations (within 1e-6 of the model's
+/// height), bottom to top, as (left, right) pairs. Throws Error when there is none.
+std::vector<std::pair<Index, Index>> pair_sides(const FemModel& model, std::string_view what);
 
 }  // namespace slide::fem

@@ -242,10 +242,25 @@ WaterSpec read_water(const Section& s, const std::vector<std::string_view>& name
 /// [fem.geostatic.boundaries] and, with a failure stage, [fem.failure.boundaries].
 void read_stage_boundaries(const Section& s, const std::vector<std::string_view>& names,
                            FemSpec& fem) {
-  const Section geostatic = s.table("geostatic", Section::Keys{"boundaries"});
+  const Section geostatic = s.table("geostatic", Section::Keys{"boundaries", "lateral"});
+  const std::string lateral = geostatic.string("lateral", "boundaries");
+  if (lateral != "boundaries" && lateral != "tied") {
+    geostatic.fail("lateral", fmt::format("\"{}\" (expected \"boundaries\" or \"tied\")", lateral));
+  }
+  fem.geostatic_tied_sides = lateral == "tied";
   fem.geostatic_boundaries = read_boundaries(
       geostatic, "boundaries", names,
       "is not admissible in the geostatic stage (a linear static solve: free, roller or fixed)");
+  if (fem.geostatic_tied_sides) {
+    auto condition = [&](const char* side) {
+      const auto at = fem.geostatic_boundaries.find(side);
+      return at == fem.geostatic_boundaries.end() ? BoundaryCondition::free : at->second;
+    };
+    if (condition("left") != condition("right")) {
+      geostatic.fail("lateral",
+                     "\"tied\" needs the same geostatic boundary on the left and right edges");
+    }
+  }
   if (fem.failure_stage) {
     const Section failure = s.table("failure", Section::Keys{"boundaries"});
     fem.failure_boundaries = read_boundaries(failure, "boundaries", names, friction_problem(s));

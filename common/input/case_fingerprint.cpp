@@ -133,8 +133,9 @@ SolverSettings fem_fingerprint(const Case& c) {
   add(s, "gravity", gravity_line(c.gravity));
   add(s, "mesh", mesh_line(c.mesh, c.file));
   add(s, "boundaries",
-      fmt::format("geostatic {}; failure {}; μ {}", table_line(f.geostatic_boundaries),
-                  table_line(f.failure_boundaries), f.friction_coefficient));
+      fmt::format("geostatic {}{}; failure {}; μ {}", table_line(f.geostatic_boundaries),
+                  f.geostatic_tied_sides ? " tied sides" : "", table_line(f.failure_boundaries),
+                  f.friction_coefficient));
   add(s, "damping",
       fmt::format("α_M {} β_K {} local {}", f.damping.rayleigh_mass, f.damping.rayleigh_stiffness,
                   f.damping.local));

@@ -109,8 +109,11 @@ struct FemSpec {
   double time_step = 0.0;              ///< fixed dt, s (0: Courant)
   double hourglass_coefficient = 1.0;  ///< scale of the physical hourglass stiffness
   BoundaryTable geostatic_boundaries;  ///< stage 1
-  BoundaryTable failure_boundaries;    ///< stage 2
-  double friction_coefficient = 0.0;   ///< μ of "friction" boundaries
+  /// The geostatic stage's left and right edges tied (periodic: nodes at equal elevation
+  /// share their displacement), the free field of an infinite layer or slope.
+  bool geostatic_tied_sides = false;
+  BoundaryTable failure_boundaries;   ///< stage 2
+  double friction_coefficient = 0.0;  ///< μ of "friction" boundaries
   DampingSpec damping;
   /// Instability guard: speeds above this factor × sqrt(2 g H) stop the run.
   double speed_limit_factor = 5.0;

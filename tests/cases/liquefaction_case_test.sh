@@ -16,7 +16,11 @@
 #  - a restart from the 5 s checkpoint reproduces the 6 s one bit for bit (stress, pore
 #    pressure and PM4Sand's state records), in the liquefied state;
 #  - fem2mpm carries each element's PM4Sand records to its particles unchanged (element
-#    interpolation).
+#    interpolation);
+#  - the sloping column (sloping.toml, 3°, sides tied in the geostatic stage) starts with
+#    the infinite slope's static shear τ = ρ_sat g z sin 3° (to 1e-6 of ρ g H) and spreads
+#    downslope during the shaking, its surface moving on (+x) and never back by more than
+#    a tenth of what it gained.
 set -euo pipefail
 source=$1 bin=$2 python=$3 work=$4
 rm -rf "$work"
@@ -80,7 +84,27 @@ element = particles["particles/element"][()]
 assert numpy.array_equal(carried, gauss[element]), "transfer: PM4Sand records changed"
 print(f"transfer: {len(carried)} particles carry their element's PM4Sand records")
 PY
+"$python" - "$work/sloping" <<'PY'
+import csv, math, sys, h5py, numpy
+work = sys.argv[1]
+start = h5py.File(f"{work}/fem/fem_t0.000.h5", "r")
+stress = start["gauss_points/stress"][()]
+y = start["gauss_points/coordinates"][()][:, 1]
+rho_g = 1950.0 * 9.81
+error = numpy.abs(stress[:, 3] - rho_g * math.sin(math.radians(3.0)) * (10.0 - y)).max()
+assert error < 1e-6 * rho_g * 10.0, f"sloping: static shear off by {error:.3g} Pa"
+with open(f"{work}/fem/recorders/surface.csv", newline="") as f:
+    rows = list(csv.DictReader(f))
+ux = next(k for k in rows[0] if k.endswith("_ux_rel"))
+series = [(float(r["time"]), float(r[ux])) for r in rows]
+at_start = min(series, key=lambda p: abs(p[0] - 1.0))[1]
+end = series[-1][1] - at_start
+peak = max(u for _, u in series) - at_start
+assert end > 0.05 and end > 0.9 * peak, f"sloping: lateral {end:.3f} m at the end, largest {peak:.3f} m"
+print(f"sloping: static shear exact to {error:.2e} Pa; lateral spread {1000 * end:.0f} mm by t = {series[-1][0]:g} s")
+PY
 grep -q '^| depth (m) |' "$work/report/liquefaction.md"
+grep -q '^| depth (m) |' "$work/sloping/report/liquefaction.md"
 for figure in report/liquefaction_ru report/liquefaction_profiles report/pore_water_snapshots element/element element/crr_curve; do
   test -s "$work/$figure.png" || { echo "no $figure.png"; exit 1; }
 done

@@ -16,6 +16,8 @@
 // at those of quad4-2×2; on column-short (h = 1 m, H = 40 m) it holds at every Gauss
 // point of every element type.
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -142,6 +144,51 @@ TEST(Geostatic, GaussPointErrorConvergesAtFirstOrder) {
       EXPECT_NEAR(order, 1.0, 0.1) << "refinement " << i;
     }
   }
+}
+
+TEST(Geostatic, TiedSidesMakeTheInfiniteSlope) {
+  // A column on a 10° incline (gravity turned), its sides tied, its base fixed: the
+  // infinite slope, whose horizontal planes carry σyy = −ρ g cos θ (H − y) and
+  // σxy = ρ g sin θ (H − y) (equilibrium alone: the column is one-dimensional), σxx = σzz
+  // = K0 σyy (no lateral strain). One-point quads are exact at their centres. Without
+  // the ties the free sides let the column bend: the shear is far from the slope's.
+  const double theta = 10.0 * std::numbers::pi / 180.0;
+  const Vec2 gravity(gravity_acceleration * std::sin(theta),
+                     -gravity_acceleration * std::cos(theta));
+  Mesh mesh = testing::rectangle_mesh(ElementType::quad4_1gp, 2, 20, 1.0, 10.0);
+  const FemModel model =
+      make_model(std::move(mesh), {synthetic::soil()}, Kinematics::small_strain, 1.0, gravity);
+  const BoundaryTable boundaries{{"left", BoundaryCondition::free},
+                                 {"right", BoundaryCondition::free},
+                                 {"base", BoundaryCondition::fixed}};
+  const auto pairs = pair_sides(model, "test");
+  EXPECT_EQ(pairs.size(), 21u);
+  const Material& m = model.materials[0];
+  const double rho_g = m.density * gravity_acceleration;
+  auto worst = [&](bool tied) {
+    FemState state = make_rest_state(model);
+    solve_geostatic(model, make_constraints(model.mesh, boundaries, "test"), state,
+                    tied ? std::span<const std::pair<Index, Index>>(pairs)
+                         : std::span<const std::pair<Index, Index>>{});
+    double error = 0.0;
+    for (Index e = 0; e < model.element_count(); ++e) {
+      const ElementNodes x = model.mesh.element_nodes(e, model.mesh.nodes);
+      const double y = x.col(1).mean();
+      const double depth = model.extent.height - y;
+      const double syy = -rho_g * std::cos(theta) * depth;
+      const Vec4 exact(m.k0() * syy, syy, m.k0() * syy, rho_g * std::sin(theta) * depth);
+      error = std::max(error,
+                       (state.stress[static_cast<std::size_t>(e)] - exact).cwiseAbs().maxCoeff());
+    }
+    return error / (rho_g * model.extent.height);
+  };
+  const double tied = worst(true);
+  const double free = worst(false);
+  std::printf(
+      "infinite slope of 10°: largest stress error %.2e (tied), %.2e (free sides) of ρ g H\n", tied,
+      free);
+  EXPECT_LT(tied, 1e-10);
+  EXPECT_GT(free, 1e-2);
 }
 
 TEST(Geostatic, FreeRigidBodyMotionIsAnError) {
