@@ -39,6 +39,8 @@ struct MaterialChoice {
   double relative_density = std::nan("");
   double blow_count = std::nan("");
   double shear_modulus_coefficient = std::nan("");
+  double shear_wave_speed = std::nan("");
+  double density = 2000.0;
   double contraction_rate = std::nan("");
   double poisson_ratio = 0.3;
 };
@@ -58,12 +60,19 @@ Material material_of(const MaterialChoice& choice, bool need_contraction_rate) {
   Material m;
   m.name = "pm4sand";
   m.model = MaterialModel::pm4sand;
-  m.density = 2000.0;  // no inertia in an element test
+  m.density = choice.density;  // only for G₀ from V_s1: an element test has no inertia
   m.poisson_ratio = choice.poisson_ratio;
   m.pm4sand.relative_density = std::isnan(choice.blow_count)
                                    ? choice.relative_density
                                    : relative_density_of(choice.blow_count);
   m.pm4sand.shear_modulus_coefficient = choice.shear_modulus_coefficient;
+  if (!std::isnan(choice.shear_wave_speed)) {
+    if (!std::isnan(choice.shear_modulus_coefficient)) {
+      throw Error("give either --shear-modulus-coefficient or --shear-wave-speed");
+    }
+    m.pm4sand.shear_modulus_coefficient = pm4sand::shear_modulus_coefficient_from_wave_speed(
+        m.density, choice.shear_wave_speed, m.pm4sand.atmospheric_pressure);
+  }
   m.pm4sand.contraction_rate = choice.contraction_rate;
   if (std::isnan(m.pm4sand.contraction_rate)) {
     if (need_contraction_rate) throw Error("give --contraction-rate (h_po)");
@@ -92,6 +101,9 @@ void add_material_options(CLI::App* app, MaterialChoice& m) {
   app->add_option("--blow-count", m.blow_count, "(N1)60, instead of D_R: D_R = sqrt((N1)60/46)");
   app->add_option("--shear-modulus-coefficient", m.shear_modulus_coefficient,
                   "G0 (default 167 sqrt(46 D_R^2 + 2.5))");
+  app->add_option("--shear-wave-speed", m.shear_wave_speed,
+                  "V_s1, m/s at 1 atm, instead of G0: G0 = rho V_s1^2 / p_A");
+  app->add_option("--density", m.density, "rho, kg/m^3, for G0 from V_s1 (default 2000)");
   app->add_option("--contraction-rate", m.contraction_rate, "h_po");
   app->add_option("--poisson-ratio", m.poisson_ratio, "nu (default 0.3)");
   app->add_option("--case", m.case_file, "take the material from this case file instead");

@@ -93,8 +93,9 @@ void calibrate_pm4sand(const Section& s, const Section& material, Material& m) {
 /// PM4Sand's [materials.pm4sand] table: D_R, and G₀ and h_po or their derivations
 /// (docs/method.md §10), the secondary parameters' overrides; E of the elastic stage.
 void read_pm4sand(const Section& material, Material& m) {
-  Section::Keys keys{"relative_density", "blow_count",       "shear_modulus_coefficient",
-                     "contraction_rate", "calibrate_to_crr", "target_crr"};
+  Section::Keys keys{
+      "relative_density", "blow_count",       "shear_wave_speed", "shear_modulus_coefficient",
+      "contraction_rate", "calibrate_to_crr", "target_crr"};
   for (const auto& entry : pm4sand_secondary) keys.push_back(entry.first);
   const Section s = material.table("pm4sand", keys);
   Pm4SandParameters& p = m.pm4sand;
@@ -109,6 +110,13 @@ void read_pm4sand(const Section& material, Material& m) {
           : s.number("relative_density", any_number());
   p.shear_modulus_coefficient =
       s.number("shear_modulus_coefficient", any_number(), Pm4SandParameters::derived);
+  if (s.has("shear_wave_speed")) {  // V_s1 instead of G₀
+    s.reject("shear_modulus_coefficient",
+             "give either shear_modulus_coefficient or shear_wave_speed");
+    const double vs1 = s.number("shear_wave_speed", positive("m/s"));
+    p.shear_modulus_coefficient = pm4sand::shear_modulus_coefficient_from_wave_speed(
+        m.density, vs1, s.number("atmospheric_pressure", any_number(), p.atmospheric_pressure));
+  }
   for (const auto& [key, member] : pm4sand_secondary) {
     p.*member = s.number(key, any_number(), p.*member);
   }

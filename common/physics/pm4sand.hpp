@@ -72,6 +72,13 @@ struct Constants {
 /// calibration).
 double default_shear_modulus_coefficient(double relative_density);
 
+/// G₀ from the overburden-corrected shear-wave speed V_s1 (m/s at σ′v = 1 atm) and the
+/// soil's density: G = ρ V_s1² at p ≈ p_A, so G₀ = ρ V_s1²/p_A.
+inline double shear_modulus_coefficient_from_wave_speed(double density, double vs1,
+                                                        double atmospheric_pressure) {
+  return density * vs1 * vs1 / atmospheric_pressure;
+}
+
 /// The Young's modulus of PM4Sand's elastic (geostatic) stage, whose shear modulus is
 /// G₀ p_A (the reference implementations' elastic stage): E = 2 (1 + ν) G₀ p_A.
 double elastic_stage_youngs_modulus(const Material& material);

@@ -706,6 +706,19 @@ TEST(CaseFile, Pm4SandTakesItsParametersAndDerivesTheElasticStage) {
   EXPECT_DOUBLE_EQ(m.youngs_modulus, 2.0 * 1.3 * g0 * 101.3e3);
 }
 
+TEST(CaseFile, Pm4SandTakesBlowCountAndShearWaveSpeedInsteadOfDrAndG0) {
+  const Case c = parse_case(
+      pm4sand_case::text("blow_count = 7.36\nshear_wave_speed = 160.0\ncontraction_rate = 0.5\n"),
+      "case.toml");
+  const Pm4SandParameters& p = c.materials.at(0).pm4sand;
+  EXPECT_DOUBLE_EQ(p.relative_density, std::sqrt(7.36 / 46.0));  // 0.40
+  EXPECT_DOUBLE_EQ(p.shear_modulus_coefficient, 1950.0 * 160.0 * 160.0 / 101.3e3);
+  EXPECT_THROW(parse_case(pm4sand_case::text("blow_count = 7.36\nrelative_density = 0.4\n"
+                                             "contraction_rate = 0.5\n"),
+                          "case.toml"),
+               Error);
+}
+
 TEST(CaseFile, Pm4SandCalibratesItsContractionRateToTheCrr) {
   const Case c = parse_case(
       pm4sand_case::text("relative_density = 0.55\ncalibrate_to_crr = true\n"), "case.toml");
