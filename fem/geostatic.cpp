@@ -227,6 +227,21 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
   return report;
 }
 
+std::vector<std::pair<Index, Index>> pair_by_elevation(
+    std::span<const std::pair<double, Index>> left, std::span<const std::pair<double, Index>> right,
+    double tolerance) {
+  std::vector<std::pair<Index, Index>> pairs;
+  std::size_t j = 0;
+  for (const auto& [y, node] : left) {
+    while (j < right.size() && right[j].first < y - tolerance) ++j;
+    if (j < right.size() && std::abs(right[j].first - y) <= tolerance) {
+      pairs.emplace_back(node, right[j].second);
+      ++j;
+    }
+  }
+  return pairs;
+}
+
 std::vector<std::pair<Index, Index>> pair_sides(const FemModel& model, std::string_view what) {
   auto by_elevation = [&](const char* name) {
     const NodeSet* set = model.mesh.find_node_set(name);
@@ -239,16 +254,7 @@ std::vector<std::pair<Index, Index>> pair_sides(const FemModel& model, std::stri
   };
   const auto left = by_elevation("left");
   const auto right = by_elevation("right");
-  const double tolerance = 1e-6 * std::max(model.extent.height, 1.0);
-  std::vector<std::pair<Index, Index>> pairs;
-  std::size_t j = 0;
-  for (const auto& [y, node] : left) {
-    while (j < right.size() && right[j].first < y - tolerance) ++j;
-    if (j < right.size() && std::abs(right[j].first - y) <= tolerance) {
-      pairs.emplace_back(node, right[j].second);
-      ++j;
-    }
-  }
+  const auto pairs = pair_by_elevation(left, right, 1e-6 * std::max(model.extent.height, 1.0));
   if (pairs.size() != left.size() || pairs.size() != right.size()) {
     throw Error(
         "{}: the left and right edges' nodes are not at the same elevations ({} and {} "

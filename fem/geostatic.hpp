@@ -37,6 +37,12 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
                                 FemState& state,
                                 std::span<const std::pair<Index, Index>> tied = {});
 
+/// Nodes of two edges, each as (elevation, node) sorted by elevation, paired where their
+/// elevations agree within `tolerance`, bottom to top (the tied sides of both stages).
+std::vector<std::pair<Index, Index>> pair_by_elevation(
+    std::span<const std::pair<double, Index>> left, std::span<const std::pair<double, Index>> right,
+    double tolerance);
+
 /// The left and right edges' nodes at equal elevations (within 1e-6 of the model's
 /// height), bottom to top, as (left, right) pairs. Throws Error when there is none.
 std::vector<std::pair<Index, Index>> pair_sides(const FemModel& model, std::string_view what);

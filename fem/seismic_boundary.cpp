@@ -8,6 +8,7 @@
 
 #include "common/base/error.hpp"
 #include "fem/element_kernels.hpp"
+#include "fem/geostatic.hpp"
 #include "fem/pore_fluid.hpp"
 
 namespace slide::fem {
@@ -165,19 +166,13 @@ std::vector<std::uint8_t> tie_sides(const FemModel& model, const MotionSpec& spe
                                     SeismicBoundary& boundary) {
   boundary.tie_vertical = spec.lateral == LateralBoundary::tied;
   const double tolerance = 1e-6 * std::max(model.extent.height, 1.0);
-  std::size_t j = 0;
   std::vector<std::uint8_t> paired(static_cast<std::size_t>(model.node_count()), 0);
-  for (const auto& [y, node] : left.nodes) {
-    while (j < right.nodes.size() && right.nodes[j].first < y - tolerance) ++j;
-    if (j < right.nodes.size() && std::abs(right.nodes[j].first - y) <= tolerance) {
-      const Index partner = right.nodes[j].second;
-      boundary.tied.emplace_back(node, partner);
-      paired[static_cast<std::size_t>(node)] = paired[static_cast<std::size_t>(partner)] = 1;
-      for (const Index n : {node, partner}) {
-        boundary.static_force[static_cast<std::size_t>(n)].x() +=
-            reactions[static_cast<std::size_t>(n)].x();
-      }
-      ++j;
+  for (const auto& [node, partner] : pair_by_elevation(left.nodes, right.nodes, tolerance)) {
+    boundary.tied.emplace_back(node, partner);
+    paired[static_cast<std::size_t>(node)] = paired[static_cast<std::size_t>(partner)] = 1;
+    for (const Index n : {node, partner}) {
+      boundary.static_force[static_cast<std::size_t>(n)].x() +=
+          reactions[static_cast<std::size_t>(n)].x();
     }
   }
   pair_side_elements(model, boundary);

@@ -64,7 +64,7 @@ Material material_of(const MaterialChoice& choice, bool need_contraction_rate) {
   m.poisson_ratio = choice.poisson_ratio;
   m.pm4sand.relative_density = std::isnan(choice.blow_count)
                                    ? choice.relative_density
-                                   : relative_density_of(choice.blow_count);
+                                   : pm4sand::relative_density_of(choice.blow_count);
   m.pm4sand.shear_modulus_coefficient = choice.shear_modulus_coefficient;
   if (!std::isnan(choice.shear_wave_speed)) {
     if (!std::isnan(choice.shear_modulus_coefficient)) {
@@ -178,7 +178,7 @@ void run_monotonic(const Options& o) {
 void run_calibrate(const Options& o) {
   Material m = material_of(o.choice, false);
   const double dr = m.pm4sand.relative_density;
-  const double crr = o.target_crr.value_or(idriss_boulanger_crr(blow_count(dr)));
+  const double crr = o.target_crr.value_or(default_target_crr(dr));
   const Calibration cal = calibrate_contraction_rate(m, crr, o.target_cycles);
   m.pm4sand.contraction_rate = cal.contraction_rate;
   const Consolidation atmosphere{m.pm4sand.atmospheric_pressure, 0.5};
@@ -194,8 +194,8 @@ void run_calibrate(const Options& o) {
       "relative_density = {}\nblow_count_n160 = {:.3f}\nshear_modulus_coefficient = {:.6g}\n"
       "target_crr = {:.6g}\ntarget_cycles = {:g}\ncontraction_rate = {:.6g}\n"
       "cycles_at_contraction_rate = {:.4f}\nbisection_steps = {}\n",
-      dr, blow_count(dr), pm4sand::Constants::of(m).g0, crr, o.target_cycles, cal.contraction_rate,
-      cal.cycles, cal.iterations);
+      dr, pm4sand::blow_count(dr), pm4sand::Constants::of(m).g0, crr, o.target_cycles,
+      cal.contraction_rate, cal.cycles, cal.iterations);
   write_text_atomically(o.out / "calibration.txt", summary);
   fmt::print(
       "D_R {:g}: h_po = {:.4g} gives 3 % strain in {:.2f} cycles at CSR = {:.4g} "

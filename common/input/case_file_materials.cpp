@@ -77,9 +77,8 @@ void calibrate_pm4sand(const Section& s, const Section& material, Material& m) {
   // Check the other parameters first: the calibration runs the model.
   p.contraction_rate = 1.0;
   validate_material(m, material);
-  const double crr =
-      s.number("target_crr", Range{.min = 0.0, .max = 2.0, .unit = {}, .note = {}},
-               element_test::idriss_boulanger_crr(element_test::blow_count(p.relative_density)));
+  const double crr = s.number("target_crr", Range{.min = 0.0, .max = 2.0, .unit = {}, .note = {}},
+                              element_test::default_target_crr(p.relative_density));
   try {
     const auto result = element_test::calibrate_contraction_rate(m, crr);
     p.contraction_rate = result.contraction_rate;
@@ -105,20 +104,20 @@ void read_pm4sand(const Section& material, Material& m) {
   }
   p.relative_density =
       s.has("blow_count")
-          ? element_test::relative_density_of(
+          ? pm4sand::relative_density_of(
                 s.number("blow_count", Range{.min = 0.0, .max = 200.0, .unit = {}, .note = {}}))
           : s.number("relative_density", any_number());
   p.shear_modulus_coefficient =
       s.number("shear_modulus_coefficient", any_number(), Pm4SandParameters::derived);
+  for (const auto& [key, member] : pm4sand_secondary) {
+    p.*member = s.number(key, any_number(), p.*member);
+  }
   if (s.has("shear_wave_speed")) {  // V_s1 instead of G₀
     s.reject("shear_modulus_coefficient",
              "give either shear_modulus_coefficient or shear_wave_speed");
     const double vs1 = s.number("shear_wave_speed", positive("m/s"));
-    p.shear_modulus_coefficient = pm4sand::shear_modulus_coefficient_from_wave_speed(
-        m.density, vs1, s.number("atmospheric_pressure", any_number(), p.atmospheric_pressure));
-  }
-  for (const auto& [key, member] : pm4sand_secondary) {
-    p.*member = s.number(key, any_number(), p.*member);
+    p.shear_modulus_coefficient =
+        pm4sand::shear_modulus_coefficient_from_wave_speed(m.density, vs1, p.atmospheric_pressure);
   }
   m.youngs_modulus = pm4sand::elastic_stage_youngs_modulus(m);
   const bool calibrate = s.boolean("calibrate_to_crr", false);

@@ -9,6 +9,7 @@
 
 #include "common/base/error.hpp"
 #include "common/physics/constitutive.hpp"
+#include "common/physics/pm4sand.hpp"
 
 namespace slide::element_test {
 namespace {
@@ -246,6 +247,10 @@ std::vector<Sample> cyclic_strain(const Material& material, const Consolidation&
 double idriss_boulanger_crr(double n) {
   return std::exp(n / 14.1 + std::pow(n / 126.0, 2) - std::pow(n / 23.6, 3) +
                   std::pow(n / 25.4, 4) - 2.8);
+}
+
+double default_target_crr(double relative_density) {
+  return idriss_boulanger_crr(pm4sand::blow_count(relative_density));
 }
 
 Calibration calibrate_contraction_rate(Material material, double target_crr, double cycles) {

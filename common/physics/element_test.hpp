@@ -10,7 +10,6 @@
 // pressure a sealed sample with incompressible water would carry, r_u = 1 − σ′v/σ′v0.
 #pragma once
 
-#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -70,13 +69,9 @@ std::vector<Sample> cyclic_strain(const Material& material, const Consolidation&
 /// The Idriss & Boulanger (2008) SPT triggering curve for M = 7.5 and σ′v = 1 atm:
 /// CRR = exp(N/14.1 + (N/126)² − (N/23.6)³ + (N/25.4)⁴ − 2.8), N = (N1)60cs.
 double idriss_boulanger_crr(double n160cs);
-/// (N1)60 = 46 D_R² (the correlation PM4Sand's report uses), and its inverse.
-inline double blow_count(double relative_density) {
-  return 46.0 * relative_density * relative_density;
-}
-inline double relative_density_of(double n160) {
-  return std::sqrt(n160 / 46.0);
-}
+/// The default calibration target of a sand of relative density D_R: the curve above at
+/// (N1)60cs = 46 D_R² (pm4sand::blow_count).
+double default_target_crr(double relative_density);
 
 /// h_po such that undrained cyclic simple shear at σ′v = 1 atm, K0 = 0.5 and CSR =
 /// `target_crr` reaches 3 % single-amplitude shear strain in `cycles` uniform cycles;

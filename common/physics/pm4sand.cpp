@@ -2,8 +2,8 @@
 // plasticity model for earthquake engineering applications", report UCD/CGM-17/01),
 // integrated as the open-source implementation integrates it (Chen & Arduino, OpenSees:
 // sub-increments of at most 1e-5 strain, modified Euler with error control, a drift
-// correction, the small-p′ rules). The equations, their numbers in the report and the
-// places where the implementation departs from the report are in
+// correction, the small-p′ rules). The equations, their sources and the places where
+// this code departs from the reference implementation are in
 // common/physics/constitutive.md ("PM4Sand"), whose headings the comments below name.
 //
 // Internally: compression positive, in-plane tensors [xx, yy, xy] with the double
@@ -110,11 +110,14 @@ void pack(const Point& p, std::span<Vec4> r) {
   r[switch_constants] = {p.z_max, p.a_do, p.p_min, p.volumetric_strain};
 }
 
-/// D_R now: the void ratio e = e₀ − (1 + e₀) εv moved with the volumetric strain since
-/// the switch (compression positive).
-double density_now(const Constants& c, const Point& pt) {
-  const double e = c.e0 - (1.0 + c.e0) * pt.volumetric_strain;
+/// D_R after the volumetric strain εv since the switch (compression positive): the void
+/// ratio e = e₀ − (1 + e₀) εv.
+double density_after(const Constants& c, double volumetric_strain) {
+  const double e = c.e0 - (1.0 + c.e0) * volumetric_strain;
   return (c.e_max - e) / (c.e_max - c.e_min);
+}
+double density_now(const Constants& c, const Point& pt) {
+  return density_after(c, pt.volumetric_strain);
 }
 
 /// The in-plane stress, compression positive, and back.
@@ -162,6 +165,32 @@ Moduli moduli(const Constants& c, const Tensor& sigma, const Point& pt, double b
   const double shear =
       c.g0 * c.p_a * std::sqrt(p / c.p_a) * c_sr * (1.0 + fabric) / (1.0 + c.c_gd * fabric);
   return {shear, c.bulk_ratio() * shear};
+}
+
+/// The moduli at a point's stress, with M_b of its p and D_R.
+Moduli moduli_at(const Constants& c, const Tensor& sigma, const Point& pt,
+                 double relative_density) {
+  return moduli(c, sigma, pt, ratios(c, trace_mean(sigma), relative_density).bounding);
+}
+
+/// The deviatoric part of a strain tensor, Δe = Δε − Δεv/3 I (plane strain: Δεzz = 0).
+Tensor strain_deviator(const Tensor& eps) {
+  const double volumetric = eps.xx + eps.yy;
+  return {eps.xx - volumetric / 3.0, eps.yy - volumetric / 3.0, eps.xy};
+}
+
+/// The elastic stress increment 2G Δe + K Δεv I.
+Tensor elastic_increment(const Moduli& g, const Tensor& eps) {
+  return 2.0 * g.shear * strain_deviator(eps) + (g.bulk * (eps.xx + eps.yy)) * identity;
+}
+
+/// The stress ratio brought back to `limit` at the same p, and α to (limit − m)/limit of
+/// the new ratio (the reference implementation's rule at the switch and after each step).
+void scale_ratio(const Constants& c, Tensor& sigma, Tensor& alpha, double p, double now,
+                 double limit) {
+  const Tensor r = (limit / now / p) * deviator(sigma);
+  sigma = p * identity + p * r;
+  alpha = ((limit - c.m) / limit) * r;
 }
 
 /// What the flow rule needs at one state ("Bounding and dilatancy surfaces",
@@ -293,9 +322,9 @@ struct Change {
 Change stage(const Constants& c, const Tensor& sigma, const Tensor& alpha, const Tensor& z,
              const Point& pt, double relative_density, const Moduli& g, const Tensor& eps) {
   const double volumetric = eps.xx + eps.yy;
-  const Tensor de{eps.xx - volumetric / 3.0, eps.yy - volumetric / 3.0, eps.xy};
+  const Tensor de = strain_deviator(eps);
   Change change;
-  const Tensor elastic = 2.0 * g.shear * de + (g.bulk * volumetric) * identity;
+  const Tensor elastic = elastic_increment(g, eps);
   const Flow f = flow(c, sigma, alpha, z, pt, relative_density, g.shear);
   const double p = trace_mean(sigma);
   const Tensor r = (1.0 / p) * deviator(sigma);
@@ -321,9 +350,6 @@ Change stage(const Constants& c, const Tensor& sigma, const Tensor& alpha, const
   return change;
 }
 
-/// Brings a stress that drifted outside the yield surface back onto it (Potts & Gens
-/// 1985 consistent correction along the plastic direction, with α moving by its own
-/// hardening), unless it is below the floor on p′.
 /// The floor on p′ (the reference implementation's rule): below p_min/5 a stress inside
 /// the yield surface is lifted to p_min/5, one outside is replaced by a simple-shear state
 /// at p_min/5 with q/p = 0.8 M_c. Returns true when it acted.
@@ -340,12 +366,15 @@ bool apply_floor(const Constants& c, Tensor& sigma, Tensor& alpha, const Point& 
   return true;
 }
 
+/// Brings a stress that drifted outside the yield surface back onto it (Potts & Gens
+/// 1985 consistent correction along the plastic direction, with α moving by its own
+/// hardening), unless it is below the floor on p′.
 void correct_drift(const Constants& c, Tensor& sigma, Tensor& alpha, const Tensor& z,
                    const Point& pt, double relative_density, double tolerance) {
   if (apply_floor(c, sigma, alpha, pt, tolerance)) return;
   double f = yield(c, sigma, alpha);
   for (int iteration = 0; iteration < 25 && f > tolerance; ++iteration) {
-    const Moduli g = moduli(c, sigma, pt, ratios(c, trace_mean(sigma), relative_density).bounding);
+    const Moduli g = moduli_at(c, sigma, pt, relative_density);
     const Flow fl = flow(c, sigma, alpha, z, pt, relative_density, g.shear);
     const double p = std::max(trace_mean(sigma), pt.p_min);
     const Tensor r = (1.0 / p) * deviator(sigma);
@@ -385,7 +414,7 @@ void integrate_plastic(const Constants& c, Tensor& sigma, Point& pt, const Tenso
   while (done < 1.0) {
     const double dr = density_now(c, pt);
     const Tensor part = step * eps;
-    const Moduli g = moduli(c, sigma, pt, ratios(c, trace_mean(sigma), dr).bounding);
+    const Moduli g = moduli_at(c, sigma, pt, dr);
     const Change one = stage(c, sigma, pt.alpha, pt.z, pt, dr, g, part);
     const Tensor sigma_one = sigma + one.sigma;
     const bool last_chance = step <= smallest;
@@ -448,10 +477,9 @@ double crossing(const Constants& c, const Tensor& sigma, const Tensor& alpha, co
 bool sub_increment(const Constants& c, Tensor& sigma, Point& pt, const Tensor& eps,
                    MaterialState& state, double tolerance) {
   const double dr = density_now(c, pt);
-  const Moduli g = moduli(c, sigma, pt, ratios(c, trace_mean(sigma), dr).bounding);
+  const Moduli g = moduli_at(c, sigma, pt, dr);
   const double volumetric = eps.xx + eps.yy;
-  const Tensor de{eps.xx - volumetric / 3.0, eps.yy - volumetric / 3.0, eps.xy};
-  const Tensor elastic = 2.0 * g.shear * de + (g.bulk * volumetric) * identity;
+  const Tensor elastic = elastic_increment(g, eps);
   const double f_trial = yield(c, sigma + elastic, pt.alpha);
   if (f_trial <= tolerance) {
     sigma += elastic;
@@ -489,12 +517,8 @@ bool sub_increment(const Constants& c, Tensor& sigma, Point& pt, const Tensor& e
 /// A loading reversal (the back-stress ratio moving away from α_in,true against the new
 /// loading direction): the reversal history and the apparent α_in ("Reversals").
 void detect_reversal(const Constants& c, const Tensor& sigma, Point& pt, const Tensor& eps) {
-  const double dr = density_now(c, pt);
-  const Moduli g = moduli(c, sigma, pt, ratios(c, trace_mean(sigma), dr).bounding);
-  const double volumetric = eps.xx + eps.yy;
-  const Tensor de{eps.xx - volumetric / 3.0, eps.yy - volumetric / 3.0, eps.xy};
-  const Tensor trial = sigma + 2.0 * g.shear * de + (g.bulk * volumetric) * identity;
-  const Tensor n = normal(trial, pt.alpha);
+  const Moduli g = moduli_at(c, sigma, pt, density_now(c, pt));
+  const Tensor n = normal(sigma + elastic_increment(g, eps), pt.alpha);
   if (dot(pt.alpha - pt.alpha_in_true, n) >= 0.0) return;
   pt.alpha_in_p = pt.alpha_in;
   pt.alpha_in_true = pt.alpha;
@@ -530,16 +554,24 @@ void detect_reversal(const Constants& c, const Tensor& sigma, Point& pt, const T
 }  // namespace
 
 double default_shear_modulus_coefficient(double relative_density) {
-  const double n160 = 46.0 * relative_density * relative_density;
-  return 167.0 * std::sqrt(n160 + 2.5);
+  return 167.0 * std::sqrt(blow_count(relative_density) + 2.5);
 }
+
+namespace {
+
+/// G₀: the given one, else the field default from D_R.
+double shear_modulus_coefficient(const Pm4SandParameters& p) {
+  return std::isnan(p.shear_modulus_coefficient)
+             ? default_shear_modulus_coefficient(p.relative_density)
+             : p.shear_modulus_coefficient;
+}
+
+}  // namespace
 
 double elastic_stage_youngs_modulus(const Material& material) {
   const Pm4SandParameters& p = material.pm4sand;
-  const double g0 = std::isnan(p.shear_modulus_coefficient)
-                        ? default_shear_modulus_coefficient(p.relative_density)
-                        : p.shear_modulus_coefficient;
-  return 2.0 * (1.0 + material.poisson_ratio) * g0 * p.atmospheric_pressure;
+  return 2.0 * (1.0 + material.poisson_ratio) * shear_modulus_coefficient(p) *
+         p.atmospheric_pressure;
 }
 
 Constants Constants::of(const Material& material) {
@@ -550,7 +582,7 @@ Constants Constants::of(const Material& material) {
   Constants c{};
   const double dr = in.relative_density;
   c.relative_density = dr;
-  c.g0 = or_default(in.shear_modulus_coefficient, default_shear_modulus_coefficient(dr));
+  c.g0 = shear_modulus_coefficient(in);
   c.h_po = in.contraction_rate;
   c.p_a = in.atmospheric_pressure;
   c.h0 = or_default(in.h0, std::max(0.3, (0.25 + dr) / 2.0));
@@ -589,9 +621,7 @@ Ratios ratios(const Constants& c, double mean_stress, double relative_density) {
 }
 
 double relative_density(const Constants& c, std::span<const Vec4> point) {
-  const double volumetric = point.empty() ? 0.0 : point[switch_constants][3];
-  const double e = c.e0 - (1.0 + c.e0) * volumetric;
-  return (c.e_max - e) / (c.e_max - c.e_min);
+  return density_after(c, point.empty() ? 0.0 : point[switch_constants][3]);
 }
 
 double stress_ratio(const Vec4& stress) {
@@ -604,8 +634,7 @@ double shear_modulus(const Constants& c, const Vec4& stress, std::span<const Vec
     return c.g0 * c.p_a * std::sqrt(std::max(trace_mean(sigma), c.p_a / 200.0) / c.p_a);
   }
   const Point pt = unpack(point);
-  const double dr = relative_density(c, point);
-  return moduli(c, sigma, pt, ratios(c, trace_mean(sigma), dr).bounding).shear;
+  return moduli_at(c, sigma, pt, density_now(c, pt)).shear;
 }
 
 bool start(const Constants& c, Vec4& stress, std::span<Vec4> point) {
@@ -642,11 +671,7 @@ bool start(const Constants& c, Vec4& stress, std::span<Vec4> point) {
   // A stress ratio beyond both the bounding and the dilatancy ratio is scaled back.
   const double limit = std::max(bd.bounding, bd.dilatancy);
   const double now = sqrt2 * norm(deviator(sigma)) / p0;
-  if (now > limit) {
-    const Tensor r = (limit / now / p0) * deviator(sigma);
-    sigma = p0 * identity + p0 * r;
-    pt.alpha = ((limit - c.m) / limit) * r;
-  }
+  if (now > limit) scale_ratio(c, sigma, pt.alpha, p0, now, limit);
   pt.alpha_in_true = pt.alpha_in_max = pt.alpha_in_min = pt.alpha;
   pt.z_peak = pt.z_max / 1e5;
   pt.p_zp = std::max(p0, pt.p_min) / 100.0;
@@ -682,11 +707,7 @@ bool update(const Constants& c, Vec4& stress, MaterialState& state, const Vec4& 
   const double dr = density_now(c, pt);
   const double bounding = ratios(c, p, dr).bounding;
   const double now = ratio_of(sigma, pt.p_min);
-  if (p > 0.0 && now > bounding) {
-    const Tensor r = (bounding / now / p) * deviator(sigma);
-    sigma = p * identity + p * r;
-    pt.alpha = ((bounding - c.m) / bounding) * r;
-  }
+  if (p > 0.0 && now > bounding) scale_ratio(c, sigma, pt.alpha, p, now, bounding);
   pack(pt, point);
   store(sigma, stress);
   return plastic;

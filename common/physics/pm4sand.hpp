@@ -67,9 +67,15 @@ struct Constants {
   double bulk_ratio() const { return 2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu)); }
 };
 
-/// The shear modulus coefficient's field default, G₀ = 167 sqrt((N1)60 + 2.5) with
-/// (N1)60 = 46 D_R² (the report's field
-/// calibration).
+/// The report's field correlation (N1)60 = 46 D_R², and its inverse.
+inline double blow_count(double relative_density) {
+  return 46.0 * relative_density * relative_density;
+}
+inline double relative_density_of(double n160) {
+  return std::sqrt(n160 / 46.0);
+}
+
+/// The shear modulus coefficient's field default, G₀ = 167 sqrt((N1)60 + 2.5).
 double default_shear_modulus_coefficient(double relative_density);
 
 /// G₀ from the overburden-corrected shear-wave speed V_s1 (m/s at σ′v = 1 atm) and the

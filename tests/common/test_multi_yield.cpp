@@ -21,6 +21,7 @@
 
 #include "common/physics/constitutive.hpp"
 #include "common/physics/multi_yield.hpp"
+#include "tests/support/material_point.hpp"
 #include "tools/synthetic/soil.hpp"
 
 namespace slide {
@@ -76,19 +77,7 @@ double backbone_q(const std::vector<std::array<double, 2>>& v, double eps) {
 }
 
 /// A point of the model: stress, state and its surfaces.
-struct Point {
-  ConstitutiveModel model;
-  Vec4 stress;
-  MaterialState state;
-  std::vector<Vec4> surfaces;
-
-  Point(const Material& m, const Vec4& initial)
-      : model(ConstitutiveModel::from(m)),
-        stress(initial),
-        surfaces(static_cast<std::size_t>(model.surfaces()), Vec4::Zero()) {}
-  bool start() { return model.start(stress, state, surfaces); }
-  bool step(const Vec4& increment) { return model.update(stress, state, increment, surfaces); }
-};
+using Point = testing::MaterialPoint;
 
 const Vec4 isotropic(-200e3, -200e3, -200e3, 0.0);  // p′ = 200 kPa
 

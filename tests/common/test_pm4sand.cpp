@@ -22,6 +22,7 @@
 #include "common/physics/constitutive.hpp"
 #include "common/physics/element_test.hpp"
 #include "common/physics/pm4sand.hpp"
+#include "tests/support/material_point.hpp"
 #include "tools/synthetic/soil.hpp"
 
 namespace slide {
@@ -33,17 +34,11 @@ using element_test::Drainage;
 constexpr double p_a = 101.3e3;
 
 /// A point switched at `stress` (tension positive).
-struct Point {
-  ConstitutiveModel model;
-  Vec4 stress;
-  MaterialState state;
-  std::vector<Vec4> records;
-
-  Point(const Material& m, const Vec4& start)
-      : model(ConstitutiveModel::from(m)), stress(start), records(pm4sand::records, Vec4::Zero()) {
-    model.start(stress, state, records);
-  }
-};
+testing::MaterialPoint switched(const Material& m, const Vec4& stress) {
+  testing::MaterialPoint point(m, stress);
+  point.start();
+  return point;
+}
 
 TEST(Pm4Sand, SecondaryConstantsFollowTheirFormulas) {
   for (double dr : {0.35, 0.55, 0.75, 0.9}) {
@@ -64,19 +59,19 @@ TEST(Pm4Sand, SecondaryConstantsFollowTheirFormulas) {
 TEST(Pm4Sand, TheSwitchFixesTheStressDependentConstantsFromP0) {
   // K0 = 0.5 at σ′v = 1 atm: p₀ = 0.75 atm.
   const Material m = synthetic::sand(0.55, 0.5);
-  const Point point(m, {-0.5 * p_a, -p_a, -0.5 * p_a, 0.0});
+  const auto point = switched(m, {-0.5 * p_a, -p_a, -0.5 * p_a, 0.0});
   const pm4sand::Constants c = pm4sand::Constants::of(m);
   const double p0 = 0.75 * p_a;
   const double xi = 1.5 / (10.0 - std::log(100.0 * p0 / p_a)) - 0.55;
   const double m_b = c.m_c * std::exp(-0.5 * xi);
   const double m_d = c.m_c * std::exp(0.1 * xi);
-  const Vec4& constants = point.records[pm4sand::switch_constants];
+  const Vec4& constants = point.surfaces[pm4sand::switch_constants];
   EXPECT_DOUBLE_EQ(constants[0], std::min(0.7 * std::exp(-6.1 * xi), 20.0));  // z_max
   EXPECT_NEAR(constants[1], 2.5 * (std::asin(m_b / 2.0) - std::asin(c.m_c / 2.0)) / (m_b - m_d),
               1e-12);                                                 // A_do
   EXPECT_DOUBLE_EQ(constants[2], std::max(p0 / 200.0, p_a / 200.0));  // p_min
   // α = s/p₀ of the in-plane stress (compression positive), σzz on the in-plane mean.
-  const Vec4& alpha = point.records[pm4sand::back_stress];
+  const Vec4& alpha = point.surfaces[pm4sand::back_stress];
   EXPECT_NEAR(alpha[0], (0.5 * p_a - p0) / p0, 1e-14);
   EXPECT_NEAR(alpha[1], (p_a - p0) / p0, 1e-14);
   EXPECT_DOUBLE_EQ(point.stress[2], -p0);
@@ -87,13 +82,13 @@ TEST(Pm4Sand, ElasticShearModulusGrowsWithTheSquareRootOfP) {
   const double g0 = pm4sand::Constants::of(m).g0;
   for (double p : {25e3, 101.3e3, 400e3}) {
     SCOPED_TRACE(p);
-    Point point(m, {-p, -p, -p, 0.0});
+    auto point = switched(m, {-p, -p, -p, 0.0});
     const double expected = g0 * p_a * std::sqrt(p / p_a);
-    EXPECT_NEAR(pm4sand::shear_modulus(pm4sand::Constants::of(m), point.stress, point.records),
+    EXPECT_NEAR(pm4sand::shear_modulus(pm4sand::Constants::of(m), point.stress, point.surfaces),
                 expected, 1e-12 * expected);
     // A shear increment far inside the yield surface (radius m p/√2 ≈ 0.7 % of p).
     const double d_gamma = 1e-7;
-    point.model.update(point.stress, point.state, {0.0, 0.0, 0.0, d_gamma}, point.records);
+    point.step({0.0, 0.0, 0.0, d_gamma});
     EXPECT_NEAR(point.stress[3] / d_gamma, expected, 1e-6 * expected);
   }
 }
@@ -132,7 +127,7 @@ struct Calibrated {
 };
 
 Calibrated calibrated(double dr) {
-  const double crr = element_test::idriss_boulanger_crr(element_test::blow_count(dr));
+  const double crr = element_test::idriss_boulanger_crr(pm4sand::blow_count(dr));
   Material m = synthetic::sand(dr, 1.0);
   const auto cal = element_test::calibrate_contraction_rate(m, crr);
   m.pm4sand.contraction_rate = cal.contraction_rate;
@@ -146,11 +141,11 @@ TEST(Pm4Sand, CalibratedSandsLiquefyInFifteenCyclesAtTheirCrr) {
       {{0.35, 0.090}, {0.55, 0.147}, {0.75, 0.312}}};
   for (const auto& [dr, crr] : targets) {
     SCOPED_TRACE(dr);
-    EXPECT_NEAR(element_test::idriss_boulanger_crr(element_test::blow_count(dr)), crr, 5e-4);
+    EXPECT_NEAR(element_test::idriss_boulanger_crr(pm4sand::blow_count(dr)), crr, 5e-4);
     const Calibrated c = calibrated(dr);
     std::printf("D_R %.2f: CRR %.4f, calibrated h_po %.4f, cycles to 3 %% strain %.3f\n", dr,
-                element_test::idriss_boulanger_crr(element_test::blow_count(dr)),
-                c.contraction_rate, c.cycles);
+                element_test::idriss_boulanger_crr(pm4sand::blow_count(dr)), c.contraction_rate,
+                c.cycles);
     EXPECT_NEAR(c.cycles, 15.0, 1.0);
     EXPECT_GT(c.contraction_rate, 0.05);
     EXPECT_LT(c.contraction_rate, 5.0);
@@ -201,18 +196,18 @@ TEST(Pm4Sand, RandomStrainPathsStayFinite) {
   for (int path = 0; path < 1000; ++path) {
     const Material m = synthetic::sand(density(random), 0.1 + 0.9 * (unit(random) + 1.0));
     const double p = p_a * (0.05 + 3.0 * (unit(random) + 1.0));
-    Point point(m, {-p * (0.5 + 0.4 * unit(random)), -p, -p, 0.2 * p * unit(random)});
+    auto point = switched(m, {-p * (0.5 + 0.4 * unit(random)), -p, -p, 0.2 * p * unit(random)});
     // Mostly shear, with volume changes of either sign (extension included), sizes
     // spanning four decades.
     for (int k = 0; k < 1000; ++k, ++increments) {
       const double size = std::pow(10.0, -7.0 + 3.0 * (unit(random) + 1.0) / 2.0);
       const Vec4 d{size * unit(random) * 0.3, size * unit(random) * 0.3, 0.0, size * unit(random)};
-      point.model.update(point.stress, point.state, d, point.records);
+      point.step(d);
       bool finite = point.stress.allFinite() && std::isfinite(point.state.plastic_shear_strain);
-      for (const Vec4& r : point.records) finite = finite && r.allFinite();
+      for (const Vec4& r : point.surfaces) finite = finite && r.allFinite();
       ASSERT_TRUE(finite) << "path " << path << ", increment " << k;
       ASSERT_GE(-0.5 * (point.stress[0] + point.stress[1]),
-                point.records[pm4sand::switch_constants][2] / 5.0 * (1.0 - 1e-9));
+                point.surfaces[pm4sand::switch_constants][2] / 5.0 * (1.0 - 1e-9));
     }
   }
   EXPECT_EQ(increments, 1000000u);
@@ -220,16 +215,16 @@ TEST(Pm4Sand, RandomStrainPathsStayFinite) {
 
 TEST(Pm4Sand, ObjectiveRotationTurnsTheTensorRecordsOnly) {
   const Material m = synthetic::sand(0.55, 0.5);
-  Point point(m, {-0.5 * p_a, -p_a, -0.5 * p_a, 0.1 * p_a});
-  const std::vector<Vec4> before = point.records;
-  point.model.rotate_records(point.records, 0.01);
+  auto point = switched(m, {-0.5 * p_a, -p_a, -0.5 * p_a, 0.1 * p_a});
+  const std::vector<Vec4> before = point.surfaces;
+  point.model.rotate_records(point.surfaces, 0.01);
   for (int k = pm4sand::back_stress; k <= pm4sand::fabric_at_reversal; ++k) {
     Vec4 turned = before[static_cast<std::size_t>(k)];
     rotate_jaumann(turned, 0.01);
-    EXPECT_EQ(point.records[static_cast<std::size_t>(k)], turned);
+    EXPECT_EQ(point.surfaces[static_cast<std::size_t>(k)], turned);
   }
-  EXPECT_EQ(point.records[pm4sand::fabric_measures], before[pm4sand::fabric_measures]);
-  EXPECT_EQ(point.records[pm4sand::switch_constants], before[pm4sand::switch_constants]);
+  EXPECT_EQ(point.surfaces[pm4sand::fabric_measures], before[pm4sand::fabric_measures]);
+  EXPECT_EQ(point.surfaces[pm4sand::switch_constants], before[pm4sand::switch_constants]);
 }
 
 }  // namespace
