@@ -250,6 +250,14 @@ void ExplicitSolver::advance_water(const ElementGeometry& geometry, double dt, F
 }
 
 Index ExplicitSolver::step(FemState& state, double dt) {
+  // r_u,max is the largest pore-pressure ratio of the shaking and after it: the rest
+  // before the motion (a PM4Sand soil settling into its switch) does not count.
+  if (seismic_ != nullptr && seismic_->motion != nullptr) {
+    const double start = seismic_->motion->start_time();
+    if (state.time <= start && start < state.time + dt) {
+      std::ranges::fill(state.max_pore_pressure_ratio, 0.0);
+    }
+  }
   element_forces(state);
   if (!updated_lagrangian_) {
     update_nodes(state, dt);

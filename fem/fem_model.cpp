@@ -18,8 +18,10 @@ FemState make_rest_state(const FemModel& model) {
   if (model.fluid.active()) {  // the pore-pressure ratio's references (fe_fields.hpp)
     state.static_pore_pressure.assign(static_cast<std::size_t>(model.node_count()), 0.0);
     state.element_pore_pressure.assign(static_cast<std::size_t>(model.element_count()), 0.0);
-    state.initial_vertical_effective_stress.assign(static_cast<std::size_t>(model.gauss_count()),
-                                                   0.0);
+    const auto points = static_cast<std::size_t>(model.gauss_count());
+    state.initial_vertical_effective_stress.assign(points, 0.0);
+    state.initial_mean_effective_stress.assign(points, 0.0);
+    state.max_pore_pressure_ratio.assign(points, 0.0);
   }
   state.surface_stress.per_point = surfaces_needed(model.materials, Phase::fem);
   resize_rows(fe_fields, state, RowKind::node, static_cast<std::size_t>(model.node_count()));

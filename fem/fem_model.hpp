@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -90,14 +91,31 @@ struct FluidFace {
 /// its faces; the nodal p of the output is the node's hydrostatic p plus the
 /// storage-weighted mean excess of the elements around it. Empty (active() false) for a
 /// dry model.
+/// The elevation of a piecewise-linear water table at x (constant beyond its ends).
+inline double profile_level(const std::vector<Vec2>& profile, double x) {
+  if (x <= profile.front().x()) return profile.front().y();
+  for (std::size_t i = 1; i < profile.size(); ++i) {
+    if (x <= profile[i].x()) {
+      const double t = (x - profile[i - 1].x()) / (profile[i].x() - profile[i - 1].x());
+      return profile[i - 1].y() + t * (profile[i].y() - profile[i - 1].y());
+    }
+  }
+  return profile.back().y();
+}
+
 struct PoreFluid {
   double density = 1000.0;          ///< ρ_w, kg/m³
   double bulk_modulus = 2.2e9;      ///< K_f, Pa
   double tension_limit = -100e3;    ///< lowest p, Pa
   Vec2 level_point = Vec2::Zero();  ///< a point of the water table, (0, level)
-  Vec2 gravity = Vec2::Zero();      ///< g, m/s²
+  /// A water table varying along x (WaterSpec::profile; gravity along −y), else empty.
+  std::vector<Vec2> profile;
+  Vec2 gravity = Vec2::Zero();  ///< g, m/s²
   /// A reservoir's free surface: a point of it, (0, level); none without a reservoir.
   std::optional<Vec2> reservoir_point;
+  /// The x range (min, max) the reservoir covers, m.
+  Vec2 reservoir_extent{-std::numeric_limits<double>::infinity(),
+                        std::numeric_limits<double>::infinity()};
 
   // Per element.
   std::vector<std::uint8_t> saturated;      ///< 1: u–p (porous material, centre below the level)
@@ -113,6 +131,7 @@ struct PoreFluid {
   /// How deep x lies below the water table along gravity (−y without gravity), m;
   /// negative above it.
   double depth(const Vec2& x) const {
+    if (!profile.empty()) return profile_level(profile, x.x()) - x.y();
     const double g = gravity.norm();
     const Vec2 down = g > 0.0 ? Vec2(gravity / g) : Vec2(0.0, -1.0);
     return down.dot(x - level_point);

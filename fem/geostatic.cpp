@@ -222,7 +222,9 @@ GeostaticReport solve_geostatic(const FemModel& model, const NodalConstraints& c
     state.element_pore_pressure = model.fluid.element_hydrostatic;
     for (std::size_t gp = 0; gp < state.stress.size(); ++gp) {
       state.initial_vertical_effective_stress[gp] = -state.stress[gp][1];
+      state.initial_mean_effective_stress[gp] = mean_stress(state.stress[gp]);
     }
+    std::ranges::fill(state.max_pore_pressure_ratio, 0.0);
   }
   return report;
 }

@@ -159,7 +159,9 @@ FemModel make_model(Mesh mesh, MaterialTable materials, Kinematics kinematics,
     model.fluid.bulk_modulus = water->bulk_modulus;
     model.fluid.tension_limit = water->tension_limit;
     model.fluid.level_point = Vec2(0.0, water->level);
+    model.fluid.profile = water->profile;
     if (water->reservoir) model.fluid.reservoir_point = Vec2(0.0, *water->reservoir);
+    model.fluid.reservoir_extent = Vec2(water->reservoir_x_min, water->reservoir_x_max);
     model.fluid.gravity = gravity;
   }
   compute_densities(model, water);

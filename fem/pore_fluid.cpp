@@ -116,7 +116,11 @@ std::vector<WettedSide> wetted_sides(const FemModel& model, const std::vector<Ve
     const Vec2& a = mesh.nodes[static_cast<std::size_t>(s.low)];
     const Vec2& b = mesh.nodes[static_cast<std::size_t>(s.high)];
     const Vec2 normal = outward_normal(a, b, centre[static_cast<std::size_t>(s.element)]);
-    if (!(normal.dot(-down) > 1e-9) || !(depth(0.5 * (a + b)) > 0.0)) continue;
+    const Vec2 middle = 0.5 * (a + b);
+    if (!(normal.dot(-down) > 1e-9) || !(depth(middle) > 0.0)) continue;
+    if (middle.x() < fluid.reservoir_extent.x() || middle.x() > fluid.reservoir_extent.y()) {
+      continue;
+    }
     wetted.push_back(WettedSide{s.low, s.high, fluid.density * g * depth(a),
                                 fluid.density * g * depth(b), -normal});
   }
@@ -268,6 +272,42 @@ void pressure_rates(const FemModel& model, const ElementGeometry& geometry, cons
   }
 }
 
+/// Δp_e = p_e − the element's mean of the nodal p_static (the hydrostatic field is linear,
+/// so the mean is its value at the centre).
+double element_excess(const FemModel& model, const FemState& state, Index e) {
+  const auto nodes = model.mesh.element(e);
+  double base = 0.0;
+  for (const Index n : nodes) base += state.static_pore_pressure[static_cast<std::size_t>(n)];
+  return state.element_pore_pressure[static_cast<std::size_t>(e)] -
+         base / static_cast<double>(nodes.size());
+}
+
+/// f(gp, r_u) for every Gauss point of a saturated element whose σ′v0 is at least
+/// min_ratio_stress, r_u = Δp_e/σ′v0.
+template <class F>
+void for_each_ratio(const FemModel& model, const FemState& state, F&& f) {
+  const int ngp = model.gauss_per_element();
+  for (Index e = 0; e < model.element_count(); ++e) {
+    if (!model.fluid.saturated[static_cast<std::size_t>(e)]) continue;
+    const double excess = element_excess(model, state, e);
+    for (int g = 0; g < ngp; ++g) {
+      const auto gp = static_cast<std::size_t>(e * ngp + g);
+      const double stress = state.initial_vertical_effective_stress[gp];
+      if (stress >= min_ratio_stress) f(gp, excess / stress);
+    }
+  }
+}
+
+/// Raises each Gauss point's r_u,max to its r_u of now (a checkpoint written before the
+/// field existed starts it at 0).
+void track_max_ratio(const FemModel& model, FemState& state) {
+  auto& max_ratio = state.max_pore_pressure_ratio;
+  max_ratio.resize(static_cast<std::size_t>(model.gauss_count()), 0.0);
+  for_each_ratio(model, state, [&](std::size_t gp, double ratio) {
+    max_ratio[gp] = std::max(max_ratio[gp], ratio);
+  });
+}
+
 }  // namespace
 
 void make_pore_fluid(FemModel& model, std::span<const std::string> drained) {
@@ -350,6 +390,7 @@ PorePressureStep advance_pore_pressure(const FemModel& model, const ElementGeome
         (fluid.storage[a] * pa + fluid.storage[c] * pc) / (fluid.storage[a] + fluid.storage[c]);
   }
   update_nodal_pore_pressure(model, state);
+  track_max_ratio(model, state);
   return result;
 }
 
@@ -429,20 +470,6 @@ void gauss_point_pressure(const FemModel& model, std::span<const double> element
   }
 }
 
-namespace {
-
-/// Δp_e = p_e − the element's mean of the nodal p_static (the hydrostatic field is linear,
-/// so the mean is its value at the centre).
-double element_excess(const FemModel& model, const FemState& state, Index e) {
-  const auto nodes = model.mesh.element(e);
-  double base = 0.0;
-  for (const Index n : nodes) base += state.static_pore_pressure[static_cast<std::size_t>(n)];
-  return state.element_pore_pressure[static_cast<std::size_t>(e)] -
-         base / static_cast<double>(nodes.size());
-}
-
-}  // namespace
-
 ElementPoreWater element_pore_water(const FemModel& model, const FemState& state, Index e) {
   ElementPoreWater water;
   if (!model.fluid.active() || !model.fluid.saturated[static_cast<std::size_t>(e)]) return water;
@@ -480,16 +507,7 @@ std::vector<double> excess_pore_pressure(const FemState& state) {
 void pore_pressure_ratio(const FemModel& model, const FemState& state, std::vector<double>& out) {
   out.assign(static_cast<std::size_t>(model.gauss_count()), 0.0);
   if (!model.fluid.active() || state.element_pore_pressure.empty()) return;
-  const int ngp = model.gauss_per_element();
-  for (Index e = 0; e < model.element_count(); ++e) {
-    if (!model.fluid.saturated[static_cast<std::size_t>(e)]) continue;
-    const double excess = element_excess(model, state, e);
-    for (int g = 0; g < ngp; ++g) {
-      const auto gp = static_cast<std::size_t>(e * ngp + g);
-      const double stress = state.initial_vertical_effective_stress[gp];
-      out[gp] = stress >= min_ratio_stress ? excess / stress : 0.0;
-    }
-  }
+  for_each_ratio(model, state, [&](std::size_t gp, double ratio) { out[gp] = ratio; });
 }
 
 }  // namespace slide::fem

@@ -131,12 +131,21 @@ template <class T>
 std::size_t entry_bytes(const std::vector<T>&) {
   return sizeof(T);
 }
-template <class Column>
-std::size_t packed_bytes(const Column& column, Presence presence, const PackedLayout& layout) {
-  if constexpr (std::is_same_v<Column, SurfaceStresses>) {
+/// Whether a field travels in `layout`: always, or an unused one the layout carries (APIC's
+/// affine velocity, the saturated transfer's fields).
+template <class Field>
+bool carried(const Field& field, const PackedLayout& layout) {
+  if (field.presence == Presence::always) return true;
+  return field.name == "affine_velocity_gradient" ? layout.affine : layout.pore_water;
+}
+
+template <class Field>
+std::size_t packed_bytes(const Field& field, const Particles& none, const PackedLayout& layout) {
+  const auto& column = field.of(none);
+  if constexpr (std::is_same_v<std::remove_cvref_t<decltype(column)>, SurfaceStresses>) {
     return layout.surfaces * sizeof(Vec4);
   } else {
-    return presence == Presence::when_used && !layout.affine ? 0 : entry_bytes(column);
+    return carried(field, layout) ? entry_bytes(column) : 0;
   }
 }
 
@@ -147,7 +156,7 @@ void for_each_entry(P& p, std::size_t k, const PackedLayout& layout, F&& f) {
     auto& column = field.of(p);
     if constexpr (std::is_same_v<std::remove_cvref_t<decltype(column)>, SurfaceStresses>) {
       for (auto& s : column.of(k)) f(s);
-    } else if (field.presence == Presence::always || layout.affine) {
+    } else if (carried(field, layout)) {
       f(column[k]);
     }
   });
@@ -158,15 +167,15 @@ void for_each_entry(P& p, std::size_t k, const PackedLayout& layout, F&& f) {
 std::size_t PackedLayout::bytes() const {
   std::size_t total = 0;
   const Particles none;
-  for_each_field(particle_fields, [&](const auto& field) {
-    total += packed_bytes(field.of(none), field.presence, *this);
-  });
+  for_each_field(particle_fields,
+                 [&](const auto& field) { total += packed_bytes(field, none, *this); });
   return total;
 }
 
 static void require_layout(const Particles& p, const PackedLayout& layout) {
   if (p.surface_stress.per_point != layout.surfaces ||
-      (layout.affine && p.affine_velocity.size() != p.count())) {
+      (layout.affine && p.affine_velocity.size() != p.count()) ||
+      (layout.pore_water && p.liquefied.size() != p.count())) {
     throw Error(
         "mpm: particles with {} surfaces and {} affine velocities for {} do not match the "
         "packed layout ({} surfaces{})",
@@ -195,6 +204,13 @@ std::size_t unpack_particles(std::span<const std::byte> bytes, const PackedLayou
   // Particles::resize keeps an empty affine field empty (a rank all of whose particles
   // left has none): the layout, not the particles, says whether rows carry one.
   if (layout.affine) p.affine_velocity.resize(first + added, Vec4::Zero());
+  if (layout.pore_water) {
+    for (auto* field : {&p.excess_pore_pressure, &p.max_pore_pressure_ratio,
+                        &p.initial_vertical_effective_stress, &p.initial_mean_effective_stress}) {
+      field->resize(first + added, 0.0);
+    }
+    p.liquefied.resize(first + added, 0);
+  }
   ByteReader in(bytes);
   for (std::size_t k = first; k < first + added; ++k)
     for_each_entry(p, k, layout, [&](auto& v) { in.get(v); });

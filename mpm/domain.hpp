@@ -92,6 +92,8 @@ int cell_column_of(const GridGeometry& grid, const Vec2& x);
 struct PackedLayout {
   std::size_t surfaces = 0;
   bool affine = false;
+  /// The saturated transfer's fields (Δp, r_u,max, σ′v0, p′₀, liquefied) travel too.
+  bool pore_water = false;
   /// Bytes one packed particle takes.
   std::size_t bytes() const;
 };

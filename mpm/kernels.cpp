@@ -149,7 +149,7 @@ void locate_block(const Particles& particles, const GridGeometry& grid, std::siz
 
 template <class Shape, VelocityTransfer Transfer>
 void scatter_block(const Particles& particles, const GridGeometry& grid, const Vec2& gravity,
-                   std::size_t begin, std::size_t end, int column_begin,
+                   const Reservoir& reservoir, std::size_t begin, std::size_t end, int column_begin,
                    std::vector<NodeSums>& window) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
@@ -162,10 +162,14 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
     const Vec4& s = particles.stress[p];
     const double volume = particles.volume[p];
     const double mvx = m * v.x(), mvy = m * v.y();
-    const double mgx = m * gravity.x(), mgy = m * gravity.y();
-    // −V σ·∇N with ∇N in physical units: fold V/h in once.
+    // The water's pressure below the reservoir level and its buoyancy γ_w V (kernels.hpp).
+    const double p_water = reservoir.pressure(particles.coordinates[p]);
+    const double buoyancy = p_water > 0.0 ? reservoir.unit_weight * volume : 0.0;
+    const double mgx = m * gravity.x(), mgy = m * gravity.y() + buoyancy;
+    // −V (σ′ − (p − p_w) I)·∇N with ∇N in physical units: fold V/h in once.
     const double vh = volume * w.inv_h;
-    const double sxx = vh * s[0], syy = vh * s[1], sxy = vh * s[3];
+    const double pressure = particles.pore_pressure[p] - p_water;
+    const double sxx = vh * (s[0] - pressure), syy = vh * (s[1] - pressure), sxy = vh * s[3];
     // APIC: the momentum of the particle's affine velocity field v_p + C_p (x − x_p):
     // N_ip m (v_p + C_p (x_i − x_p)) with N_ip (x_i − x_p) = h (μ_a S_b, S_a μ_b), μ the
     // weights' first moments in cell units (ParticleAffine::moment). Per stencil column
@@ -297,10 +301,17 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
 [[gnu::noinline]] void update_stress(Particles& particles,
                                      std::span<const ConstitutiveModel> models, double dt,
                                      const Vec4& l, std::size_t p) {
-  const auto material = static_cast<std::size_t>(particles.material_id[p]);
-  advance_point(models[material], l, dt, true, particles.stress[p], particles.state[p],
+  const std::size_t model = particle_model(particles, p, models.size() / 2);
+  advance_point(models[model], l, dt, true, particles.stress[p], particles.state[p],
                 particles.surface_stress.of(p), particles.strain[p]);
   particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
+  // Undrained pore water: ṗ = −(K_f/n) tr ε̇, no suction (cavitation at p = 0).
+  if (const double stiffness = models[model].pore_fluid_stiffness(); stiffness > 0.0) {
+    double& pressure = particles.pore_pressure[p];
+    const double change = std::max(-stiffness * dt * (l[0] + l[3]), -pressure);
+    pressure += change;
+    if (!particles.excess_pore_pressure.empty()) particles.excess_pore_pressure[p] += change;
+  }
   // det(I + Δt L): the particle's own volume ratio over the step.
   const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];
   particles.volume[p] *= jacobian;
@@ -524,7 +535,7 @@ Vec2 affine_inertia(const GridGeometry& grid, ShapeFunction shape, const Vec2& p
 
 void particles_to_grid(const Particles& particles, const GridGeometry& grid, ShapeFunction shape,
                        VelocityTransfer transfer, const Vec2& gravity, ParticleBlocks& blocks,
-                       GridState& state) {
+                       GridState& state, const Reservoir& reservoir) {
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const auto nblocks = static_cast<int>(blocks.count());
   int active_begin = std::numeric_limits<int>::max(), active_end = 0;
@@ -543,8 +554,8 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
     auto& window = blocks.sums_window[k];
     const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
     window.assign(width * rows, NodeSums{});
-    using Scatter = void (*)(const Particles&, const GridGeometry&, const Vec2&, std::size_t,
-                             std::size_t, int, std::vector<NodeSums>&);
+    using Scatter = void (*)(const Particles&, const GridGeometry&, const Vec2&, const Reservoir&,
+                             std::size_t, std::size_t, int, std::vector<NodeSums>&);
     const bool apic = transfer == VelocityTransfer::apic;
     Scatter scatter = nullptr;
     if (shape == ShapeFunction::gimp) {
@@ -554,7 +565,7 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
       scatter = apic ? scatter_block<LinearShape, VelocityTransfer::apic>
                      : scatter_block<LinearShape, VelocityTransfer::flip_pic>;
     }
-    scatter(particles, grid, gravity, blocks.offsets[k], blocks.offsets[k + 1],
+    scatter(particles, grid, gravity, reservoir, blocks.offsets[k], blocks.offsets[k + 1],
             blocks.column_begin[k], window);
   }
 }

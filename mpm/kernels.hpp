@@ -58,6 +58,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -112,12 +113,32 @@ LocateResult locate_particles(const Particles& particles, std::size_t active_cou
 Vec2 affine_inertia(const GridGeometry& grid, ShapeFunction shape, const Vec2& position,
                     const Vec2& size);
 
+/// Water standing outside the body up to `level` (docs/method.md §10): its hydrostatic
+/// pressure p_w = γ_w (level − y) acts on the body's submerged surface. Gravity is along
+/// −y. Inactive (γ_w = 0) by default.
+struct Reservoir {
+  double level = 0.0;                                       ///< m
+  double unit_weight = 0.0;                                 ///< γ_w = ρ_w g, N/m³
+  double x_min = -std::numeric_limits<double>::infinity();  ///< the x range it covers, m
+  double x_max = std::numeric_limits<double>::infinity();
+  bool active() const { return unit_weight > 0.0; }
+  /// p_w at x (0 above the level and outside the range).
+  double pressure(const Vec2& x) const {
+    return x.y() < level && x.x() >= x_min && x.x() <= x_max ? unit_weight * (level - x.y()) : 0.0;
+  }
+};
+
 /// Pass 1, particles → grid, into each block's window: m_i = Σ N_ip m_p,
 /// p_i = Σ N_ip m_p v_p (APIC: Σ N_ip m_p (v_p + C_p (x_i − x_p))),
-/// f_i = Σ (N_ip m_p g − V_p σ_p·∇N_ip) (plane strain: σxx, σyy, σxy take part).
+/// f_i = Σ (N_ip m_p g − V_p (σ′_p − (p_p − p_w) I)·∇N_ip + N_ip V_p γ_w ŷ [submerged])
+/// (plane strain: σxx, σyy, σxy take part). σ′ − p I is the total stress of a particle
+/// with pore pressure p (0 for dry soil); the reservoir's terms are its traction −p_w n on
+/// the submerged surface, written over the volume by the divergence theorem,
+/// −∫ (p_w ∇N_i + N_i ∇p_w) dV: inside a submerged body they cancel node by node, at its
+/// surface they are the water's load, and their sum is Archimedes' buoyancy.
 void particles_to_grid(const Particles& particles, const GridGeometry& grid, ShapeFunction shape,
                        VelocityTransfer transfer, const Vec2& gravity, ParticleBlocks& blocks,
-                       GridState& state);
+                       GridState& state, const Reservoir& reservoir = {});
 
 /// The grid update in its two halves, for a run on several ranks (mpm/domain.hpp), which
 /// completes the shared nodes' sums between them: the blocks' windows summed into the
@@ -183,6 +204,16 @@ LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, S
                                VolumetricSmoothing smoothing,
                                std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
                                GridState& state);
+
+/// The model of particle p in a table of 2 × `materials` models: its material's MPM
+/// model, or in the second half its material's liquefied state when the transfer marked
+/// the particle liquefied (docs/method.md §10; MpmSolver builds the table).
+inline std::size_t particle_model(const Particles& particles, std::size_t p,
+                                  std::size_t materials) {
+  const auto material = static_cast<std::size_t>(particles.material_id[p]);
+  if (particles.liquefied.empty() || particles.liquefied[p] == 0) return material;
+  return material + materials;
+}
 
 /// Stable counting sort of the particles by cell (x-major); particles from
 /// `active_count` on (frozen ones) keep their order at the end. In place: the only

@@ -18,6 +18,11 @@ MpmSettings MpmSettings::from(const MpmSpec& spec) {
   s.volumetric_smoothing = spec.volumetric_smoothing;
   s.damping.local = spec.local_damping;
   s.particle_exit = spec.particle_exit;
+  if (spec.undrained_pore_pressure) s.pore_fluid_bulk_modulus = spec.water_bulk_modulus;
+  if (spec.reservoir_level) {
+    s.reservoir = {*spec.reservoir_level, spec.water_density * -s.gravity.y(), spec.reservoir_x_min,
+                   spec.reservoir_x_max};
+  }
   return s;
 }
 
@@ -61,10 +66,30 @@ void MpmSolver::size_affine_velocity() {
 }
 
 void MpmSolver::use_elastic_models(bool elastic) {
+  // Each material's MPM model, then its liquefied state (kernels.hpp, particle_model):
+  // the residual strength, or the same model for a material without one.
   models_.clear();
   for (const Material& m : materials_) {
     models_.push_back(elastic ? ConstitutiveModel::elastic(m)
                               : ConstitutiveModel::from(m, Phase::mpm));
+  }
+  for (const Material& m : materials_) {
+    models_.push_back(elastic                    ? ConstitutiveModel::elastic(m)
+                      : has_residual_strength(m) ? ConstitutiveModel::liquefied(m)
+                                                 : ConstitutiveModel::from(m, Phase::mpm));
+  }
+  // Undrained pore water in the saturated materials' own models (a liquefied state is a
+  // total-stress model: its undrained ν holds the water's stiffness already).
+  if (!elastic && settings_.pore_fluid_bulk_modulus > 0.0) {
+    for (std::size_t k = 0; k < materials_.size(); ++k) {
+      const Material& m = materials_[k];
+      if (!m.saturable()) continue;
+      models_[k].set_pore_fluid_stiffness(settings_.pore_fluid_bulk_modulus / m.porosity);
+      if (!has_residual_strength(m)) {
+        models_[k + materials_.size()].set_pore_fluid_stiffness(settings_.pore_fluid_bulk_modulus /
+                                                                m.porosity);
+      }
+    }
   }
 }
 
@@ -101,7 +126,7 @@ std::size_t MpmSolver::return_to_yield_surface() {
   std::size_t returned = 0;
   located_ = false;
   for (std::size_t p = 0; p < active_count(); ++p) {
-    const auto& model = models_[static_cast<std::size_t>(particles_.material_id[p])];
+    const auto& model = models_[particle_model(particles_, p, materials_.size())];
     if (model.start(particles_.stress[p], particles_.state[p], particles_.surface_stress.of(p))) {
       ++returned;
     }
@@ -154,7 +179,7 @@ StepReport MpmSolver::step(double dt) {
   if (sorting) sort();
 
   particles_to_grid(particles_, s.grid, s.shape_function, s.velocity_transfer, s.gravity, blocks_,
-                    grid_state_);
+                    grid_state_, s.reservoir);
   sum_node_windows(s.grid, blocks_, grid_state_);
   if (subdomain_) {
     subdomain_->check_reach(s.grid, grid_state_.active_begin, grid_state_.active_end);
@@ -218,8 +243,12 @@ void MpmSolver::distribute(const Ranks& ranks, const Decomposition& decompositio
 }
 
 PackedLayout MpmSolver::packed_layout() const {
+  // The saturated transfer's fields are the run's when any rank has them (a rank with
+  // no particle holds them empty).
+  double pore_water = particles_.liquefied.empty() ? 0.0 : 1.0;
+  if (subdomain_) pore_water = subdomain_->ranks().max(pore_water);
   return {particles_.surface_stress.per_point,
-          settings_.velocity_transfer == VelocityTransfer::apic};
+          settings_.velocity_transfer == VelocityTransfer::apic, pore_water > 0.0};
 }
 
 void MpmSolver::set_own_columns() {
@@ -329,11 +358,15 @@ double MpmSolver::courant_time_step(double courant) const {
   // oscillator than the material at rest: slope-frictional's t_T = 4 s run blew up at
   // 20.9 s with one particle at 35 times its volume while the step was still that of the
   // initial density (mpm/README.md, "Time step").
-  std::vector<double> modulus(materials_.size());
-  for (std::size_t m = 0; m < materials_.size(); ++m) modulus[m] = materials_[m].p_wave_modulus();
+  // M = λ + 2G of each model (liquefied states included: kernels.hpp, particle_model).
+  std::vector<double> modulus(models_.size());
+  for (std::size_t m = 0; m < models_.size(); ++m) {
+    modulus[m] = models_[m].lame_lambda() + 2.0 * models_[m].shear_modulus() +
+                 models_[m].pore_fluid_stiffness();
+  }
   double fastest_squared = 0.0;
   for (std::size_t p = 0; p < active_count(); ++p) {
-    const double c2 = modulus[static_cast<std::size_t>(particles_.material_id[p])] *
+    const double c2 = modulus[particle_model(particles_, p, materials_.size())] *
                       particles_.volume[p] / particles_.mass[p];
     if (!std::isfinite(c2) || !(c2 > 0.0)) {
       // A volume gone to zero, below it, to infinity or NaN: the run has blown up (the

@@ -49,6 +49,10 @@ struct MpmSettings {
   VolumetricSmoothing volumetric_smoothing = VolumetricSmoothing::none;
   NodalDamping damping;
   Vec2 gravity = gravity_vector();
+  Reservoir reservoir;  ///< water outside the body (inactive: none)
+  /// K_f of the pore water when saturated particles evolve undrained ([mpm.pore_water]
+  /// pore_pressure = "undrained"), Pa; 0: their pore pressure stays as transferred.
+  double pore_fluid_bulk_modulus = 0.0;
   ParticleExit particle_exit = ParticleExit::freeze;
   /// Steps between two sorts by cell. Chosen by measurement (bench_mpm on the collapsing
   /// column-short, 1 m cells at the Courant step): every 10 steps was fastest; every 2–5

@@ -2,6 +2,7 @@
 """Factor of safety and yield acceleration of a case's slope (Bishop's simplified method).
 
     limit_equilibrium.py CASE.toml
+    limit_equilibrium.py --particles PARTICLES.h5 [--reservoir LEVEL X_MIN] [--x-range X0 X1]
 
 An independent check of the statement "the slope stands under gravity" (docs/method.md
 §8): circular slip surfaces through the body over a grid of centres and radii, Bishop's
@@ -15,8 +16,21 @@ Both are for the surface of the case's mesh ([mesh] surface of a profile mesh or
 top edges of its blocks), slides towards +x, circles that stay in the body (above the
 base y = 0, clear of the wall x = 0).
 
-Uses Debian's python3-numpy only. Prints one line; `slope_stability(case)` returns the
-numbers for tools/report.py.
+With --particles (a transfer's particle file, docs/method.md §10), the slices take their
+weight and strength from the particles: W = Σ m_p g of the particles in the slice above
+its base, and the base's strength from the particle nearest to it: a liquefied particle
+(its residual-strength record) c = S_r, φ = 0; any other c and φ of its material
+(`/materials` attributes, the MPM model's) on the effective normal force, its pore
+pressure u acting on the base, F = Σ [c b + (W − u b) tan φ]/m_α / Σ W sin α. Where a
+reservoir up to LEVEL stands (x ≥ X_MIN), a slice's soil below the level counts with
+its buoyant weight and u with its excess over the reservoir's hydrostatic pressure: the
+water outside then loads the circle with no net moment (equivalent to the water as a
+layer without strength with its thrust at the circle's ends). The surface is the
+particles' top.
+Circles slide towards +x and stay within X0..X1 (default: the particles' extent).
+
+Uses Debian's python3-numpy (and python3-h5py for --particles) only. Prints one line;
+`slope_stability(case)` returns the numbers for tools/report.py.
 """
 import math
 import sys
@@ -100,7 +114,122 @@ def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
     return best
 
 
+def particle_stability(path, reservoir=None, x_range=None, centres=30, radii=40, slices=160):
+    """Bishop's F over circles through a particle file's body, per-particle strengths."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        q = f["particles"]
+        x = q["coordinates"][:]
+        mass = q["mass"][:]
+        material = q["material_id"][:]
+        pore = q["pore_pressure"][:]
+        liquefied = q["liquefied"][:] if "liquefied" in q else np.zeros(len(x), int)
+        records = q["state/surface_stress"][:] if "state/surface_stress" in q else None
+        phi = np.zeros(len(f["materials"]))
+        coh = np.zeros(len(f["materials"]))
+        for k in range(len(phi)):
+            a = f["materials"][str(k)].attrs
+            phi[k], coh[k] = a["friction_angle"], a["cohesion"]
+    tan_phi = np.tan(np.radians(phi[material]))
+    c = coh[material].astype(float)
+    if records is not None:
+        residual = records[:, 1]
+        tan_phi = np.where(liquefied == 1, 0.0, tan_phi)
+        c = np.where(liquefied == 1, residual, c)
+    x0, x1 = (x[:, 0].min(), x[:, 0].max()) if x_range is None else x_range
+    width_total = x1 - x0
+    # The body's top: the highest particle per 1 m column, smoothed over 3 columns.
+    edges = np.arange(x0, x1 + 1.0, 1.0)
+    column = np.clip(np.digitize(x[:, 0], edges) - 1, 0, len(edges) - 2)
+    top = np.full(len(edges) - 1, -np.inf)
+    np.maximum.at(top, column, x[:, 1])
+    centre_x = 0.5 * (edges[:-1] + edges[1:])
+    good = np.isfinite(top)
+    surface_x, surface_y = centre_x[good], top[good]
+    bottom = x[:, 1].min()
+    height = surface_y.max() - bottom
+    order = np.argsort(x[:, 0])
+    xs = x[order, 0]
+    best = {"fs": math.inf, "circle": None}
+    gamma_w = 1000.0 * G
+    for xc in np.linspace(x0, x1, centres):
+        for yc in np.linspace(surface_y.max(), surface_y.max() + 2.0 * height, centres):
+            for radius in np.linspace(0.1 * height, 2.5 * height + 0.5 * width_total / 4, radii):
+                xa, xb = max(xc - radius, x0), min(xc + radius, x1)
+                if xb - xa < 4.0:
+                    continue
+                b = (xb - xa) / slices
+                sx = xa + (np.arange(slices) + 0.5) * b
+                base = yc - np.sqrt(np.maximum(radius**2 - (sx - xc) ** 2, 0.0))
+                ytop = np.interp(sx, surface_x, surface_y)
+                inside = base < ytop
+                if inside.sum() < 8 or (base[inside] < bottom + 0.5).any():
+                    continue
+                alpha = np.arcsin(np.clip((xc - sx) / radius, -1.0, 1.0))
+                weight = np.zeros(slices)
+                strength_c = np.zeros(slices)
+                strength_tan = np.zeros(slices)
+                u = np.zeros(slices)
+                for i in np.nonzero(inside)[0]:
+                    lo, hi = np.searchsorted(xs, sx[i] - 0.5 * b), np.searchsorted(xs, sx[i] + 0.5 * b)
+                    members = order[lo:hi]
+                    above = members[x[members, 1] > base[i]]
+                    # The particles whose centres fall in the slice make its weight.
+                    weight[i] = mass[above].sum() * G
+                    near = members[np.argmin(np.abs(x[members, 1] - base[i]))] if len(members) else None
+                    if near is not None:
+                        strength_c[i], strength_tan[i], u[i] = c[near], tan_phi[near], max(pore[near], 0.0)
+                    if reservoir is not None and sx[i] >= reservoir[1] and reservoir[0] > base[i]:
+                        # Under the reservoir: buoyant weight and the pore pressure in
+                        # excess of the reservoir's (the water outside then has no net
+                        # effect on the circle).
+                        weight[i] -= gamma_w * (min(reservoir[0], ytop[i]) - base[i]) * b
+                        u[i] -= gamma_w * (reservoir[0] - base[i])
+                driving = np.sum((weight * np.sin(alpha))[inside])
+                if driving <= 0.0:
+                    continue
+                effective = np.maximum(weight - u * b, 0.0)
+                weight = np.maximum(weight, 0.0)
+                resisting = (strength_c * b + effective * strength_tan)[inside]
+                a_in, t_in = alpha[inside], strength_tan[inside]
+                f = 1.0
+                for _ in range(100):
+                    m_alpha = np.cos(a_in) + np.sin(a_in) * t_in / f
+                    m_alpha = np.maximum(m_alpha, 0.2)
+                    new = np.sum(resisting / m_alpha) / driving
+                    if abs(new - f) < 1e-8:
+                        f = new
+                        break
+                    f = new
+                if f < best["fs"]:
+                    best = {"fs": f, "circle": (xc, yc, radius)}
+    return best
+
+
 def main(argv):
+    if len(argv) >= 3 and argv[1] == "--particles":
+        path, reservoir, x_range = argv[2], None, None
+        rest = argv[3:]
+        try:
+            while rest:
+                if rest[0] == "--reservoir":
+                    reservoir, rest = (float(rest[1]), float(rest[2])), rest[3:]
+                elif rest[0] == "--x-range":
+                    x_range, rest = (float(rest[1]), float(rest[2])), rest[3:]
+                else:
+                    raise ValueError(f"unknown option {rest[0]}")
+            r = particle_stability(path, reservoir, x_range)
+        except (OSError, KeyError, ValueError, IndexError) as error:
+            print(f"limit_equilibrium.py: {error}", file=sys.stderr)
+            return 2
+        if r["circle"] is None:
+            print("limit_equilibrium.py: no circle passes through the body", file=sys.stderr)
+            return 2
+        xc, yc, radius = r["circle"]
+        print(f"factor of safety {r['fs']:.3f} (Bishop on the particles, circle centre "
+              f"({xc:.1f}, {yc:.1f}) m, radius {radius:.1f} m)")
+        return 0
     if len(argv) != 2:
         print(__doc__, file=sys.stderr)
         return 2

@@ -33,6 +33,8 @@ struct CommandLine {
   bool allow_inverted = false;
   double collapsed_volume_ratio = 0.0;
   std::string case_file;
+  std::vector<std::string> assume_liquefied;
+  std::string correlation;
   bool quiet = false;
 };
 
@@ -58,6 +60,10 @@ transfer::TransferOptions options_for(const CommandLine& line, const CLI::App& a
   options.allow_inverted = line.allow_inverted;
   if (app.count("--collapsed-volume-ratio") > 0) {
     options.collapsed_volume_ratio = line.collapsed_volume_ratio;
+  }
+  options.assume_liquefied = line.assume_liquefied;
+  if (app.count("--correlation") > 0) {
+    options.correlation = parse_residual_strength_correlation(line.correlation, "--correlation");
   }
   return options;
 }
@@ -132,6 +138,14 @@ int main(int argc, char** argv) {
                  "0: only inverted ones (default " +
                      fmt::format("{:g}", transfer::default_collapsed_volume_ratio) + ")")
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--assume-liquefied", line.assume_liquefied,
+                 "materials whose every particle is taken as liquefied, whatever its r_u,max "
+                 "(a zone known to have liquefied)")
+      ->delimiter(',');
+  app.add_option("--correlation", line.correlation,
+                 "residual-strength correlation for every material with a liquefaction rule: "
+                 "idriss-boulanger-void-redistribution, idriss-boulanger, olson-stark, ratio, "
+                 "none (default: each material's own)");
   app.add_option("--case", line.case_file, "case file whose [transfer] table gives the defaults")
       ->check(CLI::ExistingFile);
   app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");

@@ -9,8 +9,10 @@
 #include <utility>
 
 #include "common/base/error.hpp"
+#include "common/base/numeric.hpp"
 #include "common/base/program.hpp"
 #include "common/geometry/mesh.hpp"
+#include "transfer/pore_water.hpp"
 #include "transfer/rbf_interpolation.hpp"
 
 namespace slide::transfer {
@@ -22,22 +24,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
-
-/// Compensated (Neumaier) sum: the conservation totals of the report compare sums over
-/// millions of terms to 1e-12, below what naive summation guarantees.
-class CompensatedSum {
- public:
-  void add(double value) {
-    const double t = sum_ + value;
-    compensation_ += std::abs(sum_) >= std::abs(value) ? (sum_ - t) + value : (value - t) + sum_;
-    sum_ = t;
-  }
-  double value() const { return sum_ + compensation_; }
-
- private:
-  double sum_ = 0.0;
-  double compensation_ = 0.0;
-};
 
 // ---------------------------------------------------------------- Gauss-point fields
 //
@@ -469,27 +455,33 @@ Interpolated interpolate_local(const GaussFieldInputs& in, const InterpolationSe
   return out;
 }
 
-/// The baseline: the owning element's Gauss point nearest to the particle in reference
-/// coordinates (the only one for one-point elements); ties go to the first.
+/// The owning element's Gauss point nearest to reference coordinates ξ (the only one for
+/// one-point elements); ties go to the first.
+std::size_t nearest_own_gauss(const FemCheckpoint& fem, const GaussIndex& index, std::size_t e,
+                              const Vec2& xi) {
+  std::size_t best = index.points[index.offsets[e]];
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = index.offsets[e]; i < index.offsets[e + 1]; ++i) {
+    const std::size_t g = index.points[i];
+    const double d = (fem.gauss_local_coordinates[g] - xi).squaredNorm();
+    if (d < best_distance) {
+      best_distance = d;
+      best = g;
+    }
+  }
+  return best;
+}
+
+/// The baseline: each particle takes the values of its element's nearest Gauss point.
 Interpolated nearest_own_gauss_point(const GaussFieldInputs& in) {
   Interpolated out;
-  const GaussIndex& index = in.index;
   const auto count = static_cast<std::ptrdiff_t>(in.particle_coordinates.size());
   out.at_particles.resize(static_cast<Eigen::Index>(count), in.values.cols());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t p = 0; p < count; ++p) {
-    const auto e = static_cast<std::size_t>(in.particle_element[static_cast<std::size_t>(p)]);
-    const Vec2& xi = in.particle_xi[static_cast<std::size_t>(p)];
-    std::size_t best = index.points[index.offsets[e]];
-    double best_distance = std::numeric_limits<double>::infinity();
-    for (std::size_t i = index.offsets[e]; i < index.offsets[e + 1]; ++i) {
-      const std::size_t g = index.points[i];
-      const double d = (in.fem.gauss_local_coordinates[g] - xi).squaredNorm();
-      if (d < best_distance) {
-        best_distance = d;
-        best = g;
-      }
-    }
+    const auto pp = static_cast<std::size_t>(p);
+    const auto e = static_cast<std::size_t>(in.particle_element[pp]);
+    const std::size_t best = nearest_own_gauss(in.fem, in.index, e, in.particle_xi[pp]);
     out.at_particles.row(static_cast<Eigen::Index>(p)) =
         in.values.row(static_cast<Eigen::Index>(best));
   }
@@ -790,6 +782,44 @@ void add_totals(const FemCheckpoint& fem, const Particles& particles, TransferRe
   report.volume_particles = volume.value();
 }
 
+/// The materials with the transfer's correlation, and which of them are assumed liquefied;
+/// Error for a name that is no material, or one without a liquefaction rule.
+std::pair<MaterialTable, std::vector<bool>> liquefaction_settings(const MaterialTable& from,
+                                                                  const TransferOptions& options) {
+  MaterialTable materials = from;
+  std::vector<bool> assumed(materials.size(), false);
+  for (const std::string& name : options.assume_liquefied) {
+    const auto m = std::ranges::find(materials, name, &Material::name);
+    if (m == materials.end()) {
+      throw Error("--assume-liquefied {}: no material of that name in the FE checkpoint", name);
+    }
+    if (!m->liquefaction.enabled) {
+      throw Error(
+          "--assume-liquefied {}: the material has no liquefaction rule "
+          "([materials.liquefaction])",
+          name);
+    }
+    assumed[static_cast<std::size_t>(m - materials.begin())] = true;
+  }
+  if (options.correlation) {
+    for (Material& m : materials) {
+      if (!m.liquefaction.enabled) continue;
+      m.liquefaction.correlation = *options.correlation;
+      if (*options.correlation == ResidualStrengthCorrelation::ratio &&
+          std::isnan(m.liquefaction.strength_ratio)) {
+        throw Error("--correlation ratio: material \"{}\" gives no strength_ratio", m.name);
+      }
+      if (std::isnan(m.liquefaction.blow_count) &&
+          *options.correlation != ResidualStrengthCorrelation::ratio &&
+          *options.correlation != ResidualStrengthCorrelation::none) {
+        throw Error("--correlation {}: material \"{}\" gives no blow_count",
+                    to_string(*options.correlation), m.name);
+      }
+    }
+  }
+  return {std::move(materials), std::move(assumed)};
+}
+
 }  // namespace
 
 TransferOptions options_from(const TransferSpec& spec) {
@@ -851,8 +881,20 @@ TransferResult transfer(const FemCheckpoint& fem, const TransferOptions& options
   const FieldValues at = fields_at_particles(inputs, settings, report);
   unpack_gauss_fields(at, particles, report);
   continue_multi_yield_state(fem, at, particles);
+  if (!fem.static_pore_pressure.empty()) {
+    std::vector<std::size_t> source(particles.count());
+    for (std::size_t p = 0; p < source.size(); ++p) {
+      source[p] = nearest_own_gauss(fem, gauss_index,
+                                    static_cast<std::size_t>(particles.element[p]), particle_xi[p]);
+    }
+    const auto [materials, assumed] = liquefaction_settings(fem.materials, options);
+    carry_pore_water(fem, materials, assumed, particle_xi, source, particles, report.pore_water);
+    result.particles.materials = materials;
+  }
 
+  const MaterialTable kept = result.particles.materials;
   describe_particle_file(fem, layout, report, result.particles);
+  if (!kept.empty()) result.particles.materials = kept;  // with the transfer's overrides
   add_totals(fem, particles, report);
   report.seconds_total = seconds_since(started);
   return result;

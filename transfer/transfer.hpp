@@ -28,6 +28,8 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "common/base/log.hpp"
 #include "common/io/checkpoint.hpp"
@@ -59,6 +61,12 @@ struct TransferOptions {
   double collapsed_volume_ratio = default_collapsed_volume_ratio;
   /// Largest dense RBF matrix allowed, bytes; 0: 3/4 of MemAvailable, at most 16 GiB.
   std::size_t dense_memory_limit = 0;
+  /// Saturated models (transfer/pore_water.hpp): materials whose every particle is taken
+  /// as liquefied whatever its r_u,max (a zone known to have liquefied: the classical
+  /// post-earthquake analysis), and a residual-strength correlation that replaces every
+  /// material's own (unset: their own).
+  std::vector<std::string> assume_liquefied;
+  std::optional<ResidualStrengthCorrelation> correlation;
 };
 
 /// The case file's [transfer] table as options (command-line flags then override them).

@@ -51,6 +51,23 @@ std::string json_vector(const Vec2& v) {
 
 }  // namespace
 
+/// The saturated soil's lines: pore pressure carried, liquefied particles per material.
+void add_pore_water_lines(const PoreWaterReport& w, std::vector<std::string>& lines) {
+  if (!w.saturated) return;
+  lines.push_back(fmt::format(
+      "pore water: {} saturated particles, ∫p dA FE {:.9e} N/m, particles {:.9e} N/m "
+      "(relative {:+.2e}); largest r_u,max {:.3f}; {} particle(s) with Δp capped at σ′v0",
+      w.saturated_particles, w.pore_force_fe, w.pore_force_particles,
+      relative_difference(w.pore_force_particles, w.pore_force_fe), w.max_pore_pressure_ratio,
+      w.capped_excess));
+  for (const auto& m : w.materials) {
+    lines.push_back(fmt::format(
+        "liquefied {}: {} of {} particles ({:.1f} m2) by {}; S_r {} from {:.3g} to {:.3g} kPa",
+        m.name, m.liquefied, m.particles, m.liquefied_area, m.rule, m.correlation,
+        m.residual_strength_min / 1e3, m.residual_strength_max / 1e3));
+  }
+}
+
 std::vector<std::string> format_report_lines(const TransferReport& r) {
   std::vector<std::string> lines;
   lines.push_back(fmt::format(
@@ -118,6 +135,7 @@ std::vector<std::string> format_report_lines(const TransferReport& r) {
         fmt::format("{} particle(s) with a negative interpolated plastic shear strain set to 0",
                     r.clamped_plastic_strain));
   }
+  add_pore_water_lines(r.pore_water, lines);
   lines.push_back(fmt::format("time {:.3f} s (interpolation {:.3f} s)", r.seconds_total,
                               r.seconds_interpolation));
   return lines;
@@ -144,6 +162,29 @@ std::vector<std::string> report_warnings(const TransferReport& report) {
                     report.limited_stress_particles));
   }
   return lines;
+}
+
+/// The saturated soil's members of the report's JSON object, through `field`.
+template <class Field>
+void add_pore_water_json(const PoreWaterReport& w, Field& field) {
+  std::string materials = "[";
+  for (std::size_t i = 0; i < w.materials.size(); ++i) {
+    const auto& m = w.materials[i];
+    materials += fmt::format(
+        "{}{{\"name\": {}, \"rule\": {}, \"correlation\": {}, \"particles\": {}, "
+        "\"liquefied\": {}, \"liquefied_area\": {}, \"residual_strength_min\": {}, "
+        "\"residual_strength_max\": {}}}",
+        i == 0 ? "" : ", ", json_string(m.name), json_string(m.rule), json_string(m.correlation),
+        m.particles, m.liquefied, json_number(m.liquefied_area),
+        json_number(m.residual_strength_min), json_number(m.residual_strength_max));
+  }
+  materials += "]";
+  field("saturated_particles", fmt::format("{}", w.saturated_particles));
+  field("pore_force_fe", json_number(w.pore_force_fe));
+  field("pore_force_particles", json_number(w.pore_force_particles));
+  field("max_pore_pressure_ratio", json_number(w.max_pore_pressure_ratio));
+  field("capped_excess_pore_pressure", fmt::format("{}", w.capped_excess));
+  field("liquefaction", materials);
 }
 
 std::string report_json(const TransferReport& r) {
@@ -193,6 +234,7 @@ std::string report_json(const TransferReport& r) {
   field("clamped_plastic_strain", fmt::format("{}", r.clamped_plastic_strain));
   field("limited_particles", fmt::format("{}", r.limited_particles));
   field("limited_stress_particles", fmt::format("{}", r.limited_stress_particles));
+  if (r.pore_water.saturated) add_pore_water_json(r.pore_water, field);
   field("seconds_interpolation", json_number(r.seconds_interpolation));
   field("seconds_total", json_number(r.seconds_total), true);
   json += "}\n";

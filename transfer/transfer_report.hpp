@@ -12,6 +12,29 @@
 
 namespace slide::transfer {
 
+/// The saturated soil's share of a transfer (docs/method.md §10): the pore pressure
+/// carried and the particles that liquefied, per material.
+struct PoreWaterReport {
+  bool saturated = false;  ///< the FE model had pore water
+  std::size_t saturated_particles = 0;
+  /// ∫ p dA of the FE state (the element pore pressures on the deformed volumes) and
+  /// Σ p_p V_p of the particles, N/m: equal for a linear p field.
+  double pore_force_fe = 0.0;
+  double pore_force_particles = 0.0;
+  double max_pore_pressure_ratio = 0.0;  ///< largest r_u,max of any particle
+  std::size_t capped_excess = 0;         ///< particles whose Δp was capped at σ′v0
+  struct Material {
+    std::string name;
+    std::string rule;  ///< e.g. "r_u,max ≥ 0.7 or γ ≥ 0.08"
+    std::string correlation;
+    std::size_t particles = 0;
+    std::size_t liquefied = 0;
+    double liquefied_area = 0.0;  ///< Σ V_p of the liquefied particles, m²
+    double residual_strength_min = 0.0, residual_strength_max = 0.0;  ///< S_r, Pa
+  };
+  std::vector<Material> materials;  ///< those with a liquefaction rule
+};
+
 struct TransferReport {
   std::string input;   ///< FE checkpoint path ("" when transferred in memory)
   std::string output;  ///< particle file path
@@ -69,6 +92,8 @@ struct TransferReport {
   std::size_t limited_particles = 0;
   /// Of those, the particles with a limited stress component.
   std::size_t limited_stress_particles = 0;
+
+  PoreWaterReport pore_water;
 
   double seconds_interpolation = 0.0;
   double seconds_total = 0.0;

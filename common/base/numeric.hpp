@@ -14,4 +14,20 @@ inline bool is_whole_multiple(double value, double step) {
   return std::abs(multiple - std::round(multiple)) <= 1e-9 * std::max(1.0, multiple);
 }
 
+/// Compensated (Neumaier) sum: the conservation totals of the report compare sums over
+/// millions of terms to 1e-12, below what naive summation guarantees.
+class CompensatedSum {
+ public:
+  void add(double value) {
+    const double t = sum_ + value;
+    compensation_ += std::abs(sum_) >= std::abs(value) ? (sum_ - t) + value : (value - t) + sum_;
+    sum_ = t;
+  }
+  double value() const { return sum_ + compensation_; }
+
+ private:
+  double sum_ = 0.0;
+  double compensation_ = 0.0;
+};
+
 }  // namespace slide

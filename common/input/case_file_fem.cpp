@@ -214,16 +214,43 @@ std::vector<RecorderSpec> read_recorders(const Section& s) {
   return recorders;
 }
 
+/// [fem.water] level: an elevation, or a table varying along x as points [[x, y], …].
+void read_water_table(const Section& s, WaterSpec& water) {
+  if (s.has("level") && s.node("level").is_array()) {
+    const auto& items = s.reader().array(s.node("level"), s.dotted("level"));
+    if (items.size() < 2) s.fail("level", "a water table profile needs at least 2 points [x, y]");
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const std::string item = fmt::format("{}[{}]", s.dotted("level"), i);
+      const Vec2 p = s.reader().point(items[i], item);
+      if (i > 0 && !(p.x() > water.profile.back().x())) {
+        s.reader().fail(items[i], item, "x must increase strictly along the water table");
+      }
+      water.profile.push_back(p);
+    }
+    water.level = water.profile.front().y();
+  } else {
+    water.level = s.number("level", any_number());
+  }
+}
+
 /// [fem.water]: the water table and the pore fluid (docs/method.md §10); `names` the node
 /// sets a generated mesh has (empty: a Gmsh mesh, checked when the model is made).
 WaterSpec read_water(const Section& s, const std::vector<std::string_view>& names) {
   WaterSpec water;
-  water.level = s.number("level", any_number());
+  read_water_table(s, water);
   water.density = s.number("density", positive("kg/m³"), water.density);
   water.bulk_modulus = s.number("bulk_modulus", positive("Pa"), water.bulk_modulus);
   water.tension_limit = s.number(
       "tension_limit", Range{.max = 0.0, .max_closed = true, .unit = "Pa"}, water.tension_limit);
   if (s.has("reservoir")) water.reservoir = s.number("reservoir", any_number());
+  if (s.has("reservoir_extent")) {
+    if (!water.reservoir) s.fail("reservoir_extent", "only used with a reservoir");
+    const Vec2 extent = s.reader().point(s.node("reservoir_extent"), s.dotted("reservoir_extent"));
+    if (!(extent.y() > extent.x()))
+      s.fail("reservoir_extent", "expected [x_min, x_max], x_min < x_max");
+    water.reservoir_x_min = extent.x();
+    water.reservoir_x_max = extent.y();
+  }
   if (s.has("drained")) {
     const auto& items = s.reader().array(s.node("drained"), s.dotted("drained"));
     for (std::size_t i = 0; i < items.size(); ++i) {
@@ -311,9 +338,9 @@ FemSpec read_fem(const Section& root, const MeshSpec& mesh,
     if (!fem.failure_stage) motion->fail("start_time", "only used when fem.failure_stage = true");
     fem.motion = read_motion(*motion, case_folder, fem, mesh);
   }
-  if (auto water =
-          s.optional_table("water", Section::Keys{"level", "density", "bulk_modulus",
-                                                  "tension_limit", "drained", "reservoir"})) {
+  if (auto water = s.optional_table(
+          "water", Section::Keys{"level", "density", "bulk_modulus", "tension_limit", "drained",
+                                 "reservoir", "reservoir_extent"})) {
     fem.water = read_water(*water, names);
   }
   if (s.has("recorders")) {

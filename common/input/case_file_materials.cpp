@@ -132,6 +132,55 @@ void read_pm4sand(const Section& material, Material& m) {
   }
 }
 
+/// A material that may liquefy ([materials.liquefaction], docs/method.md §10): the rule
+/// that marks its particles liquefied at the transfer, and their residual strength, with
+/// the blow count and φ′ of the cap resolved (PM4Sand: 46 D_R² and φ_cv by default).
+void read_liquefaction(const Section& material, Material& m) {
+  if (!material.has("liquefaction")) return;
+  const Section s = material.table(
+      "liquefaction",
+      Section::Keys{"pore_pressure_ratio", "shear_strain", "correlation", "blow_count",
+                    "strength_ratio", "friction_angle", "minimum_strength", "peak_strength_ratio",
+                    "softening_strain", "shear_modulus_ratio", "poisson_ratio"});
+  LiquefactionParameters& q = m.liquefaction;
+  q.enabled = true;
+  constexpr double unset = LiquefactionParameters::unset;
+  // Only the criteria given: a table with shear_strain alone has no r_u criterion.
+  const bool by_strain = s.has("shear_strain");
+  q.pore_pressure_ratio =
+      s.number("pore_pressure_ratio", any_number(), by_strain ? unset : q.pore_pressure_ratio);
+  q.shear_strain = s.number("shear_strain", any_number(), unset);
+  if (s.has("correlation")) {
+    q.correlation = parse_residual_strength_correlation(
+        s.string("correlation"),
+        fmt::format("{}: {}", s.where("correlation"), s.dotted("correlation")));
+  }
+  using C = ResidualStrengthCorrelation;
+  const bool needs_blow_count = q.correlation != C::ratio && q.correlation != C::none;
+  const bool pm4sand = m.model == MaterialModel::pm4sand;
+  if (needs_blow_count) {
+    if (!s.has("blow_count") && !pm4sand) s.missing("blow_count");
+    q.blow_count =
+        s.number("blow_count", any_number(),
+                 pm4sand ? 46.0 * m.pm4sand.relative_density * m.pm4sand.relative_density : unset);
+  } else {
+    s.reject("blow_count", "only used by a correlation of the blow count");
+  }
+  if (q.correlation == C::ratio) {
+    q.strength_ratio = s.number("strength_ratio", any_number());
+  } else {
+    s.reject("strength_ratio", "only used with correlation = \"ratio\"");
+  }
+  const double own_angle = pm4sand ? m.pm4sand.critical_friction_angle : m.friction_angle;
+  q.friction_angle = s.number("friction_angle", any_number(), own_angle > 0.0 ? own_angle : unset);
+  if (std::isnan(q.friction_angle) && q.correlation != C::none) s.missing("friction_angle");
+  q.minimum_strength = s.number("minimum_strength", any_number(), q.minimum_strength);
+  q.peak_strength_ratio = s.number("peak_strength_ratio", any_number(), unset);
+  q.softening_strain = s.number("softening_strain", any_number(), unset);
+  q.shear_modulus_ratio = s.number("shear_modulus_ratio", any_number(), q.shear_modulus_ratio);
+  q.poisson_ratio = s.number("poisson_ratio", any_number(), q.poisson_ratio);
+}
+
 /// ν, and E or (PM4Sand) the model's parameters, from which E follows.
 void read_elasticity(const Section& s, Material& m) {
   m.poisson_ratio = s.number("poisson_ratio", any_number(), 0.3);
@@ -194,6 +243,7 @@ Material read_material(const Section& s) {
   const Range cutoff{.min = -infinity, .max = infinity, .max_closed = true};
   m.tension_cutoff = s.number("tension_cutoff", cutoff, m.apex_stress());
   read_pore_water(s, m);
+  read_liquefaction(s, m);
   validate_material(m, s);
   return m;
 }
@@ -205,12 +255,12 @@ MaterialTable read_materials(const Section& root) {
   if (root.node("materials").is_table()) {
     root.fail("materials", "expected an array of tables ([[materials]]), found a table");
   }
-  const Section::Keys keys{"name",           "model",          "fem_model",
-                           "mpm_model",      "density",        "youngs_modulus",
-                           "poisson_ratio",  "friction_angle", "cohesion",
-                           "dilation_angle", "tension_cutoff", "peak_shear_strain",
-                           "yield_surfaces", "porosity",       "conductivity",
-                           "conductivity_x", "conductivity_y", "pm4sand"};
+  const Section::Keys keys{
+      "name",           "model",          "fem_model",      "mpm_model",
+      "density",        "youngs_modulus", "poisson_ratio",  "friction_angle",
+      "cohesion",       "dilation_angle", "tension_cutoff", "peak_shear_strain",
+      "yield_surfaces", "porosity",       "conductivity",   "conductivity_x",
+      "conductivity_y", "pm4sand",        "liquefaction"};
   MaterialTable materials;
   for (const Section& s : root.tables("materials", keys)) {
     Material material = read_material(s);

@@ -111,6 +111,33 @@ void read_pure_mpm(const Section& s, MpmSpec& mpm) {
   mpm.gravity_stage_damping = s.number("gravity_stage_damping", unit_interval_open_above(), 0.0);
 }
 
+/// [mpm.pore_water] and [mpm.reservoir] (docs/method.md §10).
+void read_pore_water_and_reservoir(const Section& s, MpmSpec& mpm) {
+  if (const auto pore =
+          s.optional_table("pore_water", Section::Keys{"pore_pressure", "bulk_modulus"})) {
+    const std::string mode = pore->string("pore_pressure", "frozen");
+    if (mode != "frozen" && mode != "undrained") {
+      pore->reader().inadmissible(pore->node("pore_pressure"), pore->dotted("pore_pressure"),
+                                  fmt::format("\"{}\"", mode), "\"frozen\" or \"undrained\"");
+    }
+    mpm.undrained_pore_pressure = mode == "undrained";
+    mpm.water_bulk_modulus = pore->number("bulk_modulus", positive("Pa"), mpm.water_bulk_modulus);
+  }
+  if (const auto water =
+          s.optional_table("reservoir", Section::Keys{"level", "density", "extent"})) {
+    // The water outside the body; its level may stand above the grid (a deep reservoir).
+    mpm.reservoir_level = water->number("level", any_number());
+    mpm.water_density = water->number("density", positive("kg/m³"), mpm.water_density);
+    if (water->has("extent")) {
+      const Vec2 extent = water->reader().point(water->node("extent"), water->dotted("extent"));
+      if (!(extent.y() > extent.x()))
+        water->fail("extent", "expected [x_min, x_max], x_min < x_max");
+      mpm.reservoir_x_min = extent.x();
+      mpm.reservoir_x_max = extent.y();
+    }
+  }
+}
+
 }  // namespace
 
 MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const MeshSpec& mesh,
@@ -139,13 +166,16 @@ MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const Mesh
                                                     "particles_per_cell",
                                                     "initial_stress",
                                                     "gravity_stage_duration",
-                                                    "gravity_stage_damping"});
+                                                    "gravity_stage_damping",
+                                                    "reservoir",
+                                                    "pore_water"});
   MpmSpec mpm;
   // Order matters: of several faults, the first one read is the one reported.
   read_grid(s, mesh, mpm);
   read_algorithms(s, materials, mpm);
   read_run(s, transfer, mpm);
   read_pure_mpm(s, mpm);
+  read_pore_water_and_reservoir(s, mpm);
   return mpm;
 }
 

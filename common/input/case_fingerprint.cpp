@@ -54,6 +54,14 @@ std::string materials_line(const MaterialTable& materials) {
           p.atmospheric_pressure, p.h0, p.e_max, p.e_min, p.n_b, p.n_d, p.a_do, p.z_max, p.c_z,
           p.c_e, p.critical_friction_angle, p.c_gd, p.c_dr, p.c_kaf, p.q, p.r, p.m, p.strain_step);
     }
+    if (m.liquefaction.enabled) {
+      const LiquefactionParameters& q = m.liquefaction;
+      line += fmt::format(
+          " liquefaction r_u {} γ {} {} N {} ratio {} φ′ {} S_min {} peak {} γ_s {} G× {} ν {}",
+          q.pore_pressure_ratio, q.shear_strain, to_string(q.correlation), q.blow_count,
+          q.strength_ratio, q.friction_angle, q.minimum_strength, q.peak_strength_ratio,
+          q.softening_strain, q.shear_modulus_ratio, q.poisson_ratio);
+    }
     // Porous materials only, so that dry cases' fingerprints stay as they were.
     if (m.saturable()) {
       line += fmt::format(" n {} k ({}, {})", m.porosity, m.conductivity_x, m.conductivity_y);
@@ -152,6 +160,14 @@ SolverSettings fem_fingerprint(const Case& c) {
         fmt::format("level {} m, ρ_w {}, K_f {}, tension limit {}, drained [{}]{}", w.level,
                     w.density, w.bulk_modulus, w.tension_limit, drained,
                     w.reservoir ? fmt::format(", reservoir {} m", *w.reservoir) : ""));
+    if (!w.profile.empty()) {
+      std::string profile;
+      for (const Vec2& p : w.profile) profile += fmt::format(" ({}, {})", p.x(), p.y());
+      add(s, "water_table", profile);
+    }
+    if (w.reservoir && (std::isfinite(w.reservoir_x_min) || std::isfinite(w.reservoir_x_max))) {
+      add(s, "reservoir_extent", fmt::format("{} to {} m", w.reservoir_x_min, w.reservoir_x_max));
+    }
   }
   return s;
 }
@@ -171,6 +187,14 @@ SolverSettings mpm_fingerprint(const Case& c, bool pure_mpm) {
                   name_of(particle_exit_names, m.particle_exit)));
   add(s, "boundaries", fmt::format("{}; μ {}", table_line(m.boundaries), m.friction_coefficient));
   add(s, "damping", fmt::format("local {}", m.local_damping));
+  if (m.undrained_pore_pressure) {
+    add(s, "pore_water", fmt::format("undrained, K_f {}", m.water_bulk_modulus));
+  }
+  if (m.reservoir_level) {
+    add(s, "reservoir",
+        fmt::format("level {} m, ρ_w {}, x {} to {} m", *m.reservoir_level, m.water_density,
+                    m.reservoir_x_min, m.reservoir_x_max));
+  }
   add(s, "time_step", fmt::format("fixed {} s, C {}", m.time_step, m.courant));
   add(s, "rest", fmt::format("KE/PE0 < {} for {} s", m.rest_threshold, m.rest_duration));
   if (pure_mpm) {

@@ -108,6 +108,10 @@ constexpr std::array value_rules{
     ValueRule{"stress", 1e13, "Pa", false},
     ValueRule{"surface_stress", 1e13, "Pa", false},
     ValueRule{"pore_pressure", 1e13, "Pa", false},
+    ValueRule{"excess_pore_pressure", 1e13, "Pa", false},
+    ValueRule{"initial_vertical_effective_stress", 1e13, "Pa", false},
+    ValueRule{"initial_mean_effective_stress", 1e13, "Pa", false},
+    ValueRule{"max_pore_pressure_ratio", 1e6, "", false},
     ValueRule{"peak_strength", 1e13, "Pa", false},
     ValueRule{"strain", 1e6, "", false},
     ValueRule{"plastic_volumetric_strain", 1e6, "", false},
@@ -187,6 +191,14 @@ void require_in_range(std::string_view where, std::span<const std::int64_t> valu
 /// /particles/element: the source FE element, or −1 for particles of a pure MPM run.
 constexpr IndexRange source_element_range{-1, IndexRange::unbounded,
                                           "−1 for pure MPM, else a source element"};
+constexpr IndexRange flag_range{0, 2, "a flag: 0 or 1"};
+
+/// The range a checkpoint holds an index column to (none: any value).
+std::optional<IndexRange> index_range(Check check) {
+  if (check == Check::source_element) return source_element_range;
+  if (check == Check::flag) return flag_range;
+  return std::nullopt;
+}
 
 void require_positive(std::string_view where, std::span<const double> values, const Rows& rows,
                       std::string_view quantity) {
@@ -346,6 +358,42 @@ void read_pm4sand(const hdf5::Group& g, Material& m) {
   }
 }
 
+/// A material's liquefaction rule and residual strength (docs/method.md §10), as
+/// attributes liquefaction_<name> beside liquefaction_correlation; unset (NaN) values are
+/// left out.
+constexpr std::array<Attribute<LiquefactionParameters>, 10> liquefaction_numbers{{
+    {"liquefaction_pore_pressure_ratio", &LiquefactionParameters::pore_pressure_ratio},
+    {"liquefaction_shear_strain", &LiquefactionParameters::shear_strain},
+    {"liquefaction_blow_count", &LiquefactionParameters::blow_count},
+    {"liquefaction_strength_ratio", &LiquefactionParameters::strength_ratio},
+    {"liquefaction_friction_angle", &LiquefactionParameters::friction_angle},
+    {"liquefaction_minimum_strength", &LiquefactionParameters::minimum_strength},
+    {"liquefaction_peak_strength_ratio", &LiquefactionParameters::peak_strength_ratio},
+    {"liquefaction_softening_strain", &LiquefactionParameters::softening_strain},
+    {"liquefaction_shear_modulus_ratio", &LiquefactionParameters::shear_modulus_ratio},
+    {"liquefaction_poisson_ratio", &LiquefactionParameters::poisson_ratio},
+}};
+
+void write_liquefaction(hdf5::Group& g, const LiquefactionParameters& q) {
+  g.write_string_attribute("liquefaction_correlation", to_string(q.correlation));
+  for (const auto& a : liquefaction_numbers) {
+    const double value = q.*std::get<double LiquefactionParameters::*>(a.member);
+    if (!std::isnan(value)) g.write_double_attribute(a.name, value);
+  }
+}
+
+void read_liquefaction(const hdf5::Group& g, LiquefactionParameters& q) {
+  q.enabled = true;
+  q.correlation = parse_residual_strength_correlation(
+      g.read_string_attribute("liquefaction_correlation"),
+      fmt::format("{}: attribute liquefaction_correlation", g.where()));
+  for (const auto& a : liquefaction_numbers) {
+    double& value = q.*std::get<double LiquefactionParameters::*>(a.member);
+    value =
+        g.has_attribute(a.name) ? g.read_double_attribute(a.name) : LiquefactionParameters::unset;
+  }
+}
+
 /// How fem2mpm made the particles (/transfer).
 constexpr std::array<Attribute<TransferSettings>, 6> transfer_attributes{{
     {"transfer_time", &TransferSettings::transfer_time},
@@ -488,9 +536,7 @@ class Writer {
       material_ids(group, values, rows, material_count);
     } else if constexpr (std::is_same_v<T, std::int64_t>) {
       if (field.check == Check::unique_id) require_unique_ids(where(group, name), values, rows);
-      indices(group, name, values, 0, rows,
-              field.check == Check::source_element ? std::optional(source_element_range)
-                                                   : std::nullopt);
+      indices(group, name, values, 0, rows, index_range(field.check));
     } else if constexpr (std::is_same_v<T, MaterialState>) {
       require_count(where(group, name), values.size(), 0, rows);
       hdf5::Group state = state_group(group);
@@ -570,6 +616,7 @@ void write_materials(Writer& writer, const MaterialTable& materials) {
     if (m.uses(MaterialModel::pm4sand)) write_pm4sand(g, m);
     // Porous materials only (schema version 6): dry ones keep the attributes they had.
     if (m.saturable()) write_attributes(g, m, pore_water_numbers);
+    if (m.liquefaction.enabled) write_liquefaction(g, m.liquefaction);
     write_attributes(g, m, material_numbers);
   }
 }
@@ -819,9 +866,7 @@ class Reader {
     } else if constexpr (std::is_same_v<T, std::int32_t>) {
       values = material_ids(path, rows, material_count);
     } else if constexpr (std::is_same_v<T, std::int64_t>) {
-      values = indices(path, 0, rows,
-                       field.check == Check::source_element ? std::optional(source_element_range)
-                                                            : std::nullopt);
+      values = indices(path, 0, rows, index_range(field.check));
       if (field.check == Check::unique_id) require_unique_ids(where(path), values, rows);
     } else if constexpr (std::is_same_v<T, MaterialState>) {
       values.assign(rows.held ? rows.held->count : rows.count, MaterialState{});
@@ -971,6 +1016,7 @@ MaterialTable read_materials(const Reader& reader) {
       m.yield_surfaces = static_cast<int>(surfaces);
     }
     if (m.uses(MaterialModel::pm4sand)) read_pm4sand(g, m);
+    if (g.has_attribute("liquefaction_correlation")) read_liquefaction(g, m.liquefaction);
     m.validate(g.where());
   }
   return materials;

@@ -23,6 +23,7 @@
 #include <numbers>
 
 #include "common/base/error.hpp"
+#include "common/physics/liquefaction.hpp"
 #include "common/physics/multi_yield.hpp"
 
 namespace slide {
@@ -306,6 +307,8 @@ ConstitutiveModel ConstitutiveModel::from(const Material& material, Phase phase)
       model.surfaces_ = pm4sand::records;
       model.pm4sand_ = pm4sand::Constants::of(material);
       return model;
+    case MaterialModel::residual_strength:
+      return liquefied(material);
     case MaterialModel::mohr_coulomb:
       break;
   }
@@ -321,6 +324,18 @@ ConstitutiveModel ConstitutiveModel::from(const Material& material, Phase phase)
   const double apex = apex_stress(model.n_phi_, model.two_c_sqrt_n_phi_);
   model.tension_cutoff_ =
       material.tension_cutoff >= apex * (1.0 - 1e-12) ? apex : material.tension_cutoff;
+  return model;
+}
+
+ConstitutiveModel ConstitutiveModel::liquefied(const Material& material) {
+  const LiquefactionParameters& rule = material.liquefaction;
+  ConstitutiveModel model;
+  model.model_ = MaterialModel::residual_strength;
+  model.shear_ = rule.shear_modulus_ratio * material.shear_modulus();
+  model.lambda_ = 2.0 * model.shear_ * rule.poisson_ratio / (1.0 - 2.0 * rule.poisson_ratio);
+  model.surfaces_ = 1;
+  model.softening_strain_ = rule.softening_strain;
+  model.tension_cutoff_ = infinity;
   return model;
 }
 
@@ -350,6 +365,14 @@ bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& s
   }
   stress += elastic_stress_increment(strain_increment);
   if (model_ == MaterialModel::linear_elastic) return false;
+  if (model_ == MaterialModel::residual_strength) {
+    // Tresca on the full stress (σzz takes part): σ1 − σ3 ≤ 2c(εq^p).
+    const double k =
+        2.0 * liquefaction::cohesion(surfaces[0], state.plastic_shear_strain, softening_strain_);
+    if (admissible(stress, 1.0, k, infinity)) return false;
+    return_to_surface({lambda_, shear_, 1.0, 1.0, k, infinity, infinity}, stress, state);
+    return true;
+  }
   if (admissible(stress, n_phi_, two_c_sqrt_n_phi_, tension_cutoff_)) return false;
   const double apex = apex_stress(n_phi_, two_c_sqrt_n_phi_);
   const MohrCoulomb m{lambda_, shear_, n_phi_, n_psi_, two_c_sqrt_n_phi_, tension_cutoff_, apex};
@@ -363,6 +386,8 @@ bool ConstitutiveModel::start(Vec4& stress, MaterialState& state, std::span<Vec4
       return false;
     case MaterialModel::mohr_coulomb:
       return update(stress, state, Vec4::Zero());
+    case MaterialModel::residual_strength:
+      return update(stress, state, Vec4::Zero(), surfaces);
     case MaterialModel::pm4sand:
       return pm4sand::start(pm4sand_, stress, surfaces);
     case MaterialModel::pressure_independent_multi_yield:
@@ -381,7 +406,10 @@ bool ConstitutiveModel::start(Vec4& stress, MaterialState& state, std::span<Vec4
 }
 
 double ConstitutiveModel::yield_function(const Vec4& stress, const MaterialState& state) const {
-  if (model_ == MaterialModel::linear_elastic) return -infinity;
+  // Residual strength: the cohesion is each point's (its record), not the model's.
+  if (model_ == MaterialModel::linear_elastic || model_ == MaterialModel::residual_strength) {
+    return -infinity;
+  }
   if (model_ == MaterialModel::pm4sand) {  // q − M_b p at the initial D_R
     const double p = std::max(mean_stress(stress), 0.0);
     const double m_b = pm4sand::ratios(pm4sand_, p, pm4sand_.relative_density).bounding;
@@ -425,6 +453,7 @@ void ConstitutiveModel::rotate_records(std::span<Vec4> surfaces, double spin_inc
     pm4sand::rotate(surfaces, spin_increment);
     return;
   }
+  if (model_ == MaterialModel::residual_strength) return;  // its record holds scalars
   for (Vec4& s : surfaces) rotate_jaumann(s, spin_increment);
 }
 
@@ -466,6 +495,7 @@ std::size_t update_stresses(const ConstitutiveModel& model, std::span<Vec4> stre
     case MaterialModel::mohr_coulomb:
     case MaterialModel::pressure_independent_multi_yield:
     case MaterialModel::pm4sand:
+    case MaterialModel::residual_strength:
       for (std::size_t i = 0; i < n; ++i) {
         const auto own =
             per_point > 0 ? surfaces.subspan(i * per_point, per_point) : std::span<Vec4>{};
@@ -487,6 +517,8 @@ std::size_t surfaces_needed(const MaterialTable& materials, Phase phase) {
     if (m.model_of(phase) == MaterialModel::pm4sand) {
       n = std::max(n, static_cast<std::size_t>(pm4sand::records));
     }
+    // A liquefied particle's residual strength: one record.
+    if (phase == Phase::mpm && has_residual_strength(m)) n = std::max<std::size_t>(n, 1);
   }
   return n;
 }

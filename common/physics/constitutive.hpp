@@ -21,6 +21,10 @@
 // PM4Sand (common/physics/pm4sand.hpp): a bounding-surface model for sands that liquefy;
 // its state (back-stress ratios, fabric, the constants fixed at the switch) is the same
 // per-point span, pm4sand::records entries.
+//
+// Residual strength (common/physics/liquefaction.hpp): liquefied particles in MPM,
+// Mohr–Coulomb with φ = ψ = 0 and no cut-off whose cohesion is the point's own (one
+// record: peak and residual undrained strength, softening from the transfer).
 #pragma once
 
 #include <cstdint>
@@ -34,6 +38,12 @@
 
 namespace slide {
 
+/// True when a material's liquefied particles take the residual-strength model (a
+/// liquefaction rule whose correlation is not "none").
+inline bool has_residual_strength(const Material& m) {
+  return m.liquefaction.enabled && m.liquefaction.correlation != ResidualStrengthCorrelation::none;
+}
+
 /// The largest number of surfaces any model of `materials` needs in `phase`.
 std::size_t surfaces_needed(const MaterialTable& materials, Phase phase);
 
@@ -44,6 +54,9 @@ class ConstitutiveModel {
   static ConstitutiveModel elastic(const Material& material);
   /// The material's own model of one phase (FE failure stage or MPM phase).
   static ConstitutiveModel from(const Material& material, Phase phase = Phase::fem);
+  /// The material's liquefied state (common/physics/liquefaction.hpp): φ = 0 with the
+  /// cohesion of each point's record, the reduced G and the undrained ν of its rule.
+  static ConstitutiveModel liquefied(const Material& material);
 
   MaterialModel model() const { return model_; }
   double shear_modulus() const { return shear_; }
@@ -51,6 +64,10 @@ class ConstitutiveModel {
   /// Per-point records the model needs: the multi-yield model's surfaces (a deviatoric
   /// stress each), PM4Sand's state records, 0 for the others.
   int surfaces() const { return surfaces_; }
+  /// The pore fluid's stiffness K_f/n of a saturated material whose pore pressure evolves
+  /// undrained in MPM (ṗ = −(K_f/n) tr ε̇, docs/method.md §10), Pa; 0: frozen or dry.
+  double pore_fluid_stiffness() const { return pore_fluid_stiffness_; }
+  void set_pore_fluid_stiffness(double stiffness) { pore_fluid_stiffness_ = stiffness; }
   /// PM4Sand's constants (meaningful only for that model).
   const pm4sand::Constants& pm4sand_constants() const { return pm4sand_; }
   /// Rotates the per-point records that are tensors by a spin increment (the objective
@@ -96,6 +113,8 @@ class ConstitutiveModel {
   double strength_slope_ = 0.0;
   double strength_intercept_ = 0.0;
   double peak_shear_strain_ = 0.0;
+  double softening_strain_ = 0.0;      // residual strength: γ_s (NaN: no softening)
+  double pore_fluid_stiffness_ = 0.0;  // K_f/n (MPM, undrained pore pressure)
   pm4sand::Constants pm4sand_{};
 };
 

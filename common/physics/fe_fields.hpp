@@ -41,6 +41,11 @@ struct FeFields {
   /// Saturated models only: σ′v0 = −σ′yy of the state before shaking (compression
   /// positive), the denominator of the pore-pressure ratio r_u = Δp/σ′v0, Pa.
   std::vector<double> initial_vertical_effective_stress;
+  /// Saturated models only: p′₀ = −tr σ′/3 of the state before shaking, Pa.
+  std::vector<double> initial_mean_effective_stress;
+  /// Saturated models only: the largest r_u the point has reached since the state before
+  /// shaking (the liquefaction rule of the transfer reads it, docs/method.md §10).
+  std::vector<double> max_pore_pressure_ratio;
   /// Multi-yield surface stresses of the failure-stage models (none when no material
   /// uses the model in FE).
   SurfaceStresses surface_stress;
@@ -63,6 +68,10 @@ inline constexpr std::tuple fe_fields{
     field(&FeFields::strain, "strain", "1", {.rows = RowKind::gauss_point}),
     field(&FeFields::material_state, "state", "", {.rows = RowKind::gauss_point}),
     field(&FeFields::initial_vertical_effective_stress, "initial_vertical_effective_stress", "Pa",
+          {.rows = RowKind::gauss_point, .presence = Presence::when_used}),
+    field(&FeFields::initial_mean_effective_stress, "initial_mean_effective_stress", "Pa",
+          {.rows = RowKind::gauss_point, .presence = Presence::when_used}),
+    field(&FeFields::max_pore_pressure_ratio, "max_pore_pressure_ratio", "1",
           {.rows = RowKind::gauss_point, .presence = Presence::when_used}),
     field(&FeFields::surface_stress, "state/surface_stress", "Pa", {.rows = RowKind::gauss_point}),
 };

@@ -46,6 +46,7 @@ enum class Check : std::uint8_t {
   material,        ///< an index into /materials
   source_element,  ///< −1 (pure MPM) or an FE element
   unique_id,       ///< ≥ 0, no two rows alike
+  flag,            ///< 0 or 1
 };
 
 /// What a new row holds.

@@ -16,7 +16,10 @@ enum class MaterialModel {
   linear_elastic,
   mohr_coulomb,
   pressure_independent_multi_yield,
-  pm4sand
+  pm4sand,
+  /// The undrained residual strength of liquefied soil (common/physics/liquefaction.hpp):
+  /// the MPM model of a material's liquefied particles, never a case file's `model`.
+  residual_strength
 };
 
 std::string_view to_string(MaterialModel model);
@@ -64,6 +67,43 @@ struct Pm4SandParameters {
   double calibrated_cycles = derived;
 };
 
+/// How liquefied soil's undrained residual strength S_r/σ′v0 follows from the blow count
+/// (common/physics/liquefaction.hpp), or `ratio` (given), or `none`: the liquefied
+/// particles keep the material's own MPM model.
+enum class ResidualStrengthCorrelation {
+  idriss_boulanger_void_redistribution,
+  idriss_boulanger,
+  olson_stark,
+  ratio,
+  none
+};
+
+std::string_view to_string(ResidualStrengthCorrelation correlation);
+/// Parses "idriss-boulanger-void-redistribution", "idriss-boulanger", "olson-stark",
+/// "ratio" or "none"; throws Error naming `where` otherwise.
+ResidualStrengthCorrelation parse_residual_strength_correlation(std::string_view text,
+                                                                std::string_view where);
+
+/// A material that may liquefy (docs/method.md §10): the rule that marks its particles
+/// liquefied at the transfer and the strength they have after it ([materials.liquefaction]).
+/// NaN: not given (the rule's criterion unused, or the value derived).
+struct LiquefactionParameters {
+  static constexpr double unset = std::numeric_limits<double>::quiet_NaN();
+  bool enabled = false;              ///< the material has a liquefaction rule
+  double pore_pressure_ratio = 0.7;  ///< liquefied when r_u,max ≥ this (NaN: not used)
+  double shear_strain = unset;       ///< … or when γ = √3 εq ≥ this (NaN: not used)
+  ResidualStrengthCorrelation correlation =
+      ResidualStrengthCorrelation::idriss_boulanger_void_redistribution;
+  double blow_count = unset;      ///< (N1)60cs-Sr; default 46 D_R² for PM4Sand
+  double strength_ratio = unset;  ///< S_r/σ′v0 of correlation `ratio`
+  double friction_angle = unset;  ///< φ′ of the cap σ′v0 tan φ′, degrees; default φ or φ_cv
+  double minimum_strength = 0.0;       ///< floor of S_r, Pa
+  double peak_strength_ratio = unset;  ///< S_u,peak/σ′v0 the strength softens from (NaN: none)
+  double softening_strain = unset;     ///< engineering shear strain of the softening
+  double shear_modulus_ratio = 0.1;    ///< G_liquefied / G of the material's elastic stage
+  double poisson_ratio = 0.49;         ///< ν of the liquefied (undrained) soil
+};
+
 struct Material {
   std::string name;
   /// Model of the FE failure stage, and of the MPM phase unless `mpm_model` names
@@ -98,6 +138,8 @@ struct Material {
   /// PM4Sand only. Its elastic stage (the geostatic one) has G = G₀ p_A and ν:
   /// `youngs_modulus` is then 2 (1 + ν) G₀ p_A, set by the case reader.
   Pm4SandParameters pm4sand;
+  /// A material that may liquefy: its rule and residual strength (`enabled` false: none).
+  LiquefactionParameters liquefaction;
 
   /// The model of one phase.
   MaterialModel model_of(Phase phase) const {
@@ -126,6 +168,7 @@ struct Material {
 
  private:
   void validate_pm4sand(std::string_view where) const;
+  void validate_liquefaction(std::string_view where) const;
 };
 
 using MaterialTable = std::vector<Material>;

@@ -39,6 +39,16 @@ struct Particles {
   /// the particle's affine field v_p + C_p (x − x_p)), 1/s (mpm/kernels.hpp). Empty when
   /// the run does not use APIC (FLIP/PIC carries no affine state), else one per particle.
   std::vector<Vec4> affine_velocity;
+  // Saturated soil (docs/method.md §10), empty for dry runs: per particle its excess pore
+  // pressure Δp = p − p_static at the transfer, the largest pore-pressure ratio r_u,max of
+  // its FE history, σ′v0 and p′₀ of the state before shaking (compression positive), and
+  // whether it liquefied (its material's rule at the transfer: then its MPM model is the
+  // material's liquefied state, common/physics/liquefaction.hpp).
+  std::vector<double> excess_pore_pressure;
+  std::vector<double> max_pore_pressure_ratio;
+  std::vector<double> initial_vertical_effective_stress;
+  std::vector<double> initial_mean_effective_stress;
+  std::vector<std::int64_t> liquefied;  ///< 1 liquefied, 0 not
 
   std::size_t count() const { return coordinates.size(); }
   /// Resizes every field to n (new entries zero, element −1); an empty affine_velocity
@@ -73,6 +83,16 @@ inline constexpr std::tuple particle_fields{
     field(&Particles::surface_stress, "state/surface_stress", "Pa"),
     field(&Particles::affine_velocity, "affine_velocity_gradient", "1/s",
           {.presence = Presence::when_used}),
+    field(&Particles::excess_pore_pressure, "excess_pore_pressure", "Pa",
+          {.presence = Presence::when_used}),
+    field(&Particles::max_pore_pressure_ratio, "max_pore_pressure_ratio", "1",
+          {.presence = Presence::when_used}),
+    field(&Particles::initial_vertical_effective_stress, "initial_vertical_effective_stress", "Pa",
+          {.presence = Presence::when_used}),
+    field(&Particles::initial_mean_effective_stress, "initial_mean_effective_stress", "Pa",
+          {.presence = Presence::when_used}),
+    field(&Particles::liquefied, "liquefied", "1",
+          {.presence = Presence::when_used, .check = Check::flag}),
 };
 using ParticleFieldTable = std::remove_const_t<decltype(particle_fields)>;
 static_assert(listed_bytes<ParticleFieldTable>() == sizeof(Particles),

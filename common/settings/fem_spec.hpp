@@ -6,6 +6,7 @@
 
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -86,12 +87,18 @@ struct RecorderSpec {
 /// surface (drained at the reservoir's pressure, which also loads the solid); every other
 /// face is impermeable.
 struct WaterSpec {
-  double level = 0.0;                ///< elevation of the water table (phreatic level), m
+  double level = 0.0;  ///< elevation of the water table (phreatic level), m
+  /// A water table that varies along x: points (x, y) with x increasing, linear between
+  /// them and level beyond the ends (gravity along −y). Empty: the level above.
+  std::vector<Vec2> profile;
   double density = 1000.0;           ///< ρ_w, kg/m³
   double bulk_modulus = 2.2e9;       ///< K_f, Pa
   double tension_limit = -100e3;     ///< the lowest pore pressure, Pa (suction negative)
   std::vector<std::string> drained;  ///< node sets where p is given
   std::optional<double> reservoir;   ///< elevation of a reservoir's free surface, m
+  /// The x range the reservoir stands over (a reservoir on one side of a dam), m.
+  double reservoir_x_min = -std::numeric_limits<double>::infinity();
+  double reservoir_x_max = std::numeric_limits<double>::infinity();
 };
 
 struct FemSpec {

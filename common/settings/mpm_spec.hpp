@@ -3,6 +3,7 @@
 // initial state. mpm-solve resolves them into the solver's MpmSettings.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -41,6 +42,16 @@ struct MpmSpec {
   double rest_threshold = 0.0;
   double rest_duration = 0.0;
   double speed_limit_factor = 5.0;
+  /// A reservoir outside the body ([mpm.reservoir], docs/method.md §10): its level, m
+  /// (unset: none), and the water's density, kg/m³.
+  std::optional<double> reservoir_level;
+  double water_density = 1000.0;
+  /// [mpm.pore_water]: the pore pressure of saturated particles stays as the transfer
+  /// left it (false) or evolves undrained with the water's bulk modulus, Pa.
+  bool undrained_pore_pressure = false;
+  double water_bulk_modulus = 2.2e9;
+  double reservoir_x_min = -std::numeric_limits<double>::infinity();  ///< its extent, m
+  double reservoir_x_max = std::numeric_limits<double>::infinity();
   // Pure MPM (no particle file): particles per cell and the initial stress.
   int particles_x = 4;
   int particles_y = 4;

@@ -71,6 +71,12 @@ Particles planted_particles(std::size_t n) {
   Particles p;
   p.surface_stress.per_point = 3;
   p.affine_velocity.assign(1, Vec4::Zero());  // used: resize keeps it
+  // The saturated transfer's fields, used too.
+  for (auto* field : {&p.excess_pore_pressure, &p.max_pore_pressure_ratio,
+                      &p.initial_vertical_effective_stress, &p.initial_mean_effective_stress}) {
+    field->assign(1, 0.0);
+  }
+  p.liquefied.assign(1, 0);
   p.resize(n);
   for (std::size_t k = 0; k < n; ++k) p.id[k] = static_cast<std::int64_t>(10 + k);
   std::size_t f = 0;
@@ -95,6 +101,7 @@ Particles planted_particles(std::size_t n) {
     p.coordinates[k] = Vec2(0.5 + std::fmod(c, 10.0), 0.5 + std::floor(c / 10.0));
     p.size[k] = Vec2(0.5, 0.5 + 0.001 * static_cast<double>(k));
     p.material_id[k] = static_cast<std::int32_t>(k % 2);
+    p.liquefied[k] = static_cast<std::int64_t>((k / 2) % 2);  // a flag: 0 or 1
   }
   return p;
 }
@@ -174,7 +181,7 @@ TEST(ParticleFieldTable, AWrongSizedFieldIsNamed) {
 
 TEST(ParticleFieldTable, EveryFieldCrossesBetweenRanksInItsPackedRow) {
   const Particles original = planted_particles(30);
-  const mpm::PackedLayout layout{3, true};
+  const mpm::PackedLayout layout{3, true, true};
   std::vector<std::size_t> rows(original.count());
   std::iota(rows.rbegin(), rows.rend(), std::size_t{0});  // reversed
   std::vector<std::byte> bytes;
@@ -186,7 +193,8 @@ TEST(ParticleFieldTable, EveryFieldCrossesBetweenRanksInItsPackedRow) {
   ASSERT_EQ(mpm::unpack_particles(bytes, layout, received), original.count());
   EXPECT_EQ(received.id.front(), original.id.back());
   EXPECT_EQ(misplaced(received, original), std::vector<std::string>{});
-  // The row's size is the table's: every field's entry, the surfaces, the affine one.
+  // The row's size is the table's: every field's entry, the surfaces, the affine one and
+  // the saturated transfer's.
   std::size_t expected = 0;
   for_each_field(particle_fields, [&](const auto& field) {
     const auto& column = field.of(original);

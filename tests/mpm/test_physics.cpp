@@ -441,3 +441,70 @@ TEST(Conservation, MassIsExactAndMomentumOfAFreeBodyIsKept) {
 
 }  // namespace
 }  // namespace slide::mpm
+
+namespace slide::mpm {
+namespace {
+
+using namespace testing;
+
+// A saturated column under a reservoir, at rest: pore pressure p = γ_w (level − y) frozen
+// in its particles, effective stress from the buoyant weight, σ′yy = −(ρ_sat − ρ_w) g
+// (H − y), and the water above it loading its top. The total stress σ′ − p I carries the
+// full weight and the reservoir's load, the effective one the buoyant weight alone: with
+// linear shape functions (exact quadrature at rest) the column stays at rest to
+// round-off. Without the reservoir the same particles are a column whose pore water
+// pushes out of its top: it heaves.
+struct SubmergedColumn {
+  double stress_error = 0.0;  ///< max |Δσ′yy| / (γ′ H) after 1 s
+  double displacement = 0.0;  ///< max |u|, m
+};
+
+SubmergedColumn submerged_column(bool reservoir) {
+  const double g = 9.81, height = 10.0, level = 15.0, rho_w = 1000.0;
+  MpmSettings s = settings_on(Vec2(0, 0), Vec2(10, 12), 1.0, ShapeFunction::linear);
+  s.gravity = Vec2(0, -g);
+  set_edge(s, edge_left, BoundaryCondition::roller);
+  set_edge(s, edge_right, BoundaryCondition::roller);
+  set_edge(s, edge_base, BoundaryCondition::roller);
+  if (reservoir) s.reservoir = Reservoir{level, rho_w * g};
+  Material soil = elastic_soil(2000.0);
+  soil.porosity = 0.4;
+  const MaterialTable materials{soil};
+  Particles p = generate_box_particles(s.grid, Vec2(0, 0), Vec2(10, height), 4, 4, materials, 0);
+  const double buoyant = (soil.density - rho_w) * g;
+  std::vector<double> initial(p.count());
+  for (std::size_t k = 0; k < p.count(); ++k) {
+    const double depth = height - p.coordinates[k].y();
+    const double vertical = -buoyant * depth;
+    p.stress[k] = Vec4(soil.k0() * vertical, vertical, soil.k0() * vertical, 0.0);
+    p.pore_pressure[k] = rho_w * g * (level - p.coordinates[k].y());
+    initial[k] = vertical;
+  }
+  MpmSolver solver(s, materials, std::move(p));
+  const double dt = solver.courant_time_step(0.5);
+  while (solver.clock().time < 1.0) solver.step(std::min(dt, 1.0 - solver.clock().time));
+  SubmergedColumn r;
+  const Particles& q = solver.particles();
+  for (std::size_t k = 0; k < q.count(); ++k) {
+    const auto id = static_cast<std::size_t>(q.id[k]);
+    r.stress_error =
+        std::max(r.stress_error, std::abs(q.stress[k][1] - initial[id]) / (buoyant * height));
+    r.displacement = std::max(r.displacement, q.displacement[k].norm());
+  }
+  return r;
+}
+
+TEST(Reservoir, SubmergedSaturatedColumnStaysAtRestOnItsBuoyantWeight) {
+  const SubmergedColumn loaded = submerged_column(true);
+  const SubmergedColumn bare = submerged_column(false);
+  std::printf(
+      "submerged column after 1 s: with the reservoir |Δσ′yy|/γ′H %.2e, |u| %.2e m; without "
+      "it %.2e, %.2e m\n",
+      loaded.stress_error, loaded.displacement, bare.stress_error, bare.displacement);
+  EXPECT_LT(loaded.stress_error, 1e-9);
+  EXPECT_LT(loaded.displacement, 1e-9);
+  EXPECT_GT(bare.displacement, 1e-3) << "the reservoir's load is what holds the column";
+}
+
+}  // namespace
+}  // namespace slide::mpm

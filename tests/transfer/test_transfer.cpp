@@ -598,3 +598,85 @@ TEST(Transfer, AnotherMpmModelStartsWithoutTheFeSurfaces) {
 
 }  // namespace
 }  // namespace slide::transfer
+
+namespace slide::transfer {
+namespace {
+
+// A saturated block on a distorted mesh (docs/method.md §10): nodal p linear in x and y,
+// p_static linear too, σ′v0, p′₀ and r_u,max per Gauss point. The particles get p and Δp
+// exactly (a linear field through the element's shape functions), the Gauss-point values
+// of their source points, and the liquefied flag and S_r of the material's rule wherever
+// their source point's r_u,max reaches 0.7.
+TEST(Transfer, PorePressureAndLiquefactionStateReachTheParticles) {
+  BlockFields fields;
+  fields.displacement = synthetic::distortion(0.1);
+  FemCheckpoint fem = make_block(8, 6, 4.0, 3.0, ElementType::quad4_2x2, fields, 2000.0);
+  Material& m = fem.materials[0];
+  m.porosity = 0.4;
+  m.conductivity_x = m.conductivity_y = 1e-5;
+  m.liquefaction.enabled = true;
+  m.liquefaction.correlation = ResidualStrengthCorrelation::ratio;
+  m.liquefaction.strength_ratio = 0.12;
+  m.liquefaction.friction_angle = 30.0;
+  auto pressure = [](const Vec2& x) { return 5e4 + 1.5e3 * x.x() - 9.81e3 * x.y(); };
+  auto at_rest = [](const Vec2& x) { return 4e4 - 9.81e3 * x.y(); };
+  fem.pore_pressure.clear();
+  for (std::size_t n = 0; n < fem.coordinates.size(); ++n) {
+    fem.pore_pressure.push_back(pressure(fem.coordinates[n]));
+    fem.static_pore_pressure.push_back(at_rest(fem.coordinates[n]));
+  }
+  for (Index e = 0; e < fem.mesh.element_count(); ++e) {
+    const ElementNodes x = fem.mesh.element_nodes(e, fem.coordinates);
+    const Vec2 centre =
+        map_to_physical(ElementShape::quad4, x, reference_centre(ElementShape::quad4));
+    fem.element_pore_pressure.push_back(pressure(centre));
+  }
+  for (const Vec2& x : fem.gauss_coordinates) {
+    fem.initial_vertical_effective_stress.push_back(1e5 * (4.0 - x.y()));
+    fem.initial_mean_effective_stress.push_back(0.7e4 * (4.0 - x.y()));
+    fem.max_pore_pressure_ratio.push_back(x.x() / 4.0);  // 0.7 at x = 2.8 m
+  }
+  const TransferResult result = transfer(fem, with(StressInterpolation::element));
+  const Particles& q = result.particles.particles;
+  ASSERT_EQ(q.liquefied.size(), q.count());
+  const ParticleLayout layout = quad_layout(4, 4);
+  std::size_t liquefied = 0;
+  double area = 0.0;
+  for (std::size_t p = 0; p < q.count(); ++p) {
+    const Vec2& x = q.coordinates[p];
+    EXPECT_NEAR(q.pore_pressure[p], pressure(x), 1e-9 * 5e4) << p;
+    EXPECT_NEAR(q.excess_pore_pressure[p], pressure(x) - at_rest(x), 1e-9 * 5e4) << p;
+    // The source: the element's Gauss point nearest in reference coordinates.
+    const Vec2 xi = layout.points[p % 16].xi;
+    const auto e = static_cast<std::size_t>(q.element[p]);
+    std::size_t g = 4 * e;
+    for (std::size_t k = 4 * e; k < 4 * e + 4; ++k) {
+      if ((fem.gauss_local_coordinates[k] - xi).norm() <
+          (fem.gauss_local_coordinates[g] - xi).norm()) {
+        g = k;
+      }
+    }
+    const Vec2& xg = fem.gauss_coordinates[g];
+    EXPECT_EQ(q.initial_vertical_effective_stress[p], 1e5 * (4.0 - xg.y())) << p;
+    EXPECT_EQ(q.initial_mean_effective_stress[p], 0.7e4 * (4.0 - xg.y())) << p;
+    EXPECT_EQ(q.max_pore_pressure_ratio[p], xg.x() / 4.0) << p;
+    EXPECT_EQ(q.liquefied[p], xg.x() / 4.0 >= 0.7 ? 1 : 0) << p;
+    if (q.liquefied[p] == 0) continue;
+    ++liquefied;
+    area += q.volume[p];
+    EXPECT_NEAR(q.surface_stress.of(p)[0][1], 0.12 * 1e5 * (4.0 - xg.y()), 1e-8) << "S_r";
+  }
+  const PoreWaterReport& w = result.report.pore_water;
+  EXPECT_GT(liquefied, 0u);
+  EXPECT_LT(liquefied, q.count());
+  EXPECT_EQ(w.capped_excess, 0u) << "Δp stays below σ′v0 everywhere";
+  ASSERT_EQ(w.materials.size(), 1u);
+  EXPECT_EQ(w.materials[0].liquefied, liquefied);
+  EXPECT_NEAR(w.materials[0].liquefied_area, area, 1e-12);
+  // ∫ p dA: the element p_e (the centre value) on V_t^e against Σ p_p V_p; equal for a
+  // linear field on parallelograms, close on this distorted mesh.
+  EXPECT_NEAR(w.pore_force_particles / w.pore_force_fe, 1.0, 1e-3);
+}
+
+}  // namespace
+}  // namespace slide::transfer
