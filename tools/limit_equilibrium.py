@@ -64,6 +64,20 @@ def surface_of(case):
     return points
 
 
+def bishop(resisting, alpha, tan_phi, driving, m_alpha_floor=None):
+    """F = Σ resisting/m_α / driving, m_α = cos α + sin α tan φ / F, iterated."""
+    f = 1.0
+    for _ in range(100):
+        m_alpha = np.cos(alpha) + np.sin(alpha) * tan_phi / f
+        if m_alpha_floor is not None:
+            m_alpha = np.maximum(m_alpha, m_alpha_floor)
+        new = np.sum(resisting / m_alpha) / driving
+        if abs(new - f) < 1e-8:
+            return new
+        f = new
+    return f
+
+
 def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
     material = case["materials"][0]
     gamma = material["density"] * G
@@ -94,14 +108,7 @@ def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
                 if driving <= 0.0:
                     continue
                 resisting = cohesion * width + weight * tan_phi
-                f = 1.0
-                for _ in range(100):
-                    m_alpha = np.cos(alpha) + np.sin(alpha) * tan_phi / f
-                    new = np.sum(resisting / m_alpha) / driving
-                    if abs(new - f) < 1e-8:
-                        f = new
-                        break
-                    f = new
+                f = bishop(resisting, alpha, tan_phi, driving)
                 if f < best["fs"]:
                     best["fs"], best["circle"] = f, (xc, yc, radius)
                 lever = yc - 0.5 * (base[inside] + top[inside])
@@ -192,16 +199,8 @@ def particle_stability(path, reservoir=None, x_range=None, centres=30, radii=40,
                 effective = np.maximum(weight - u * b, 0.0)
                 weight = np.maximum(weight, 0.0)
                 resisting = (strength_c * b + effective * strength_tan)[inside]
-                a_in, t_in = alpha[inside], strength_tan[inside]
-                f = 1.0
-                for _ in range(100):
-                    m_alpha = np.cos(a_in) + np.sin(a_in) * t_in / f
-                    m_alpha = np.maximum(m_alpha, 0.2)
-                    new = np.sum(resisting / m_alpha) / driving
-                    if abs(new - f) < 1e-8:
-                        f = new
-                        break
-                    f = new
+                # m_α ≥ 0.2: the usual guard where a steep exit slice would make it vanish.
+                f = bishop(resisting, alpha[inside], strength_tan[inside], driving, 0.2)
                 if f < best["fs"]:
                     best = {"fs": f, "circle": (xc, yc, radius)}
     return best
