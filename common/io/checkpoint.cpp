@@ -447,6 +447,16 @@ void read_attributes(const hdf5::Group& group, T& object,
 // ---------------------------------------------------------------------------------------
 // Writing
 
+/// Which unused particle fields ranks writing together hold: APIC's affine velocity and
+/// the saturated transfer's fields (every rank says the same, also one without particles).
+struct UsedFields {
+  bool affine = false;
+  bool pore_water = false;
+  bool of(std::string_view name) const {
+    return name == "affine_velocity_gradient" ? affine : pore_water;
+  }
+};
+
 class Writer {
  public:
   Writer(hdf5::File& file, std::string target) : file_(file), target_(std::move(target)) {}
@@ -501,11 +511,11 @@ class Writer {
 
   /// Every field of `table` with rows `kind` into `group` (and its state/ subgroup). An
   /// unused field (Presence::when_used) is written when it is set, or as `when_used`
-  /// says (ranks writing together, some of them without particles).
+  /// says for it (ranks writing together, some of them without particles).
   template <class Table, class Owner>
   void fields(hdf5::Group& group, const Table& table, const Owner& owner, RowKind kind,
               const Rows& rows, std::size_t material_count,
-              std::optional<bool> when_used = std::nullopt) {
+              std::optional<UsedFields> when_used = std::nullopt) {
     const bool surfaces = with_surfaces(table, owner, kind);
     for_each_field(table, [&](const auto& field) {
       if (field.rows != kind) return;
@@ -513,7 +523,10 @@ class Writer {
       if constexpr (std::is_same_v<std::remove_cvref_t<decltype(values)>, SurfaceStresses>) {
         if (values.per_point > 0) surface_column(group, values, rows);
       } else {
-        if (field.presence == Presence::when_used && !when_used.value_or(!values.empty())) return;
+        if (field.presence == Presence::when_used &&
+            !(when_used ? when_used->of(field.name) : !values.empty())) {
+          return;
+        }
         column(group, field, values, rows, material_count, surfaces);
       }
     });
@@ -764,7 +777,7 @@ bool is_default(const TransferSettings& t) {
 /// `share`: this rank's rows when several write the file together; `affine`: whether
 /// the particles carry APIC's C_p (only an APIC run writes it), on every rank.
 void write_particles(Writer& writer, const ParticleCheckpoint& c,
-                     const hdf5::RowShare* share = nullptr, std::optional<bool> affine = {}) {
+                     const hdf5::RowShare* share = nullptr, std::optional<UsedFields> affine = {}) {
   hdf5::File& file = writer.file();
   write_header(file, c.header, c.header.kind);
   write_materials(writer, c.materials);
@@ -1238,8 +1251,9 @@ void write_checkpoint_on_ranks(const fs::path& path, const ParticleCheckpoint& c
   const auto count = static_cast<std::int64_t>(checkpoint.particles.count());
   const auto own_frozen = static_cast<std::int64_t>(frozen);
   const std::int64_t own_active = count - own_frozen;
-  std::array<std::int64_t, 3> totals{own_active, own_frozen,
-                                     checkpoint.particles.affine_velocity.empty() ? 0 : 1};
+  std::array<std::int64_t, 4> totals{own_active, own_frozen,
+                                     checkpoint.particles.affine_velocity.empty() ? 0 : 1,
+                                     checkpoint.particles.liquefied.empty() ? 0 : 1};
   ranks.sum(totals);
   const std::int64_t active_before = ranks.exclusive_prefix_sum(own_active);
   const std::int64_t frozen_before = ranks.exclusive_prefix_sum(own_frozen);
@@ -1258,7 +1272,7 @@ void write_checkpoint_on_ranks(const fs::path& path, const ParticleCheckpoint& c
       [&](const fs::path& temporary) {
         hdf5::File file = hdf5::File::create_collective(temporary, target, ranks);
         Writer writer(file, target);
-        write_particles(writer, checkpoint, &share, totals[2] > 0);
+        write_particles(writer, checkpoint, &share, UsedFields{totals[2] > 0, totals[3] > 0});
         file.close();
       },
       bytes);
