@@ -204,13 +204,7 @@ std::size_t unpack_particles(std::span<const std::byte> bytes, const PackedLayou
   // Particles::resize keeps an empty affine field empty (a rank all of whose particles
   // left has none): the layout, not the particles, says whether rows carry one.
   if (layout.affine) p.affine_velocity.resize(first + added, Vec4::Zero());
-  if (layout.pore_water) {
-    for (auto* field : {&p.excess_pore_pressure, &p.max_pore_pressure_ratio,
-                        &p.initial_vertical_effective_stress, &p.initial_mean_effective_stress}) {
-      field->resize(first + added, 0.0);
-    }
-    p.liquefied.resize(first + added, 0);
-  }
+  if (layout.pore_water) p.use_pore_water_fields();
   ByteReader in(bytes);
   for (std::size_t k = first; k < first + added; ++k)
     for_each_entry(p, k, layout, [&](auto& v) { in.get(v); });

@@ -68,28 +68,22 @@ void MpmSolver::size_affine_velocity() {
 void MpmSolver::use_elastic_models(bool elastic) {
   // Each material's MPM model, then its liquefied state (kernels.hpp, particle_model):
   // the residual strength, or the same model for a material without one.
+  // Undrained pore water lives in the saturated materials' own models; a liquefied state
+  // is a total-stress model whose undrained ν holds the water's stiffness already.
+  const double fluid = settings_.pore_fluid_bulk_modulus;
+  auto own = [&](const Material& m) {
+    ConstitutiveModel model = ConstitutiveModel::from(m, Phase::mpm);
+    if (fluid > 0.0 && m.saturable()) model.set_pore_fluid_stiffness(fluid / m.porosity);
+    return model;
+  };
   models_.clear();
   for (const Material& m : materials_) {
-    models_.push_back(elastic ? ConstitutiveModel::elastic(m)
-                              : ConstitutiveModel::from(m, Phase::mpm));
+    models_.push_back(elastic ? ConstitutiveModel::elastic(m) : own(m));
   }
   for (const Material& m : materials_) {
     models_.push_back(elastic                    ? ConstitutiveModel::elastic(m)
                       : has_residual_strength(m) ? ConstitutiveModel::liquefied(m)
-                                                 : ConstitutiveModel::from(m, Phase::mpm));
-  }
-  // Undrained pore water in the saturated materials' own models (a liquefied state is a
-  // total-stress model: its undrained ν holds the water's stiffness already).
-  if (!elastic && settings_.pore_fluid_bulk_modulus > 0.0) {
-    for (std::size_t k = 0; k < materials_.size(); ++k) {
-      const Material& m = materials_[k];
-      if (!m.saturable()) continue;
-      models_[k].set_pore_fluid_stiffness(settings_.pore_fluid_bulk_modulus / m.porosity);
-      if (!has_residual_strength(m)) {
-        models_[k + materials_.size()].set_pore_fluid_stiffness(settings_.pore_fluid_bulk_modulus /
-                                                                m.porosity);
-      }
-    }
+                                                 : own(m));
   }
 }
 

@@ -105,12 +105,7 @@ void carry_pore_water(const FemCheckpoint& fem, const MaterialTable& materials,
                       std::span<const std::size_t> source, Particles& particles,
                       PoreWaterReport& report) {
   const std::size_t count = particles.count();
-  for (auto* field :
-       {&particles.excess_pore_pressure, &particles.max_pore_pressure_ratio,
-        &particles.initial_vertical_effective_stress, &particles.initial_mean_effective_stress}) {
-    field->assign(count, 0.0);
-  }
-  particles.liquefied.assign(count, 0);
+  particles.use_pore_water_fields();
   interpolate_static_pressure(fem, xi, particles);
   auto at_source = [&](const std::vector<double>& field, std::size_t p) {
     return field.empty() ? 0.0 : field[source[p]];

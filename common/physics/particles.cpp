@@ -8,6 +8,14 @@ void Particles::resize(std::size_t n) {
   resize_rows(particle_fields, *this, RowKind::particle, n);
 }
 
+void Particles::use_pore_water_fields() {
+  for (auto* field : {&excess_pore_pressure, &max_pore_pressure_ratio,
+                      &initial_vertical_effective_stress, &initial_mean_effective_stress}) {
+    field->resize(count(), 0.0);
+  }
+  liquefied.resize(count(), 0);
+}
+
 void Particles::shrink_to_fit() {
   shrink_rows(particle_fields, *this);
 }

@@ -54,6 +54,9 @@ struct Particles {
   /// Resizes every field to n (new entries zero, element −1); an empty affine_velocity
   /// stays empty.
   void resize(std::size_t n);
+  /// Sizes the saturated transfer's fields (excess_pore_pressure … liquefied) to count(),
+  /// new entries 0: a run with pore water holds them, a resize then keeps them sized.
+  void use_pore_water_fields();
   /// Releases the spare capacity of every field (one field reallocated at a time).
   void shrink_to_fit();
   /// Throws Error naming the field when the fields do not all have the same length.

@@ -71,13 +71,8 @@ Particles planted_particles(std::size_t n) {
   Particles p;
   p.surface_stress.per_point = 3;
   p.affine_velocity.assign(1, Vec4::Zero());  // used: resize keeps it
-  // The saturated transfer's fields, used too.
-  for (auto* field : {&p.excess_pore_pressure, &p.max_pore_pressure_ratio,
-                      &p.initial_vertical_effective_stress, &p.initial_mean_effective_stress}) {
-    field->assign(1, 0.0);
-  }
-  p.liquefied.assign(1, 0);
   p.resize(n);
+  p.use_pore_water_fields();  // the saturated transfer's fields, used too
   for (std::size_t k = 0; k < n; ++k) p.id[k] = static_cast<std::int64_t>(10 + k);
   std::size_t f = 0;
   for_each_field(particle_fields, [&](const auto& field) {
