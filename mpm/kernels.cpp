@@ -306,7 +306,8 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
                 particles.surface_stress.of(p), particles.strain[p]);
   particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
   // Undrained pore water: ṗ = −(K_f/n) tr ε̇, no suction (cavitation at p = 0).
-  if (const double stiffness = models[model].pore_fluid_stiffness(); stiffness > 0.0) {
+  if (const double stiffness = models[model].pore_fluid_stiffness();
+      stiffness > 0.0 && holds_water(particles, p)) {
     double& pressure = particles.pore_pressure[p];
     const double change = std::max(-stiffness * dt * (l[0] + l[3]), -pressure);
     pressure += change;

@@ -215,6 +215,19 @@ inline std::size_t particle_model(const Particles& particles, std::size_t p,
   return material + materials;
 }
 
+/// Whether particle p's pores hold water, so that its pore pressure evolves undrained
+/// ([mpm.pore_water] pore_pressure = "undrained"): it was below the water table at the
+/// transfer, its steady pore pressure p − Δp being positive (without Δp, p itself). Above
+/// the table the pores hold air, which takes no load: a particle of a saturable material
+/// there keeps p = 0 however it is compressed. p − Δp stays as transferred (both change
+/// by the same ṗ), so a particle that cavitates (p = 0) loads its water again.
+inline bool holds_water(const Particles& particles, std::size_t p) {
+  const double steady = particles.excess_pore_pressure.empty()
+                            ? particles.pore_pressure[p]
+                            : particles.pore_pressure[p] - particles.excess_pore_pressure[p];
+  return steady > 0.0;
+}
+
 /// Stable counting sort of the particles by cell (x-major); particles from
 /// `active_count` on (frozen ones) keep their order at the end. In place: the only
 /// per-particle memory it takes is the 4-byte permutation.

@@ -353,15 +353,19 @@ double MpmSolver::courant_time_step(double courant) const {
   // 20.9 s with one particle at 35 times its volume while the step was still that of the
   // initial density (mpm/README.md, "Time step").
   // M = λ + 2G of each model (liquefied states included: kernels.hpp, particle_model).
-  std::vector<double> modulus(models_.size());
+  // The pore water's K_f/n adds to M where the particle holds water (holds_water).
+  std::vector<double> modulus(models_.size()), water(models_.size());
   for (std::size_t m = 0; m < models_.size(); ++m) {
-    modulus[m] = models_[m].lame_lambda() + 2.0 * models_[m].shear_modulus() +
-                 models_[m].pore_fluid_stiffness();
+    modulus[m] = models_[m].lame_lambda() + 2.0 * models_[m].shear_modulus();
+    water[m] = models_[m].pore_fluid_stiffness();
   }
+  const bool undrained = std::ranges::any_of(water, [](double k) { return k > 0.0; });
   double fastest_squared = 0.0;
   for (std::size_t p = 0; p < active_count(); ++p) {
-    const double c2 = modulus[particle_model(particles_, p, materials_.size())] *
-                      particles_.volume[p] / particles_.mass[p];
+    const std::size_t m = particle_model(particles_, p, materials_.size());
+    const double stiffness =
+        modulus[m] + (undrained && holds_water(particles_, p) ? water[m] : 0.0);
+    const double c2 = stiffness * particles_.volume[p] / particles_.mass[p];
     if (!std::isfinite(c2) || !(c2 > 0.0)) {
       // A volume gone to zero, below it, to infinity or NaN: the run has blown up (the
       // linear shape's cell crossing in a stiff sliding block did so); name the particle.

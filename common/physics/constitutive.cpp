@@ -335,7 +335,7 @@ ConstitutiveModel ConstitutiveModel::liquefied(const Material& material) {
   model.lambda_ = 2.0 * model.shear_ * rule.poisson_ratio / (1.0 - 2.0 * rule.poisson_ratio);
   model.surfaces_ = 1;
   model.softening_strain_ = rule.softening_strain;
-  model.tension_cutoff_ = infinity;
+  model.tension_cutoff_ = 0.0;
   return model;
 }
 
@@ -366,11 +366,12 @@ bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& s
   stress += elastic_stress_increment(strain_increment);
   if (model_ == MaterialModel::linear_elastic) return false;
   if (model_ == MaterialModel::residual_strength) {
-    // Tresca on the full stress (σzz takes part): σ1 − σ3 ≤ 2c(εq^p).
+    // Tresca on the full stress (σzz takes part): σ1 − σ3 ≤ 2c(εq^p), and no tension
+    // (σ1 ≤ T = 0: the grains of a liquefied sand hold none).
     const double k =
         2.0 * liquefaction::cohesion(surfaces[0], state.plastic_shear_strain, softening_strain_);
-    if (admissible(stress, 1.0, k, infinity)) return false;
-    return_to_surface({lambda_, shear_, 1.0, 1.0, k, infinity, infinity}, stress, state);
+    if (admissible(stress, 1.0, k, tension_cutoff_)) return false;
+    return_to_surface({lambda_, shear_, 1.0, 1.0, k, tension_cutoff_, infinity}, stress, state);
     return true;
   }
   if (admissible(stress, n_phi_, two_c_sqrt_n_phi_, tension_cutoff_)) return false;

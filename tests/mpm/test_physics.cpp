@@ -3,10 +3,13 @@
 // compacting across cells, conservation.
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <stdexcept>
 #include <utility>
 
 #include <gtest/gtest.h>
 
+#include "common/physics/liquefaction.hpp"
 #include "tests/support/mpm_builders.hpp"
 
 namespace slide::mpm {
@@ -504,6 +507,129 @@ TEST(Reservoir, SubmergedSaturatedColumnStaysAtRestOnItsBuoyantWeight) {
   EXPECT_LT(loaded.stress_error, 1e-9);
   EXPECT_LT(loaded.displacement, 1e-9);
   EXPECT_GT(bare.displacement, 1e-3) << "the reservoir's load is what holds the column";
+}
+
+}  // namespace
+}  // namespace slide::mpm
+
+namespace slide::mpm {
+namespace {
+
+// Undrained pore water in a laterally confined column under gravity, from zero effective
+// stress: every particle strains in y alone (rollers, uniform in x), so its skeleton
+// takes Δσ′yy = M ε_yy and its water Δp = −(K_f/n) ε_yy, i.e. Δp = −(K_f/n)/M Δσ′yy at
+// every particle and every instant, whatever the column's vibration. The upper part of
+// the column is above the water table (p = 0 at the transfer): its pores hold air and
+// its p stays 0 however it is compressed.
+TEST(UndrainedPoreWater, SharesTheLoadWithTheSkeletonBelowTheTableOnly) {
+  const double g = 9.81, height = 10.0, table = 6.0, rho_w = 1000.0, fluid = 2.0e8;
+  MpmSettings s = settings_on(Vec2(0, 0), Vec2(4, 12), 1.0, ShapeFunction::linear);
+  s.gravity = Vec2(0, -g);
+  s.pore_fluid_bulk_modulus = fluid;
+  set_edge(s, edge_left, BoundaryCondition::roller);
+  set_edge(s, edge_right, BoundaryCondition::roller);
+  set_edge(s, edge_base, BoundaryCondition::roller);
+  Material soil = elastic_soil(2000.0);
+  soil.porosity = 0.4;
+  const MaterialTable materials{soil};
+  Particles p = generate_box_particles(s.grid, Vec2(0, 0), Vec2(4, height), 2, 2, materials, 0);
+  std::vector<double> initial(p.count());
+  for (std::size_t k = 0; k < p.count(); ++k) {
+    p.pore_pressure[k] = rho_w * g * std::max(table - p.coordinates[k].y(), 0.0);
+    initial[k] = p.pore_pressure[k];
+  }
+  MpmSolver solver(s, materials, std::move(p));
+  const double dt = solver.courant_time_step(0.5);
+  while (solver.clock().time < 0.2) solver.step(std::min(dt, 0.2 - solver.clock().time));
+  const double ratio = fluid / soil.porosity / soil.p_wave_modulus();
+  const Particles& q = solver.particles();
+  double worst = 0.0, dry = 0.0, largest = 0.0;
+  std::size_t below = 0;
+  for (std::size_t k = 0; k < q.count(); ++k) {
+    const auto id = static_cast<std::size_t>(q.id[k]);
+    const double change = q.pore_pressure[k] - initial[id];
+    if (initial[id] > 0.0) {
+      ++below;
+      largest = std::max(largest, std::abs(change));
+      worst = std::max(worst, std::abs(change + ratio * q.stress[k][1]));
+    } else {
+      dry = std::max(dry, std::abs(q.pore_pressure[k]));
+    }
+  }
+  std::printf(
+      "undrained column: %zu saturated particles, max |Δp| %.3e Pa, max |Δp + (K_f/n)/M "
+      "Δσ′yy| %.2e Pa; max |p| above the table %.1e Pa\n",
+      below, largest, worst, dry);
+  ASSERT_GT(below, 0u);
+  EXPECT_GT(largest, 1e3) << "the saturated particles were compressed";
+  EXPECT_LT(worst, 1e-9 * largest);
+  EXPECT_EQ(dry, 0.0);
+}
+
+}  // namespace
+}  // namespace slide::mpm
+
+namespace slide::mpm {
+namespace {
+
+// A vertical cut of liquefied soil (φ = 0, c = S_r from its record, no tension), from the
+// lower-bound stress field σxx = 0, σyy = −γ z, σzz = −γ z / 2 (z the depth: in
+// equilibrium with gravity and the free face, needing no tension, within Tresca while
+// γ H ≤ 2 c). Limit equilibrium bounds the cut: stable for F = 2 S_r/(γ H) ≥ 1 by that
+// field, unstable for Culmann's planar wedge F = 4 S_r/(γ H) < 1. A cut with γ H / S_r =
+// 1.6 (the field at 80 % of the strength at the toe) stands: it creeps by nothing but
+// the discretisation's imbalance; with γ H / S_r = 6.67 (wedge F = 0.6) it collapses. The
+// strength comes through the path the transfer uses: the liquefied flag, the correlation
+// `ratio` of σ′v0 and the record, in MPM's liquefied half of the model table.
+double cut_displacement(double stability_number) {
+  const double g = 9.81, height = 5.0, rho = 2000.0, sigma_v0 = 1.0e5, duration = 4.0;
+  const double strength = rho * g * height / stability_number;
+  MpmSettings s = settings_on(Vec2(0, 0), Vec2(30, 8), 0.5);
+  s.gravity = Vec2(0, -g);
+  s.damping.local = 0.1;
+  set_edge(s, edge_left, BoundaryCondition::roller);
+  set_edge(s, edge_base, BoundaryCondition::fixed);
+  Material soil = elastic_soil(rho, 50.0e6, 0.3);
+  soil.model = MaterialModel::mohr_coulomb;
+  soil.friction_angle = 30.0;
+  soil.porosity = 0.4;
+  soil.liquefaction.enabled = true;
+  soil.liquefaction.correlation = ResidualStrengthCorrelation::ratio;
+  soil.liquefaction.strength_ratio = strength / sigma_v0;
+  soil.liquefaction.friction_angle = 30.0;
+  soil.liquefaction.shear_modulus_ratio = 1.0;
+  const MaterialTable materials{soil};
+  Particles p = generate_box_particles(s.grid, Vec2(0, 0), Vec2(10, height), 2, 2, materials, 0);
+  p.use_pore_water_fields();
+  p.surface_stress = SurfaceStresses{surfaces_needed(materials, Phase::mpm), {}};
+  p.surface_stress.resize(p.count());
+  const auto record = liquefaction::make_record(
+      liquefaction::undrained_strength(soil.liquefaction, sigma_v0), 0.0, sigma_v0);
+  for (std::size_t k = 0; k < p.count(); ++k) {
+    const double vertical = -rho * g * (height - p.coordinates[k].y());
+    p.stress[k] = Vec4(0.0, vertical, 0.5 * vertical, 0.0);
+    p.liquefied[k] = 1;
+    p.initial_vertical_effective_stress[k] = sigma_v0;
+    const std::span<Vec4> records = p.surface_stress.of(k);
+    if (records.empty()) throw std::logic_error("no record for the residual strength");
+    records.front() = record;
+  }
+  MpmSolver solver(s, materials, std::move(p));
+  const double dt = solver.courant_time_step(0.5);
+  while (solver.clock().time < duration) solver.step(std::min(dt, duration - solver.clock().time));
+  double largest = 0.0;
+  for (const Vec2& u : solver.particles().displacement) largest = std::max(largest, u.norm());
+  return largest;
+}
+
+TEST(ResidualStrength, VerticalCutStandsOrFallsByItsLimitEquilibriumBounds) {
+  const double standing = cut_displacement(1.6);
+  const double falling = cut_displacement(20.0 / 3.0);
+  std::printf(
+      "vertical cut of liquefied soil after 4 s: γH/S_r = 1.6 max |u| %.4f m, 6.67 %.3f m\n",
+      standing, falling);
+  EXPECT_LT(standing, 0.01) << "a cut within the lower bound stands";
+  EXPECT_GT(falling, 1.0) << "a cut beyond Culmann's wedge collapses";
 }
 
 }  // namespace
