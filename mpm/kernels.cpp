@@ -302,8 +302,10 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
                                      std::span<const ConstitutiveModel> models, double dt,
                                      const Vec4& l, std::size_t p) {
   const std::size_t model = particle_model(particles, p, models.size() / 2);
-  advance_point(models[model], l, dt, true, particles.stress[p], particles.state[p],
-                particles.surface_stress.of(p), particles.strain[p]);
+  on_model_stress(models[model], particles, p, [&](Vec4& stress) {
+    return advance_point(models[model], l, dt, true, stress, particles.state[p],
+                         particles.surface_stress.of(p), particles.strain[p]);
+  });
   particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
   // Undrained pore water: ṗ = −(K_f/n) tr ε̇, no suction (cavitation at p = 0).
   if (const double stiffness = models[model].pore_fluid_stiffness();

@@ -121,9 +121,10 @@ std::size_t MpmSolver::return_to_yield_surface() {
   located_ = false;
   for (std::size_t p = 0; p < active_count(); ++p) {
     const auto& model = models_[particle_model(particles_, p, materials_.size())];
-    if (model.start(particles_.stress[p], particles_.state[p], particles_.surface_stress.of(p))) {
-      ++returned;
-    }
+    const bool returned_here = on_model_stress(model, particles_, p, [&](Vec4& stress) {
+      return model.start(stress, particles_.state[p], particles_.surface_stress.of(p));
+    });
+    if (returned_here) ++returned;
   }
   return returned;
 }

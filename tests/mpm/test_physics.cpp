@@ -634,3 +634,67 @@ TEST(ResidualStrength, VerticalCutStandsOrFallsByItsLimitEquilibriumBounds) {
 
 }  // namespace
 }  // namespace slide::mpm
+
+namespace slide::mpm {
+namespace {
+
+// A block of liquefied soil, its pore pressure p = 100 kPa frozen and σ′ = 0, alone in
+// space: its total stress −p I pushes outward, and as it expands its residual-strength
+// model, working on the total stress, unloads with the undrained stiffness (its strength
+// S_r = p keeps the deviator elastic): the push ends at a volume strain of about 1e-3, and
+// the block, holding no tension, drifts apart with at most the energy the unloading
+// released (energy conservation). With the model on σ′ (cut off at σ′ ≤ 0) nothing
+// unloads: the push stays p however far the block expands, and the kinetic energy grows
+// without bound (the Lower San Fernando run flung liquefied particles of the reservoir
+// floor out of the grid at 56 m/s).
+TEST(ResidualStrength, LiquefiedBlockWithFrozenPressureUnloadsAsItExpands) {
+  MpmSettings s = settings_on(Vec2(-5, -5), Vec2(5, 5), 0.5);
+  Material soil = elastic_soil(2000.0, 50.0e6, 0.3);
+  soil.model = MaterialModel::mohr_coulomb;
+  soil.friction_angle = 30.0;
+  soil.porosity = 0.4;
+  soil.liquefaction.enabled = true;
+  soil.liquefaction.correlation = ResidualStrengthCorrelation::ratio;
+  soil.liquefaction.strength_ratio = 1.0;  // S_r = p: 2 S_r > p, the block stays elastic
+  soil.liquefaction.friction_angle = 45.0;
+  const MaterialTable materials{soil};
+  Particles p = generate_box_particles(s.grid, Vec2(-1, -1), Vec2(1, 1), 2, 2, materials, 0);
+  p.use_pore_water_fields();
+  p.surface_stress = SurfaceStresses{surfaces_needed(materials, Phase::mpm), {}};
+  p.surface_stress.resize(p.count());
+  const double pressure = 1.0e5;
+  const auto record = liquefaction::make_record(
+      liquefaction::undrained_strength(soil.liquefaction, pressure), 0.0, pressure);
+  for (std::size_t k = 0; k < p.count(); ++k) {
+    p.pore_pressure[k] = pressure;
+    p.excess_pore_pressure[k] = pressure;
+    p.liquefied[k] = 1;
+    p.initial_vertical_effective_stress[k] = pressure;
+    const std::span<Vec4> records = p.surface_stress.of(k);
+    if (records.empty()) throw std::logic_error("no record for the residual strength");
+    records.front() = record;
+  }
+  MpmSolver solver(s, materials, std::move(p));
+  const double dt = solver.courant_time_step(0.5);
+  while (solver.clock().time < 0.5) solver.step(std::min(dt, 0.5 - solver.clock().time));
+  double kinetic = 0.0, volume = 0.0;
+  for (std::size_t k = 0; k < solver.particles().count(); ++k) {
+    kinetic += 0.5 * solver.particles().mass[k] * solver.particles().velocity[k].squaredNorm();
+    volume += solver.particles().volume[k];
+  }
+  // The energy the block can release: its in-plane stress −p unloaded in plane strain
+  // (equal biaxial: dσ = 2(λ + G) dε) over its initial 4 m²/m, p² V / (2 (λ + G)).
+  const ConstitutiveModel liquefied = ConstitutiveModel::liquefied(soil);
+  const double modulus = liquefied.lame_lambda() + liquefied.shear_modulus();
+  const double stored = pressure * pressure * 4.0 / (2.0 * modulus);
+  std::printf(
+      "liquefied block, p = 100 kPa frozen, after 0.5 s: kinetic energy %.1f J/m, the "
+      "stored p² V/(2 (λ + G)) %.1f J/m; area 4 → %.4f m²\n",
+      kinetic, stored, volume);
+  EXPECT_LT(kinetic, stored) << "the block's push unloads as it expands";
+  EXPECT_EQ(solver.active_count(), solver.particles().count())
+      << "particles flung 4 m to the grid's edge in 0.5 s";
+}
+
+}  // namespace
+}  // namespace slide::mpm
