@@ -81,6 +81,19 @@ VtkWriter::VtkWriter(const fs::path& output_dir, std::optional<double> resume_ti
   if (resume_time) collection_.resume(*resume_time);
 }
 
+namespace {
+
+/// A saturated transfer's fields (docs/method.md §10), on every rank when any has them (a
+/// rank without particles has them empty, and its piece must name the same arrays).
+void add_pore_water_fields(std::vector<VtkField>& fields, const Particles& p, const Ranks& ranks) {
+  if (ranks.max(p.liquefied.empty() ? 0.0 : 1.0) == 0.0) return;
+  fields.push_back(vtk_field("excess_pore_pressure", p.excess_pore_pressure));
+  fields.push_back(vtk_field("max_pore_pressure_ratio", p.max_pore_pressure_ratio));
+  fields.push_back(vtk_field("liquefied", p.liquefied));
+}
+
+}  // namespace
+
 void VtkWriter::write(const MpmSolver& solver) {
   const Particles& p = solver.particles();
   const std::size_t n = p.count();
@@ -112,6 +125,7 @@ void VtkWriter::write(const MpmSolver& solver) {
                                vtk_field("active", std::span<const std::uint8_t>(active)),
                                vtk_field("plastic_shear_strain", plastic_shear),
                                vtk_field("plastic_volumetric_strain", plastic_volumetric)};
+  add_pore_water_fields(fields, p, ranks);
   if (!p.affine_velocity.empty()) {
     fields.push_back(vtk_field("affine_velocity_gradient", p.affine_velocity,  // APIC's C_p
                                VtkLayout::matrix));
