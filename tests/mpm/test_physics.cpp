@@ -572,6 +572,37 @@ TEST(UndrainedPoreWater, SharesTheLoadWithTheSkeletonBelowTheTableOnly) {
 namespace slide::mpm {
 namespace {
 
+// A Mohr–Coulomb soil (φ 30°, E 50 MPa, ρ 2000) with a liquefaction rule whose residual
+// strength is S_r = `ratio` σ′v0, capped at σ′v0 tan `cap_angle`.
+Material liquefiable_soil(double ratio, double cap_angle) {
+  Material soil = elastic_soil(2000.0, 50.0e6, 0.3);
+  soil.model = MaterialModel::mohr_coulomb;
+  soil.friction_angle = 30.0;
+  soil.porosity = 0.4;
+  soil.liquefaction.enabled = true;
+  soil.liquefaction.correlation = ResidualStrengthCorrelation::ratio;
+  soil.liquefaction.strength_ratio = ratio;
+  soil.liquefaction.friction_angle = cap_angle;
+  return soil;
+}
+
+// Marks every particle liquefied with the residual strength of `materials`' first soil
+// at σ′v0, the fields and record the transfer writes.
+void liquefy(Particles& p, const MaterialTable& materials, double sigma_v0) {
+  p.use_pore_water_fields();
+  p.surface_stress = SurfaceStresses{surfaces_needed(materials, Phase::mpm), {}};
+  p.surface_stress.resize(p.count());
+  const auto record = liquefaction::make_record(
+      liquefaction::undrained_strength(materials.front().liquefaction, sigma_v0), 0.0, sigma_v0);
+  for (std::size_t k = 0; k < p.count(); ++k) {
+    p.liquefied[k] = 1;
+    p.initial_vertical_effective_stress[k] = sigma_v0;
+    const std::span<Vec4> records = p.surface_stress.of(k);
+    if (records.empty()) throw std::logic_error("no record for the residual strength");
+    records.front() = record;
+  }
+}
+
 // A vertical cut of liquefied soil (φ = 0, c = S_r from its record, no tension), from the
 // lower-bound stress field σxx = 0, σyy = −γ z, σzz = −γ z / 2 (z the depth: in
 // equilibrium with gravity and the free face, needing no tension, within Tresca while
@@ -589,30 +620,14 @@ double cut_displacement(double stability_number) {
   s.damping.local = 0.1;
   set_edge(s, edge_left, BoundaryCondition::roller);
   set_edge(s, edge_base, BoundaryCondition::fixed);
-  Material soil = elastic_soil(rho, 50.0e6, 0.3);
-  soil.model = MaterialModel::mohr_coulomb;
-  soil.friction_angle = 30.0;
-  soil.porosity = 0.4;
-  soil.liquefaction.enabled = true;
-  soil.liquefaction.correlation = ResidualStrengthCorrelation::ratio;
-  soil.liquefaction.strength_ratio = strength / sigma_v0;
-  soil.liquefaction.friction_angle = 30.0;
+  Material soil = liquefiable_soil(strength / sigma_v0, 30.0);
   soil.liquefaction.shear_modulus_ratio = 1.0;
   const MaterialTable materials{soil};
   Particles p = generate_box_particles(s.grid, Vec2(0, 0), Vec2(10, height), 2, 2, materials, 0);
-  p.use_pore_water_fields();
-  p.surface_stress = SurfaceStresses{surfaces_needed(materials, Phase::mpm), {}};
-  p.surface_stress.resize(p.count());
-  const auto record = liquefaction::make_record(
-      liquefaction::undrained_strength(soil.liquefaction, sigma_v0), 0.0, sigma_v0);
+  liquefy(p, materials, sigma_v0);
   for (std::size_t k = 0; k < p.count(); ++k) {
     const double vertical = -rho * g * (height - p.coordinates[k].y());
     p.stress[k] = Vec4(0.0, vertical, 0.5 * vertical, 0.0);
-    p.liquefied[k] = 1;
-    p.initial_vertical_effective_stress[k] = sigma_v0;
-    const std::span<Vec4> records = p.surface_stress.of(k);
-    if (records.empty()) throw std::logic_error("no record for the residual strength");
-    records.front() = record;
   }
   MpmSolver solver(s, materials, std::move(p));
   const double dt = solver.courant_time_step(0.5);
@@ -649,30 +664,15 @@ namespace {
 // floor out of the grid at 56 m/s).
 TEST(ResidualStrength, LiquefiedBlockWithFrozenPressureUnloadsAsItExpands) {
   MpmSettings s = settings_on(Vec2(-5, -5), Vec2(5, 5), 0.5);
-  Material soil = elastic_soil(2000.0, 50.0e6, 0.3);
-  soil.model = MaterialModel::mohr_coulomb;
-  soil.friction_angle = 30.0;
-  soil.porosity = 0.4;
-  soil.liquefaction.enabled = true;
-  soil.liquefaction.correlation = ResidualStrengthCorrelation::ratio;
-  soil.liquefaction.strength_ratio = 1.0;  // S_r = p: 2 S_r > p, the block stays elastic
-  soil.liquefaction.friction_angle = 45.0;
+  // S_r = p: 2 S_r > p, the block stays elastic.
+  const Material soil = liquefiable_soil(1.0, 45.0);
   const MaterialTable materials{soil};
   Particles p = generate_box_particles(s.grid, Vec2(-1, -1), Vec2(1, 1), 2, 2, materials, 0);
-  p.use_pore_water_fields();
-  p.surface_stress = SurfaceStresses{surfaces_needed(materials, Phase::mpm), {}};
-  p.surface_stress.resize(p.count());
   const double pressure = 1.0e5;
-  const auto record = liquefaction::make_record(
-      liquefaction::undrained_strength(soil.liquefaction, pressure), 0.0, pressure);
+  liquefy(p, materials, pressure);
   for (std::size_t k = 0; k < p.count(); ++k) {
     p.pore_pressure[k] = pressure;
     p.excess_pore_pressure[k] = pressure;
-    p.liquefied[k] = 1;
-    p.initial_vertical_effective_stress[k] = pressure;
-    const std::span<Vec4> records = p.surface_stress.of(k);
-    if (records.empty()) throw std::logic_error("no record for the residual strength");
-    records.front() = record;
   }
   MpmSolver solver(s, materials, std::move(p));
   const double dt = solver.courant_time_step(0.5);
