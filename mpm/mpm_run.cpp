@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <omp.h>
@@ -129,6 +130,35 @@ void log_memory(const Logger& log, const MpmSolver& solver) {
       per_particle(memory.total()));
 }
 
+/// How far the body's front (the largest x + l_x/2 of its particles above the case's
+/// foundation level, frozen ones included: a particle that left through the far edge is
+/// frozen there) is from the grid's far edge in +x, the runout direction, m. A foundation
+/// layer across the grid is not the slide (docs/method.md §6, measured particles).
+double far_edge_clearance(const MpmSolver& solver, double foundation_level, const Ranks& ranks) {
+  const Particles& p = solver.particles();
+  double front = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < p.count(); ++k) {
+    if (p.coordinates[k].y() > foundation_level)
+      front = std::max(front, p.coordinates[k].x() + 0.5 * p.size[k].x());
+  }
+  return solver.settings().grid.upper_corner().x() - ranks.max(front);
+}
+
+/// Warns when a body that started more than a cell from the grid's far edge ends within
+/// one: its runout is then the grid's, not the slide's (slope-frictional's front piled
+/// against its 150 m wall and its R_N was the grid's length). A body that starts there
+/// is not warned of: its front is not a runout.
+void check_far_edge(const Logger& log, const MpmSolver& solver, double foundation_level,
+                    double clearance_at_start, const Ranks& ranks) {
+  const double cell = solver.settings().grid.cell_size;
+  const double clearance = far_edge_clearance(solver, foundation_level, ranks);
+  if (clearance_at_start < cell || clearance >= cell) return;
+  log.warning(
+      "the body ends against the grid's far edge (x = {:g} m, its front {:.2f} m from it, less "
+      "than a cell): its runout is the grid's; extend [mpm] domain in +x",
+      solver.settings().grid.upper_corner().x(), std::max(clearance, 0.0));
+}
+
 /// The particles on the plan's grid (one line naming the first bad one), the solver
 /// taking them, the base motion, the ranks' slabs, and what a restart's run changed.
 void set_up(const MpmPlan& plan, Start& start, std::optional<MpmSolver>& solver, const Logger& log,
@@ -180,12 +210,15 @@ RunSummary run_mpm(const MpmPlan& plan, const Logger& log, const Ranks& ranks) {
   check_run_length(plan, *solver, dt);
   if (plan.run.inputs_only) return {};
 
+  const double foundation_level = plan.source.metrics.foundation_level;
+  const double clearance_at_start = far_edge_clearance(*solver, foundation_level, ranks);
   MpmStage stage(plan, *solver, start, log);
   const run::RunResult result = run::execute(stage, plan.run, log, ranks);
   if (const Subdomain* domain = solver->subdomain()) {
     log_exchanges(log, *domain, result.work.steps);
   }
   log_memory(log, *solver);
+  check_far_edge(log, *solver, foundation_level, clearance_at_start, ranks);
   return {result.work.steps, static_cast<std::size_t>(result.work.units), result.wall_seconds,
           result.wall_seconds > 0.0 ? result.work.unit_steps / result.wall_seconds : 0.0,
           solver->clock().time};

@@ -168,6 +168,14 @@ def reading(case, sweep, last_inside, tau_c):
     text = [f"The t_T = 0 transfer (the geostatic state handed straight to MPM) runs out "
             f"R_N = {number(ref['runout_normalised']):.3f} with a crest height "
             f"H_c = {number(ref['crest_height']):.1f} m."]
+    if ref.get("x_front_95", "") != "":
+        text.append(
+            f"R_N is measured at the extreme toe (x_toe = {number(ref['x_toe']):.1f} m); the "
+            f"front of 95 % of the mass is at x_95 = {number(ref['x_front_95']):.1f} m, with a "
+            f"sheet of {number(ref['sheet_length']):.1f} m beyond it holding "
+            f"{number(ref['sheet_mass_share']):.1%} of the mass at a mean thickness of "
+            f"{number(ref['sheet_thickness']):.2f} m (docs/method.md §6). The comparisons "
+            "below are of R_N, the extreme toe.")
     transfers = [r for r in sweep if r["run"].startswith("tt") and r["run"] != "tt0"]
     if last_inside is not None and transfers:
         within = [r for r in transfers if number(r["tt"]) <= last_inside + 1e-9]
@@ -364,6 +372,37 @@ def seismic_reading(case, sweep):
     return " ".join(text)
 
 
+def grid_edge_lines(case, out, sweep):
+    """The runs whose toe (the measured particles' front, docs/method.md §6: a foundation
+    layer across the grid does not count) ends within a cell of the grid's far edge (+x,
+    the runout direction), or whose particles left the grid. Their runout is the grid's,
+    not the slide's (mpm-solve warns of the same at the end of the run)."""
+    import h5py
+    rows = []
+    for row in sweep:
+        path = out / row["run"] / "mpm_final.h5"
+        if not path.exists():
+            continue
+        with h5py.File(path, "r") as f:
+            solver = f["solver"].attrs
+            cell = float(solver["cell_size"])
+            edge = float(solver["domain_min_x"]) + cell * int(solver["cells_x"])
+            frozen = int(solver.get("frozen_particles", 0))
+        toe = number(row.get("x_toe", ""))
+        if math.isnan(toe):
+            toe = number(row["runout"]) + case["metrics"]["initial_length"]
+        if frozen or edge - toe < cell:
+            rows.append(f"| {row['run']} | {edge:g} | {toe:.2f} | {frozen} |")
+    if not rows:
+        return ["## Grid", "", "Every run's toe ends more than a cell from the grid's far edge "
+                "(+x) and no particle left the grid: the runout figures are the slide's.", ""]
+    return ["## Grid: runs bounded by the grid's far edge", "",
+            "**These runs end against the grid's far edge (+x): their runout is the grid's, "
+            "not the slide's; extend `[mpm] domain`.**", "",
+            "| run | far edge x (m) | toe x (m) | particles that left the grid |",
+            "|---|---|---|---|"] + rows + [""]
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: report.py CASE.toml OUT_DIR")
@@ -406,6 +445,7 @@ def main():
                             ("geostatic_transfer_error.png", "Transfer error of σyy")):
         if (report_dir / figure).exists():
             md += [f"![{caption}]({figure})", ""]
+    md += grid_edge_lines(case, out, sweep)
     md += seismic_lines(case, out, report_dir, sweep)
     md += stress_quality_lines(case, sweep, report_dir)
     if sweep:

@@ -162,7 +162,7 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
   // The history has the docs/contract.md columns.
   const std::string history = read_text(split / "mpm_history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
-            "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised");
+            "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised,x_front_95");
 }
 
 using slide::testing::pvd_entries;
@@ -611,6 +611,33 @@ TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
         warnings.back().find(fmt::format("warning: {} particles left the grid in this run", left)),
         std::string::npos)
         << r.err;
+  }
+}
+
+// A body whose front reaches the grid's far edge (+x) is warned of at the end: its
+// runout would be the grid's. The same body left alone (the column spreads a few metres
+// on a 30 m grid) is not.
+TEST(MpmSolveCli, ABodyEndingAtTheGridsFarEdgeIsWarnedOf) {
+  const fs::path folder = fresh_folder("far_edge");
+  const fs::path c = write_case(folder, small_case("", 0.9));
+  ASSERT_EQ(run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk", c.string(),
+                                           (folder / "t0").string()))
+                .status,
+            0);
+  ParticleCheckpoint file = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
+  file.header.kind = CheckpointKind::particles;
+  file.solver.clear();
+  write_checkpoint(folder / "still.h5", file);
+  // The whole body thrown at 25 m/s: its front reaches the wall 20 m away at 0.8 s.
+  for (Vec2& v : file.particles.velocity) v = Vec2(25.0, 0.0);
+  write_checkpoint(folder / "thrown.h5", file);
+  const std::string warning = "warning: the body ends against the grid's far edge (x = 30 m";
+  for (const std::string name : {"still", "thrown"}) {
+    const ProgramRun r = run_solver(
+        folder, fmt::format("{} -o {} --particles {} --no-vtk --quiet", c.string(),
+                            (folder / name).string(), (folder / (name + ".h5")).string()));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find(warning) != std::string::npos, name == "thrown") << name << r.err;
   }
 }
 
