@@ -78,6 +78,11 @@ void measure(const fs::path& case_file, const fs::path& particles) {
       "bins={} strays={}\n",
       m.measures.x_toe, m.measures.runout, m.measures.runout_normalised, m.measures.crest_height,
       m.profile.height.size(), m.profile.stray_count);
+  // The front of 95 % of the mass and the sheet beyond it (docs/method.md §6).
+  fmt::print(
+      "front: x_95={:.4f} sheet_length={:.4f} sheet_mass_share={:.4f} "
+      "sheet_thickness={:.4f}\n",
+      m.front.x_front, m.front.sheet_length, m.front.sheet_mass_share, m.front.sheet_thickness);
   // e_p = |σyy − σyy,lith| / (ρ g H0) over the particles at rest (nan: none at rest).
   const StressQuality& q = m.stress_quality;
   fmt::print("stress_quality: deposit={} p50={:.4g} p90={:.4g} p99={:.4g} max={:.4g}\n",

@@ -47,7 +47,8 @@ struct SweepRow {
   std::optional<double> tt, tt_over_tauc, runout, runout_normalised, runout_normalised_error,
       crest_height, crest_height_error, rmse, jacobian_ratio_min, jacobian_ratio_avg, eps_q_avg,
       ke_over_pe0_peak, ke_over_pe0_peak_time, ke_over_pe0_peak_time_over_tauc, stress_quality_p50,
-      stress_quality_p90, stress_quality_p99, stress_quality_max;
+      stress_quality_p90, stress_quality_p99, stress_quality_max, x_toe, x_front, sheet_length,
+      sheet_mass_share, sheet_thickness;
 };
 
 SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* reference) {
@@ -57,6 +58,11 @@ SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* refer
   row.runout = run.measures.runout;
   row.runout_normalised = run.measures.runout_normalised;
   row.crest_height = run.measures.crest_height;
+  row.x_toe = run.measures.x_toe;
+  row.x_front = run.front.x_front;
+  row.sheet_length = run.front.sheet_length;
+  row.sheet_mass_share = run.front.sheet_mass_share;
+  row.sheet_thickness = run.front.sheet_thickness;
   if (reference != nullptr) {
     const auto& ref = reference->measures;
     row.runout_normalised_error =
@@ -189,6 +195,8 @@ RunMetrics measure_run(const Case& c, const std::string& run, std::optional<doub
     sigma_yy[i] = p.stress[i][1];
     density[i] = checkpoint.materials[static_cast<std::size_t>(p.material_id[i])].density;
   }
+  metrics.front =
+      front_measures(p.coordinates, p.mass, p.volume, metrics.profile, c.metrics.foundation_level);
   metrics.stress_quality =
       stress_quality_at_rest(p.coordinates, p.velocity, sigma_yy, density, metrics.profile,
                              c.metrics.initial_height, c.metrics.foundation_level);
@@ -202,17 +210,20 @@ std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,
       "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
       "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
       "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
-      "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n";
+      "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max,"
+      "x_toe,x_front_95,sheet_length,sheet_mass_share,sheet_thickness\n";
   for (const auto& run : runs) {
     const SweepRow r = sweep_row(c, run, ref);
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", run.run,
-                       cell(r.tt), cell(r.tt_over_tauc), cell(r.runout), cell(r.runout_normalised),
-                       cell(r.runout_normalised_error), cell(r.crest_height),
-                       cell(r.crest_height_error), cell(r.rmse), cell(r.jacobian_ratio_min),
-                       cell(r.jacobian_ratio_avg), cell(r.eps_q_avg), cell(r.ke_over_pe0_peak),
-                       cell(r.ke_over_pe0_peak_time), cell(r.ke_over_pe0_peak_time_over_tauc),
-                       cell(r.stress_quality_p50), cell(r.stress_quality_p90),
-                       cell(r.stress_quality_p99), cell(r.stress_quality_max));
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                       run.run, cell(r.tt), cell(r.tt_over_tauc), cell(r.runout),
+                       cell(r.runout_normalised), cell(r.runout_normalised_error),
+                       cell(r.crest_height), cell(r.crest_height_error), cell(r.rmse),
+                       cell(r.jacobian_ratio_min), cell(r.jacobian_ratio_avg), cell(r.eps_q_avg),
+                       cell(r.ke_over_pe0_peak), cell(r.ke_over_pe0_peak_time),
+                       cell(r.ke_over_pe0_peak_time_over_tauc), cell(r.stress_quality_p50),
+                       cell(r.stress_quality_p90), cell(r.stress_quality_p99),
+                       cell(r.stress_quality_max), cell(r.x_toe), cell(r.x_front),
+                       cell(r.sheet_length), cell(r.sheet_mass_share), cell(r.sheet_thickness));
   }
   return csv;
 }
@@ -236,14 +247,15 @@ std::string sweep_markdown(const Case& c, const std::vector<RunMetrics>& runs,
   std::string md =
       "| run | t_T (s) | t_T/τc | R (m) | R_N | R_N error | H_c (m) | H_c error | RMSE | "
       "(\\|J_t\\|/\\|J_0\\|)_min | (\\|J_t\\|/\\|J_0\\|)_avg | εq,avg | KE/PE0 peak | "
-      "peak t (s) | peak t/τc | e p50 | e p90 | e p99 | e max |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "peak t (s) | peak t/τc | e p50 | e p90 | e p99 | e max | x_toe (m) | x_95 (m) | "
+      "sheet: length (m), mass, thickness (m) |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto percent = [](std::optional<double> v) { return v ? cell(*v * 100.0, "{:+.1f} %") : ""; };
   for (const auto& run : runs) {
     const SweepRow r = sweep_row(c, run, ref);
     md += fmt::format(
         "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} "
-        "| {} |\n",
+        "| {} | {} | {} | {} |\n",
         run.run, cell(r.tt, "{:.3g}"), cell(r.tt_over_tauc, "{:.2f}"), cell(r.runout, "{:.2f}"),
         cell(r.runout_normalised, "{:.3f}"), percent(r.runout_normalised_error),
         cell(r.crest_height, "{:.2f}"), percent(r.crest_height_error), cell(r.rmse, "{:.3f}"),
@@ -252,7 +264,11 @@ std::string sweep_markdown(const Case& c, const std::vector<RunMetrics>& runs,
         cell(r.ke_over_pe0_peak, "{:.3g}"), cell(r.ke_over_pe0_peak_time, "{:.2f}"),
         cell(r.ke_over_pe0_peak_time_over_tauc, "{:.2f}"), cell(r.stress_quality_p50, "{:#.3g}"),
         cell(r.stress_quality_p90, "{:#.3g}"), cell(r.stress_quality_p99, "{:#.3g}"),
-        cell(r.stress_quality_max, "{:#.3g}"));
+        cell(r.stress_quality_max, "{:#.3g}"), cell(r.x_toe, "{:.2f}"), cell(r.x_front, "{:.2f}"),
+        r.sheet_length
+            ? fmt::format("{:.2f}, {:.1f} %, {:.2f}", *r.sheet_length,
+                          100.0 * r.sheet_mass_share.value_or(0.0), r.sheet_thickness.value_or(0.0))
+            : "");
   }
   return md;
 }

@@ -73,6 +73,7 @@ struct RunMetrics {
   std::optional<double> tt;  ///< transfer time, s (none for pure runs)
   SurfaceProfile profile;
   RunoutMeasures measures;
+  FrontMeasures front;  ///< the front of 95 % of the mass and the sheet beyond it
   std::optional<FemHistoryRow> fem_at_transfer;
   std::optional<EnergyPeak> ke_peak;  ///< over the whole run (FE phase included)
   StressQuality stress_quality;       ///< of the final particles (NaN: none at rest)
@@ -87,7 +88,8 @@ RunMetrics measure_run(const Case& c, const std::string& run, std::optional<doub
 
 /// Writes sweep.csv (docs/contract.md columns, then ke_over_pe0_peak, ke_over_pe0_peak_time,
 /// ke_over_pe0_peak_time_over_tauc, stress_quality_p50, stress_quality_p90,
-/// stress_quality_p99, stress_quality_max) with errors and RMSE against the run called
+/// stress_quality_p99, stress_quality_max, x_toe, x_front_95, sheet_length,
+/// sheet_mass_share, sheet_thickness) with errors and RMSE against the run called
 /// `reference` (normally "tt0"); empty cells where a value is not defined (the stress
 /// quality of a run without particles at rest).
 std::string sweep_csv(const Case& c, const std::vector<RunMetrics>& runs,

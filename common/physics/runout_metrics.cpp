@@ -74,6 +74,45 @@ RunoutMeasures runout_measures(const SurfaceProfile& profile, double initial_len
   return m;
 }
 
+FrontMeasures front_measures(std::span<const Vec2> points, std::span<const double> masses,
+                             std::span<const double> volumes, const SurfaceProfile& profile,
+                             double foundation_level, double share) {
+  if (masses.size() != points.size() || volumes.size() != points.size()) {
+    throw Error("front measures: {} points but {} masses, {} volumes", points.size(), masses.size(),
+                volumes.size());
+  }
+  if (!(share > 0.0 && share < 1.0)) throw Error("front measures: share {} not in (0, 1)", share);
+  std::vector<std::size_t> measured;
+  double total = 0.0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (!measured_by_profile(points[p], profile, foundation_level)) continue;
+    measured.push_back(p);
+    total += masses[p];
+  }
+  FrontMeasures f;
+  f.share = share;
+  if (measured.empty()) return f;
+  std::ranges::sort(measured,
+                    [&](std::size_t a, std::size_t b) { return points[a].x() < points[b].x(); });
+  // x_s: the first particle (in x) at which the mass behind, itself included, reaches s.
+  double behind = 0.0;
+  std::size_t k = 0;
+  for (; k < measured.size(); ++k) {
+    behind += masses[measured[k]];
+    if (behind >= share * total) break;
+  }
+  f.x_front = points[measured[std::min(k, measured.size() - 1)]].x();
+  double sheet_mass = 0.0, sheet_area = 0.0;
+  for (std::size_t j = k + 1; j < measured.size(); ++j) {
+    sheet_mass += masses[measured[j]];
+    sheet_area += volumes[measured[j]];
+  }
+  f.sheet_length = std::max(profile.x_toe - f.x_front, 0.0);
+  f.sheet_mass_share = sheet_mass / total;
+  f.sheet_thickness = f.sheet_length > 0.0 ? sheet_area / f.sheet_length : 0.0;
+  return f;
+}
+
 double profile_rmse(const SurfaceProfile& run, const SurfaceProfile& reference,
                     double particle_size) {
   const auto bins = std::min(reference.height.size(),

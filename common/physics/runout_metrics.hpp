@@ -8,6 +8,12 @@
 //  - Toe: the largest particle x within the run of contiguous non-empty bins that starts
 //    at the wall; particles beyond an empty bin are strays and are ignored.
 //  - Runout R = x_toe − L0, R_N = R / L0; crest height H_c = height of the first bin.
+//  - Front of a share s of the mass (default 95 %): x_s, the smallest x with a share s
+//    of the measured mass (the particles the profile measures) at or behind it. The
+//    sheet beyond it: from x_s to the toe, its length x_toe − x_s, its share of the mass
+//    (about 1 − s: a particle's mass is not split) and its mean thickness, its particles'
+//    area over its length. The extreme toe of a slide that ends in a film of particles
+//    is the film's; x_s is the body's front.
 //  - RMSE = sqrt( (1/N_b) Σ_b ((y_b − y_b,ref)/(y_b,ref + p))² ) over the bins from the
 //    wall to the one holding the reference toe; p = particle size. A bin the run does not
 //    reach (empty, or beyond its own toe) has height 0.
@@ -68,6 +74,21 @@ struct RunoutMeasures {
 };
 
 RunoutMeasures runout_measures(const SurfaceProfile& profile, double initial_length);
+
+struct FrontMeasures {
+  double share = 0.95;            ///< s
+  double x_front = 0.0;           ///< x_s, m
+  double sheet_length = 0.0;      ///< x_toe − x_s, m
+  double sheet_mass_share = 0.0;  ///< mass beyond x_s over the measured mass
+  double sheet_thickness = 0.0;   ///< area beyond x_s over the sheet's length, m (0 if none)
+};
+
+/// The front of a share `share` of the mass and the sheet beyond it (above), over the
+/// particles `profile` measures (measured_by_profile with `foundation_level`). Masses
+/// in kg/m, volumes in m³/m, one per point.
+FrontMeasures front_measures(std::span<const Vec2> points, std::span<const double> masses,
+                             std::span<const double> volumes, const SurfaceProfile& profile,
+                             double foundation_level, double share = 0.95);
 
 /// Profile RMSE of `run` against `reference` (docs/method.md §6).
 double profile_rmse(const SurfaceProfile& run, const SurfaceProfile& reference,

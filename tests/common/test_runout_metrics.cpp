@@ -40,6 +40,40 @@ TEST(RunoutMetrics, RunoutIsMeasuredFromTheInitialLength) {
   EXPECT_DOUBLE_EQ(m.crest_height, 2.98);
 }
 
+// A body of 96 unit masses along x = 0.5 … 19.5 (bins of 1 m, every one filled) and a
+// sheet of 4 light particles (0.25 each, area 0.1 m² each) at x = 20.5 … 23.5: 97 kg in all.
+// 95 % of it, 92.15 kg, is behind the body's 93rd particle; the sheet beyond it holds the
+// body's last 3 particles and the 4 light ones.
+TEST(FrontMeasures, TheFrontOfAShareOfTheMassAndTheSheetBeyondIt) {
+  std::vector<Vec2> points;
+  std::vector<double> masses, volumes;
+  for (int i = 0; i < 96; ++i) {
+    points.emplace_back(0.5 + 0.2 * i, 1.0);
+    masses.push_back(1.0);
+    volumes.push_back(0.5);
+  }
+  for (int i = 0; i < 4; ++i) {
+    points.emplace_back(20.5 + i, 0.05);
+    masses.push_back(0.25);
+    volumes.push_back(0.1);
+  }
+  const SurfaceProfile profile = surface_profile(points, 1.0, 99.0);
+  ASSERT_DOUBLE_EQ(profile.x_toe, 23.5);
+  const FrontMeasures f = front_measures(points, masses, volumes, profile, 0.0, 0.95);
+  EXPECT_DOUBLE_EQ(f.x_front, 0.5 + 0.2 * 92);  // the 93rd particle
+  EXPECT_DOUBLE_EQ(f.sheet_length, 23.5 - (0.5 + 0.2 * 92));
+  EXPECT_DOUBLE_EQ(f.sheet_mass_share, (3.0 + 1.0) / 97.0);  // 3 body + 4 × 0.25
+  EXPECT_DOUBLE_EQ(f.sheet_thickness, (3 * 0.5 + 4 * 0.1) / f.sheet_length);
+  EXPECT_THROW((void)front_measures(points, masses, volumes, profile, 0.0, 1.0), Error);
+  // Strays beyond an empty bin are not measured, as for the toe.
+  points.emplace_back(40.0, 0.05);
+  masses.push_back(50.0);
+  volumes.push_back(1.0);
+  const FrontMeasures g =
+      front_measures(points, masses, volumes, surface_profile(points, 1.0, 99.0), 0.0, 0.95);
+  EXPECT_DOUBLE_EQ(g.x_front, f.x_front);
+}
+
 TEST(RunoutMetrics, RmseNormalisesByReferenceHeightPlusParticleSize) {
   SurfaceProfile reference;
   reference.bin_width = 2.0;

@@ -259,16 +259,17 @@ TEST(SweepTable, ErrorsAndRmseAgainstTheReferenceRun) {
             "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
             "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
             "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
-            "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n"
-            "tt0,0,0,2.5,0.5,0,10,0,0,1,,,,,,,,,\n"
-            "tt1,1,0.495227,2.75,0.55,0.1,9,-0.1,0.127359,0.86,0.99,0.126,,,,,,,\n"
-            "pure-mpm,,,0.5,0.1,-0.8,10,0,0.470588,,,,,,,,,,\n");
+            "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max,"
+            "x_toe,x_front_95,sheet_length,sheet_mass_share,sheet_thickness\n"
+            "tt0,0,0,2.5,0.5,0,10,0,0,1,,,,,,,,,,7.5,0,0,0,0\n"
+            "tt1,1,0.495227,2.75,0.55,0.1,9,-0.1,0.127359,0.86,0.99,0.126,,,,,,,,7.75,0,0,0,0\n"
+            "pure-mpm,,,0.5,0.1,-0.8,10,0,0.470588,,,,,,,,,,,5.5,0,0,0,0\n");
 
   // Without the reference run the errors and RMSE are not defined: empty cells. (No
   // energy history and no particles measured here: the KE/PE0 and stress-quality cells
   // are empty too.)
   const std::string without = sweep_csv(c, runs, "tt9");
-  EXPECT_NE(without.find("tt1,1,0.495227,2.75,0.55,,9,,,0.86,0.99,0.126,,,,,,,\n"),
+  EXPECT_NE(without.find("tt1,1,0.495227,2.75,0.55,,9,,,0.86,0.99,0.126,,,,,,,,7.75,0,0,0,0\n"),
             std::string::npos)
       << without;
 
@@ -276,9 +277,9 @@ TEST(SweepTable, ErrorsAndRmseAgainstTheReferenceRun) {
   EXPECT_NE(md.find("| tt1 |"), std::string::npos) << md;
   EXPECT_NE(md.find("+10.0 %"), std::string::npos) << md;  // R_N error of tt1
   EXPECT_NE(md.find("-80.0 %"), std::string::npos) << md;  // R_N error of pure-mpm
-  // The header's |J_t|/|J_0| is escaped: 19 header cells like the 19 delimiter cells.
+  // The header's |J_t|/|J_0| is escaped: 22 header cells like the 22 delimiter cells.
   EXPECT_NE(md.find("(\\|J_t\\|/\\|J_0\\|)_min"), std::string::npos) << md;
-  EXPECT_EQ(markdown_cells(md.substr(0, md.find('\n'))).size(), 19U);
+  EXPECT_EQ(markdown_cells(md.substr(0, md.find('\n'))).size(), 22U);
   expect_well_formed_markdown_table(md);
 }
 
@@ -531,44 +532,53 @@ TEST(SweepTable, MeasuredCheckpointsGiveTheHandComputedTable) {
   // sweep.csv: the docs/contract.md columns, the three KE/PE0 peak columns, then the four
   // stress-quality columns (empty for pure-fem, nothing at rest); tt0 has zero
   // errors and RMSE, the NaN averages of the t = 0 history row and everything FE- or
-  // tt-related of pure-fem are empty. tt_over_tauc of tt1 = 1/2.01928 = 0.495227.
+  // tt-related of pure-fem are empty. tt_over_tauc of tt1 = 1/2.01928 = 0.495227. Then
+  // x_toe and the front of 95 % of the mass: equal masses, 5, 5 and 3 measured particles,
+  // so 95 % is reached only at the last (x_95 = x_toe, no sheet).
   const std::string csv = sweep_csv(c, runs, "tt0");
-  EXPECT_EQ(csv,
-            "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
-            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
-            "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n"
-            "tt0,0,0,2.5,0.5,0,9.99,0,0,1,,,0.02,0.5,0.247614,0.2,0.20015,0.20024,0.20025\n"
-            "tt1,1,0.495227,3.5,0.7,0.4,9,-0.0990991,0.127191,0.9,0.97,0.051,0.012,1.5,0.742841,"
-            "0.1,0.1,0.1,0.1\n"
-            "pure-fem,,,-2.5,-0.5,-2,11.99,0.2002,0.681955,,,,,,,,,,\n");
-  // Every row has as many cells as the header (19 columns, 18 commas).
+  EXPECT_EQ(
+      csv,
+      "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
+      "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+      "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
+      "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max,"
+      "x_toe,x_front_95,sheet_length,sheet_mass_share,sheet_thickness\n"
+      "tt0,0,0,2.5,0.5,0,9.99,0,0,1,,,0.02,0.5,0.247614,0.2,0.20015,0.20024,0.20025,7.5,7.5,0,0,0\n"
+      "tt1,1,0.495227,3.5,0.7,0.4,9,-0.0990991,0.127191,0.9,0.97,0.051,0.012,1.5,0.742841,"
+      "0.1,0.1,0.1,0.1,8.5,8.5,0,0,0\n"
+      "pure-fem,,,-2.5,-0.5,-2,11.99,0.2002,0.681955,,,,,,,,,,,2.5,2.5,0,0,0\n");
+  // Every row has as many cells as the header (24 columns, 23 commas).
   std::istringstream lines(csv);
   for (std::string line; std::getline(lines, line);) {
-    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 18) << line;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 23) << line;
   }
 
   // No reference run (slide-metrics passes "" when there is no tt0): the three error
   // columns and the RMSE are empty in every row, the measures stay.
-  EXPECT_EQ(sweep_csv(c, runs, ""),
-            "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
-            "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
-            "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
-            "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max\n"
-            "tt0,0,0,2.5,0.5,,9.99,,,1,,,0.02,0.5,0.247614,0.2,0.20015,0.20024,0.20025\n"
-            "tt1,1,0.495227,3.5,0.7,,9,,,0.9,0.97,0.051,0.012,1.5,0.742841,0.1,0.1,0.1,0.1\n"
-            "pure-fem,,,-2.5,-0.5,,11.99,,,,,,,,,,,,\n");
+  EXPECT_EQ(
+      sweep_csv(c, runs, ""),
+      "run,tt,tt_over_tauc,runout,runout_normalised,runout_normalised_error,crest_height,"
+      "crest_height_error,rmse,jacobian_ratio_min,jacobian_ratio_avg,eps_q_avg,"
+      "ke_over_pe0_peak,ke_over_pe0_peak_time,ke_over_pe0_peak_time_over_tauc,"
+      "stress_quality_p50,stress_quality_p90,stress_quality_p99,stress_quality_max,"
+      "x_toe,x_front_95,sheet_length,sheet_mass_share,sheet_thickness\n"
+      "tt0,0,0,2.5,0.5,,9.99,,,1,,,0.02,0.5,0.247614,0.2,0.20015,0.20024,0.20025,7.5,7.5,0,0,0\n"
+      "tt1,1,0.495227,3.5,0.7,,9,,,0.9,0.97,0.051,0.012,1.5,0.742841,0.1,0.1,0.1,0.1,8.5,8.5,0,0,"
+      "0\n"
+      "pure-fem,,,-2.5,-0.5,,11.99,,,,,,,,,,,,,2.5,2.5,0,0,0\n");
 
   // The Markdown table: same numbers, rounded for the report; errors in %, εq,avg in %.
   const std::string md = sweep_markdown(c, runs, "tt0");
-  EXPECT_EQ(md.substr(md.find('\n') + 1),
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
-            "| tt0 | 0 | 0.00 | 2.50 | 0.500 | +0.0 % | 9.99 | +0.0 % | 0.000 | 1.000 |  |  | "
-            "0.02 | 0.50 | 0.25 | 0.200 | 0.200 | 0.200 | 0.200 |\n"
-            "| tt1 | 1 | 0.50 | 3.50 | 0.700 | +40.0 % | 9.00 | -9.9 % | 0.127 | 0.900 | 0.970 | "
-            "5.1 % | 0.012 | 1.50 | 0.74 | 0.100 | 0.100 | 0.100 | 0.100 |\n"
-            "| pure-fem |  |  | -2.50 | -0.500 | -200.0 % | 11.99 | +20.0 % | 0.682 |  |  |  |  "
-            "|  |  |  |  |  |  |\n");
+  EXPECT_EQ(
+      md.substr(md.find('\n') + 1),
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+      "| tt0 | 0 | 0.00 | 2.50 | 0.500 | +0.0 % | 9.99 | +0.0 % | 0.000 | 1.000 |  |  | "
+      "0.02 | 0.50 | 0.25 | 0.200 | 0.200 | 0.200 | 0.200 | 7.50 | 7.50 | 0.00, 0.0 %, 0.00 |\n"
+      "| tt1 | 1 | 0.50 | 3.50 | 0.700 | +40.0 % | 9.00 | -9.9 % | 0.127 | 0.900 | 0.970 | "
+      "5.1 % | 0.012 | 1.50 | 0.74 | 0.100 | 0.100 | 0.100 | 0.100 | 8.50 | 8.50 | 0.00, 0.0 %, "
+      "0.00 |\n"
+      "| pure-fem |  |  | -2.50 | -0.500 | -200.0 % | 11.99 | +20.0 % | 0.682 |  |  |  |  "
+      "|  |  |  |  |  |  | 2.50 | 2.50 | 0.00, 0.0 %, 0.00 |\n");
   expect_well_formed_markdown_table(md);
 }
 
