@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <variant>
@@ -556,18 +557,25 @@ std::vector<std::string> exit_warnings(const std::string& err) {
 /// end of the arrays) or removed. They are thrown at speeds from 30 to 50 m/s, so they
 /// leave on many different steps; the warnings are rate-limited (the first exit, then one
 /// per checkpoint, checkpoints every 0.25 s here) and the last one gives the run's total.
+// The case's pure-MPM particles at t = 0 (a run to --until 0), as a particle file to
+// edit and start from.
+ParticleCheckpoint starting_particles(const fs::path& folder, const fs::path& case_file) {
+  const ProgramRun r =
+      run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk", case_file.string(),
+                                     (folder / "t0").string()));
+  if (r.status != 0) throw std::runtime_error("the run to t = 0 failed: " + r.err);
+  ParticleCheckpoint file = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
+  file.header.kind = CheckpointKind::particles;
+  file.solver.clear();
+  return file;
+}
+
 TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
   for (const std::string mode : {"freeze", "remove"}) {
     const fs::path folder = fresh_folder("exit_" + mode);
     const fs::path c =
         write_case(folder, small_case(fmt::format("particle_exit = \"{}\"", mode), 0.3));
-    ASSERT_EQ(run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk", c.string(),
-                                             (folder / "t0").string()))
-                  .status,
-              0);
-    ParticleCheckpoint file = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
-    file.header.kind = CheckpointKind::particles;
-    file.solver.clear();
+    ParticleCheckpoint file = starting_particles(folder, c);
     std::size_t thrown = 0;
     for (std::size_t k = 0; k < file.particles.count(); ++k) {
       if (file.particles.coordinates[k].y() > 7.0 && file.particles.coordinates[k].x() < 2.0) {
@@ -620,13 +628,7 @@ TEST(MpmSolveCli, ParticlesLeavingTheGridAreFrozenOrRemovedWithAWarning) {
 TEST(MpmSolveCli, ABodyEndingAtTheGridsFarEdgeIsWarnedOf) {
   const fs::path folder = fresh_folder("far_edge");
   const fs::path c = write_case(folder, small_case("", 0.9));
-  ASSERT_EQ(run_solver(folder, fmt::format("{} -o {} --until 0 --quiet --no-vtk", c.string(),
-                                           (folder / "t0").string()))
-                .status,
-            0);
-  ParticleCheckpoint file = read_particle_checkpoint(folder / "t0" / "mpm_t0.000.h5");
-  file.header.kind = CheckpointKind::particles;
-  file.solver.clear();
+  ParticleCheckpoint file = starting_particles(folder, c);
   write_checkpoint(folder / "still.h5", file);
   // The whole body thrown at 25 m/s: its front reaches the wall 20 m away at 0.8 s.
   for (Vec2& v : file.particles.velocity) v = Vec2(25.0, 0.0);
