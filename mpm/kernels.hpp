@@ -215,21 +215,16 @@ inline std::size_t particle_model(const Particles& particles, std::size_t p,
   return material + materials;
 }
 
-/// The pore pressure by which particle p's model sees its stress shifted: a liquefied
-/// particle's residual strength works on the total stress σ′ − p I (Tresca does not see
-/// the shift; its tension cut-off is the mixture's: the water holds the grains apart
-/// until the total stress is tensile), the other models on σ′ (0).
-inline double model_pressure(const ConstitutiveModel& model, const Particles& particles,
-                             std::size_t p) {
-  return model.model() == MaterialModel::residual_strength ? particles.pore_pressure[p] : 0.0;
-}
-
-/// Runs `update` (a callable on a stress) on particle p's stress as its model sees it
-/// (model_pressure), and returns what it returns.
+/// Runs `update` (a callable on a stress) on particle p's stress as its model sees it,
+/// and returns what it returns: a liquefied particle's residual strength works on the
+/// total stress σ′ − p I (Tresca does not see the shift; its tension cut-off is the
+/// mixture's: the water holds the grains apart until the total stress is tensile), the
+/// other models on σ′.
 template <class Update>
 auto on_model_stress(const ConstitutiveModel& model, Particles& particles, std::size_t p,
                      Update&& update) {
-  const double pressure = model_pressure(model, particles, p);
+  const double pressure =
+      model.model() == MaterialModel::residual_strength ? particles.pore_pressure[p] : 0.0;
   Vec4& stress = particles.stress[p];
   for (int i = 0; i < 3; ++i) stress[i] -= pressure;
   const auto result = update(stress);

@@ -360,12 +360,11 @@ double MpmSolver::courant_time_step(double courant) const {
     modulus[m] = models_[m].lame_lambda() + 2.0 * models_[m].shear_modulus();
     water[m] = models_[m].pore_fluid_stiffness();
   }
-  const bool undrained = std::ranges::any_of(water, [](double k) { return k > 0.0; });
   double fastest_squared = 0.0;
   for (std::size_t p = 0; p < active_count(); ++p) {
     const std::size_t m = particle_model(particles_, p, materials_.size());
     const double stiffness =
-        modulus[m] + (undrained && holds_water(particles_, p) ? water[m] : 0.0);
+        modulus[m] + (water[m] > 0.0 && holds_water(particles_, p) ? water[m] : 0.0);
     const double c2 = stiffness * particles_.volume[p] / particles_.mass[p];
     if (!std::isfinite(c2) || !(c2 > 0.0)) {
       // A volume gone to zero, below it, to infinity or NaN: the run has blown up (the
