@@ -12,7 +12,7 @@
 namespace slide {
 
 std::string version_string() {
-  return "slide " SLIDE_VERSION;
+  return "slide " SLIDE_VERSION " (commit " SLIDE_COMMIT ")";
 }
 
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {

@@ -12,7 +12,9 @@
 
 namespace slide {
 
-/// "slide 0.1.0": goes into every file's `producer` attribute with the program name.
+/// "slide 0.1.0 (commit 2e5f598c1a2b)": the version and the commit the build was configured
+/// from (cmake/SlideVersion.cmake); goes into every file's `producer` attribute with the
+/// program name, and `--version` prints it.
 std::string version_string();
 
 /// Parses the command line. Returns an exit status when the program should stop now
