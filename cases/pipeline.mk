@@ -18,6 +18,8 @@
 #                         run in out/ (re-measured when a run is newer than sweep.csv;
 #                         with the main transfer's run, also out/tt<main>/after-0.5s/,
 #                         its state 0.5 s after t_T, for the σyy figure)
+#   make fos              the factor of safety by strength reduction: out/fos/
+#                         (strength_reduction.txt; then `make report` shows it)
 #   make sweep-plan       the runs `make sweep` makes (after the FE phase)
 #   make clean            removes what the pipeline made in OUT (only there: a folder
 #                         it marked, never /, the home folder or the repository)
@@ -64,9 +66,10 @@ MPM_OPTIONS = --vtk-every $(VTK_EVERY) $(if $(mpm_threads),--threads $(mpm_threa
 # (MESH_FILE, a Gmsh case's .msh) and the other files it names (CASE_FILES: the base
 # motion's records), read once from case.toml by the same reader the programs use. The runs
 # made from the case depend on all of them: editing a motion record reruns the FE phase.
+# A case file the reader refuses stops make there, with the reader's one-line error.
 CASE_MK := $(OUT)/case.mk
 ifeq ($(filter clean help,$(MAKECMDGOALS)),)
-  -include $(CASE_MK)
+  include $(CASE_MK)
 endif
 $(CASE_MK): $(CASE) | $(METRICS) $(OUT_STAMP)
 	$(METRICS) case-info $(CASE) > $@.tmp && mv $@.tmp $@
@@ -74,7 +77,7 @@ $(CASE_MK): $(CASE) | $(METRICS) $(OUT_STAMP)
 CASE_INPUTS = $(CASE) $(MESH_FILE) $(CASE_FILES)
 
 $(PROGRAMS):
-	@echo "missing $@: build the project first (cmake -S $(ROOT) -B $(BUILD) && cmake --build $(BUILD))" >&2
+	@echo "missing $@: $(if $(SLIDE_INSTALLED_BIN),install the programs again (cmake --install BUILD --prefix PREFIX) or give BIN=dir,build the project first (cmake -S $(ROOT) -B $(BUILD) && cmake --build $(BUILD)))" >&2
 	@false
 
 # A transfer time in its one spelling: rounded to the three decimals of the checkpoint
@@ -117,7 +120,7 @@ endif
 run_file = $(OUT)/tt$(1)/mpm_final.h5
 MAIN_RUNS := $(call run_file,0) $(call run_file,$(MAIN_TT)) $(PURE_RUNS)
 
-.PHONY: all main fem transfer mpm pure-mpm pure-fem sweep sweep-plan report clean help
+.PHONY: all main fem transfer mpm pure-mpm pure-fem fos sweep sweep-plan report clean help
 .DELETE_ON_ERROR:
 # The particles of a run are made by the pattern rule below on the way to its MPM run;
 # they stay when that run is done. (Not .SECONDARY: with no names: that makes every file
@@ -170,6 +173,16 @@ $(PURE_FEM): $(CASE_INPUTS) $(FEM_SOLVE) $(FEM2MPM)
 	$(FEM_SOLVE) $(CASE) -o $(OUT)/pure-fem --until $(MPM_END) --no-vtk $(FEM_FLAGS)
 	$(FEM2MPM) $(OUT)/pure-fem/fem_t$(call three_decimals,$(MPM_END)).h5 -o $@ \
 	  --case $(CASE) --stress-interpolation element --allow-inverted --quiet
+
+# --------------------------------------------------------------------------- fos
+# The factor of safety by strength reduction (docs/method.md §3): fem-solve's trials in
+# out/fos/F<factor>/ and their table in out/fos/strength_reduction.txt, which the report
+# sets beside Bishop's (tools/limit_equilibrium.py). Not part of main or sweep: run
+# `make fos report`.
+FOS := $(OUT)/fos/strength_reduction.txt
+fos: $(FOS)
+$(FOS): $(CASE_INPUTS) $(FEM_SOLVE) | $(OUT_STAMP)
+	$(FEM_SOLVE) $(CASE) -o $(OUT)/fos --strength-reduction $(FEM_FLAGS)
 
 # --------------------------------------------------------------------------- sweep
 # The valid transfer times are known only once the FE phase has run (the mesh must
@@ -242,7 +255,7 @@ $(FIGURES): $(SWEEP_CSV) $(HISTORIES) $(CASE) $(TOOLS)/plots.py $(SNAPSHOT_RUNS)
 	$(PYTHON) $(TOOLS)/plots.py $(CASE) $(OUT)
 
 $(REPORT): $(SWEEP_CSV) $(FIGURES) $(wildcard $(OUT)/report/*.png) $(HISTORIES) $(CASE) \
-           $(TOOLS)/report.py
+           $(TOOLS)/report.py $(wildcard $(FOS)) $(if $(filter fos,$(goals)),$(FOS))
 	$(PYTHON) $(TOOLS)/report.py $(CASE) $(OUT)
 
 report: $(REPORT)
@@ -251,5 +264,5 @@ main: $(REPORT)
 
 # What the pipeline makes in OUT (and OUT, when nothing else is left there).
 clean:
-	$(CLEAN) $(OUT) 'case.mk*' fem 'tt*' pure-mpm pure-fem 'sweep.csv*' 'sweep.md*' \
+	$(CLEAN) $(OUT) 'case.mk*' fem 'tt*' pure-mpm pure-fem fos 'sweep.csv*' 'sweep.md*' \
 	  'profiles.csv*' report

@@ -1,5 +1,6 @@
 #include "fem/explicit_stage.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -702,6 +703,7 @@ void read_history(const std::vector<HistoryRow>& rows, FemRunSummary& summary) {
       summary.ke_over_pe0_max = row.ke_over_pe0;
       summary.ke_over_pe0_max_time = row.time;
     }
+    summary.ke_over_pe0_end = row.ke_over_pe0;
   }
 }
 
@@ -745,6 +747,9 @@ FemRunSummary ExplicitStage::summary(const run::RunResult& result) const {
   summary.checkpoints = outputs_.written();
   summary.wall_seconds = result.wall_seconds;
   read_history(outputs_.history().rows(), summary);
+  for (const Vec2& u : state_.displacement) {
+    summary.max_displacement = std::max(summary.max_displacement, u.norm());
+  }
   if (plan_.source.fem.failure_stage) {
     log_.info("recommended transfer zone ((|J_t|/|J_0|)_avg ≥ {}, εq,avg ≤ {}): {}",
               zone_jacobian_ratio_avg_min, zone_eps_q_avg_max, zone_text(summary));

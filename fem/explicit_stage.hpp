@@ -40,6 +40,8 @@ struct FemRunSummary {
   std::optional<double> first_time_jacobian_ratio_negative;  ///< (|J_t|/|J_0|)_min < 0
   double ke_over_pe0_max = 0.0;
   double ke_over_pe0_max_time = 0.0;
+  double ke_over_pe0_end = 0.0;                    ///< at the last output step
+  double max_displacement = 0.0;                   ///< largest |u| of a node at the end, m
   std::vector<std::filesystem::path> checkpoints;  ///< written by this run
 };
 

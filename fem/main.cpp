@@ -8,6 +8,7 @@
 //
 //   fem-solve cases/column-short/case.toml -o cases/column-short/out/fem
 //   fem-solve cases/column-short/case.toml -o out/fem --restart out/fem/fem_t4.000.h5
+//   fem-solve cases/slope-frictional/case.toml -o out/fos --strength-reduction
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -18,6 +19,7 @@
 #include "common/input/case_file.hpp"
 #include "fem/fem_plan.hpp"
 #include "fem/fem_solver.hpp"
+#include "fem/strength_reduction.hpp"
 
 namespace {
 
@@ -28,7 +30,7 @@ struct CommandLine {
   std::string case_file, element, kinematics, restart;
   fem::FemOptions options;
   double until = 0.0, vtk_every = 0.0;
-  bool quiet = false, no_vtk = false, no_disk_check = false;
+  bool quiet = false, no_vtk = false, no_disk_check = false, strength_reduction = false;
 };
 
 void add_options(CLI::App& app, CommandLine& c) {
@@ -54,6 +56,9 @@ void add_options(CLI::App& app, CommandLine& c) {
   app.add_option("--allow-changed", c.options.allow_changed,
                  "with --restart: a part of the case that may differ from the checkpoint's "
                  "(materials, gravity, mesh, boundaries, damping, time_step, motion, recorders)");
+  app.add_flag("--strength-reduction", c.strength_reduction,
+               "instead of the failure stage: the factor of safety by strength reduction "
+               "(tan φ and c divided by F, bisection on F; OUTPUT/strength_reduction.txt)");
   app.add_flag("-q,--quiet", c.quiet, "print only warnings, errors and the summary line");
 }
 
@@ -86,6 +91,12 @@ int main(int argc, char** argv) {
   return run_main("fem-solve", [&] {
     const Logger logger("fem-solve", command.quiet);
     const Case c = load_case(command.case_file);
+    if (command.strength_reduction) {
+      const auto r = fem::run_strength_reduction(c, options_of(app, command), logger);
+      logger.result("summary: factor_of_safety={:.4f} failing_factor={:.4f} trials={}",
+                    r.factor_of_safety, r.failing_factor, r.trials.size());
+      return;
+    }
     fem::run_fem(fem::plan_fem(c, options_of(app, command), logger),
                  logger);  // ends with the summary
   });

@@ -1,5 +1,6 @@
 #include "mpm/mpm_output.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -46,7 +47,7 @@ void write_mpm_checkpoint(const fs::path& path, MpmSolver& solver, const RunRefe
 
 MpmHistory::MpmHistory(fs::path path, const MetricsSpec& metrics)
     : csv_(std::move(path), {"time", "kinetic_energy", "pe0", "ke_over_pe0", "x_toe", "runout",
-                             "runout_normalised", "x_front_95"}),
+                             "runout_normalised", "x_front_95", "max_speed"}),
       metrics_(metrics) {}
 
 void MpmHistory::write(const MpmSolver& solver, double pe0) {
@@ -54,32 +55,34 @@ void MpmHistory::write(const MpmSolver& solver, double pe0) {
   if (!csv_.rows().empty() && time <= csv_.rows().back().front()) return;
   const Energies e = solver.energies();
   // Positions from the base (a shaken run's grid moves with it), every rank's on the
-  // root, which alone writes the file: x, y, mass and volume of each.
+  // root, which alone writes the file: x, y, mass, volume and speed of each.
   const Vec2 shift = solver.base_shift(time);
   const Particles& p = solver.particles();
-  std::vector<std::array<double, 4>> from_base(p.count());
+  std::vector<std::array<double, 5>> from_base(p.count());
   for (std::size_t k = 0; k < p.count(); ++k) {
     from_base[k] = {p.coordinates[k].x() - shift.x(), p.coordinates[k].y() - shift.y(), p.mass[k],
-                    p.volume[k]};
+                    p.volume[k], p.velocity[k].norm()};
   }
   const Ranks& ranks = solver.ranks();
-  const auto gathered = Ranks::values_of<std::array<double, 4>>(
-      ranks.gather_to_root(Ranks::bytes_of(std::span<const std::array<double, 4>>(from_base))));
+  const auto gathered = Ranks::values_of<std::array<double, 5>>(
+      ranks.gather_to_root(Ranks::bytes_of(std::span<const std::array<double, 5>>(from_base))));
   if (!ranks.root()) return;
   std::vector<Vec2> positions(gathered.size());
   std::vector<double> masses(gathered.size()), volumes(gathered.size());
+  double max_speed = 0.0;
   for (std::size_t k = 0; k < gathered.size(); ++k) {
     positions[k] = Vec2(gathered[k][0], gathered[k][1]);
     masses[k] = gathered[k][2];
     volumes[k] = gathered[k][3];
+    max_speed = std::max(max_speed, gathered[k][4]);
   }
   const SurfaceProfile profile = surface_profile(
       positions, metrics_.bin_width, metrics_.profile_percentile, metrics_.foundation_level);
   const RunoutMeasures m = runout_measures(profile, metrics_.initial_length);
   const FrontMeasures f =
       front_measures(positions, masses, volumes, profile, metrics_.foundation_level);
-  csv_.add(
-      {time, e.kinetic, pe0, e.kinetic / pe0, m.x_toe, m.runout, m.runout_normalised, f.x_front});
+  csv_.add({time, e.kinetic, pe0, e.kinetic / pe0, m.x_toe, m.runout, m.runout_normalised,
+            f.x_front, max_speed});
 }
 
 // ----------------------------------------------------------------------------- VTK

@@ -11,7 +11,6 @@
 Uses Debian's python3-matplotlib (/usr/bin/python3).
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -21,23 +20,18 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import slide  # noqa: E402  (tools/slide: the readers of what the programs write)
+
 
 def read_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
+    table = slide.read_table(path)
+    if not table or not len(next(iter(table.values()))):
         sys.exit(f"element_plot.py: {path}: no rows")
-    return {key: [float(r[key]) for r in rows] for key in rows[0]}
+    return table
 
 
 def read_summary(path):
-    values = {}
-    with open(path) as f:
-        for line in f:
-            if "=" in line:
-                key, value = line.split("=", 1)
-                values[key.strip()] = float(value)
-    return values
+    return slide.read_summary(path)
 
 
 def save(fig, out):

@@ -39,6 +39,7 @@ import tomllib
 import numpy as np
 
 G = 9.81
+M_ALPHA_MIN = 0.2  # the usual practical limit of Bishop's m_α
 
 
 def surface_of(case):
@@ -78,6 +79,43 @@ def bishop(resisting, alpha, tan_phi, driving, m_alpha_floor=None):
     return f
 
 
+def circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
+    """Bishop's F and the pseudo-static k (g) of one circle under the surface (sx, sy),
+    one material; None for a circle that is not a slide of the body (it leaves through
+    the base, the wall x = 0 or the model's far end, is too shallow, or drives nothing).
+    k is None where Bishop's m_α at F = 1 falls below M_ALPHA_MIN."""
+    x_max, height = sx.max(), sy.max()
+    x = np.linspace(max(xc - radius, 0.0), min(xc + radius, x_max), slices)
+    base = yc - np.sqrt(np.maximum(radius**2 - (x - xc) ** 2, 0.0))
+    top = np.interp(x, sx, sy)
+    inside = base < top
+    width = x[1] - x[0]
+    # Circles stay in the body: above the base, clear of the wall x = 0 and of the
+    # model's far end (a boundary of the model, not a free face).
+    if inside.sum() < 10 or (base[inside] < 0.0).any() \
+            or x[inside].min() <= width or x[inside].max() >= x_max - width:
+        return None
+    h = top[inside] - base[inside]
+    if h.max() < 0.05 * height:
+        return None
+    weight = gamma * h * width
+    # α: inclination of the slice base, positive where it falls towards +x
+    alpha = np.arcsin(np.clip((xc - x[inside]) / radius, -1.0, 1.0))
+    driving = np.sum(weight * np.sin(alpha))
+    if driving <= 0.0:
+        return None
+    resisting = cohesion * width + weight * tan_phi
+    f = bishop(resisting, alpha, tan_phi, driving)
+    lever = yc - 0.5 * (base[inside] + top[inside])
+    inertia = np.sum(weight * lever) / radius
+    m1 = np.cos(alpha) + np.sin(alpha) * tan_phi
+    # Bishop's m_α near zero (slices steeper than 90° − φ against the slide at the toe)
+    # makes the sum meaningless: such circles give no yield acceleration.
+    k = ((np.sum(resisting / m1) - driving) / inertia
+         if inertia > 0.0 and m1.min() > M_ALPHA_MIN else None)
+    return f, k
+
+
 def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
     material = case["materials"][0]
     gamma = material["density"] * G
@@ -91,33 +129,14 @@ def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
     for xc in np.linspace(0.0, x_max, centres_x):
         for yc in np.linspace(0.5 * height, 4.0 * height, centres_y):
             for radius in np.linspace(0.1 * height, 3.5 * height, radii):
-                x = np.linspace(max(xc - radius, 0.0), min(xc + radius, x_max), slices)
-                base = yc - np.sqrt(np.maximum(radius**2 - (x - xc) ** 2, 0.0))
-                top = np.interp(x, sx, sy)
-                inside = base < top
-                if inside.sum() < 10 or (base[inside] < 0.0).any() or x[inside].min() <= x[1] - x[0]:
+                result = circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices)
+                if result is None:
                     continue
-                width = x[1] - x[0]
-                h = top[inside] - base[inside]
-                if h.max() < 0.05 * height:
-                    continue
-                weight = gamma * h * width
-                # α: inclination of the slice base, positive where it falls towards +x
-                alpha = np.arcsin(np.clip((xc - x[inside]) / radius, -1.0, 1.0))
-                driving = np.sum(weight * np.sin(alpha))
-                if driving <= 0.0:
-                    continue
-                resisting = cohesion * width + weight * tan_phi
-                f = bishop(resisting, alpha, tan_phi, driving)
+                f, k = result
                 if f < best["fs"]:
                     best["fs"], best["circle"] = f, (xc, yc, radius)
-                lever = yc - 0.5 * (base[inside] + top[inside])
-                inertia = np.sum(weight * lever) / radius
-                m1 = np.cos(alpha) + np.sin(alpha) * tan_phi
-                if inertia > 0.0:
-                    k = (np.sum(resisting / m1) - driving) / inertia
-                    if k < best["ky"]:
-                        best["ky"], best["ky_circle"] = k, (xc, yc, radius)
+                if k is not None and k < best["ky"]:
+                    best["ky"], best["ky_circle"] = k, (xc, yc, radius)
     return best
 
 
@@ -144,6 +163,9 @@ def particle_stability(path, reservoir=None, x_range=None, centres=30, radii=40,
         residual = records[:, 1]
         tan_phi = np.where(liquefied == 1, 0.0, tan_phi)
         c = np.where(liquefied == 1, residual, c)
+    # Without a range the particles' extent is the model's: its ends are boundaries (the
+    # wall, the far end), not free faces, and a circle may not leave through them.
+    closed_ends = x_range is None
     x0, x1 = (x[:, 0].min(), x[:, 0].max()) if x_range is None else x_range
     width_total = x1 - x0
     # The body's top: the highest particle per 1 m column, smoothed over 3 columns.
@@ -172,6 +194,8 @@ def particle_stability(path, reservoir=None, x_range=None, centres=30, radii=40,
                 ytop = np.interp(sx, surface_x, surface_y)
                 inside = base < ytop
                 if inside.sum() < 8 or (base[inside] < bottom + 0.5).any():
+                    continue
+                if closed_ends and (inside[0] and xa <= x0 + b or inside[-1] and xb >= x1 - b):
                     continue
                 alpha = np.arcsin(np.clip((xc - sx) / radius, -1.0, 1.0))
                 weight = np.zeros(slices)
@@ -236,10 +260,12 @@ def main(argv):
         case = tomllib.load(f)
     r = slope_stability(case)
     xc, yc, radius = r["circle"]
-    print(
-        f"factor of safety {r['fs']:.3f} (Bishop, circle centre ({xc:.1f}, {yc:.1f}) m, "
-        f"radius {radius:.1f} m); pseudo-static yield acceleration k_y = {r['ky']:.3f} g"
-    )
+    # Below F = 1 the slope fails under gravity alone: no yield acceleration to state (the
+    # smallest k of a failing circle is negative and meaningless as a number).
+    ky = (f"pseudo-static yield acceleration k_y = {r['ky']:.3f} g" if r["fs"] >= 1.0 else
+          "no yield acceleration: the slope fails under gravity alone")
+    print(f"factor of safety {r['fs']:.3f} (Bishop, circle centre ({xc:.1f}, {yc:.1f}) m, "
+          f"radius {radius:.1f} m); {ky}")
     return 0
 
 

@@ -11,7 +11,6 @@ of the largest r_u and of γxy, the time each depth first reached the threshold,
 surface's settlement and lateral displacement. Uses Debian's python3-matplotlib.
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -22,6 +21,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import slide  # noqa: E402  (tools/slide: the readers of what the programs write)
+
 
 def fail(message):
     sys.exit(f"liquefaction_report.py: {message}")
@@ -30,8 +31,7 @@ def fail(message):
 def read_rows(path):
     if not os.path.exists(path):
         fail(f"{path}: no such file (did fem-solve run with the recorders of the case?)")
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows = slide.read_rows(path)
     if not rows:
         fail(f"{path}: no rows")
     return rows

@@ -12,7 +12,6 @@ Every figure is optional: one whose inputs are missing is skipped. The last file
 written is OUT/report/figures.txt, the names of the PNGs made (one a line): the Make
 pipeline's target for this step.
 """
-import csv
 import math
 import pathlib
 import sys
@@ -22,10 +21,13 @@ import h5py
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.colors  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.transforms  # noqa: E402
 import matplotlib.tri  # noqa: E402
 import numpy as np  # noqa: E402
+
+import slide  # noqa: E402  (tools/slide: the readers of what the programs write)
 
 G = 9.81
 ZONE_JACOBIAN_AVG = 0.97  # docs/method.md §3: recommended transfer zone
@@ -33,9 +35,7 @@ ZONE_EPS_Q_AVG = 0.20
 
 
 def read_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    return rows
+    return slide.read_rows(path)
 
 
 def column(rows, name):
@@ -281,7 +281,8 @@ def read_snapshot(path):
     with h5py.File(path, "r") as f:
         x = f["particles/coordinates"][:]
         fields = {"sigma_yy": f["particles/stress"][:, 1] / 1e3,
-                  "eps_q": 100 * f["particles/eps_q"][:]}
+                  "eps_q": 100 * f["particles/eps_q"][:],
+                  "displacement": np.linalg.norm(f["particles/displacement"][:], axis=1)}
         return x, fields, float(f.attrs["time"])
 
 
@@ -308,11 +309,18 @@ def plot_snapshots(case, out, figures):
     rho = case["materials"][0]["density"]
     spacing = case["mpm"]["cell_size"] / case["mpm"].get("particles_per_cell", [4, 4])[0]
     states = [read_snapshot(path) for path in pick]
-    for field, label, cmap, limits in (
-        ("sigma_yy", "σyy (kPa)", "viridis", (-rho * G * height / 1e3, 0)),
-        ("eps_q", "εq (%)", "magma_r", (0, 100)),
+    # εq on a log scale from 0.1 %: a linear scale that stops at 100 % saturates the whole
+    # slid mass and hides the shear band, whose strain is orders above the body's.
+    eps_top = max(100.0, nice_ceil(max(fields["eps_q"].max() for _, fields, _ in states)))
+    u_top = nice_ceil(max(max(fields["displacement"].max() for _, fields, _ in states), 1e-3))
+    for field, label, cmap, norm in (
+        ("sigma_yy", "σyy (kPa)", "viridis",
+         matplotlib.colors.Normalize(-rho * G * height / 1e3, 0)),
+        ("eps_q", "εq (%), log scale", "magma_r", matplotlib.colors.LogNorm(0.1, eps_top)),
+        ("displacement", "|u| since t = 0 (m)", "viridis", matplotlib.colors.Normalize(0, u_top)),
     ):
-        snapshots = [(x, fields[field], time) for x, fields, time in states]
+        snapshots = [(x, np.maximum(fields[field], 0.1) if field == "eps_q" else fields[field],
+                      time) for x, fields, time in states]
         # One x and y range for every panel, from the wall to the farthest particle, so
         # that the panels line up and show the spreading at the same scale.
         x_max = nice_ceil(1.02 * max(x[:, 0].max() for x, _, _ in snapshots))
@@ -331,8 +339,7 @@ def plot_snapshots(case, out, figures):
         marker_points = 1.5 * spacing * width * 72 / x_max
         for ax, (x, values, time) in zip(axes, snapshots):
             sc = ax.scatter(x[:, 0], x[:, 1], c=values, s=max(marker_points ** 2, 0.2),
-                            marker="o", linewidths=0, cmap=cmap, vmin=limits[0],
-                            vmax=limits[1], rasterized=True)
+                            marker="o", linewidths=0, cmap=cmap, norm=norm, rasterized=True)
             ax.set_xlim(0, x_max)
             ax.set_ylim(0, y_max)
             ax.set_aspect("equal")

@@ -22,6 +22,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+import slide  # noqa: E402  (tools/slide: the readers of what the programs write)
 from matplotlib.collections import PolyCollection  # noqa: E402
 
 MIN_RATIO_STRESS = 1e3  # Pa, fem/pore_fluid.hpp
@@ -29,11 +31,8 @@ HIGH_RATIO = 0.7
 
 
 def read_table(path):
-    """A CSV with a header line, as a dict of numpy columns."""
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    if data.dtype.names is None or data.size == 0:  # a header without rows
-        return {}
-    return {name: np.atleast_1d(data[name]) for name in data.dtype.names}
+    """A CSV with a header line, as a dict of numpy columns (tools/slide)."""
+    return slide.read_table(path)
 
 
 def write_figure(figure, path):
@@ -192,7 +191,7 @@ def main(argv):
     tables = []
     for path in sorted(recorders.glob("*.csv")) if recorders.exists() else []:
         table = read_table(path)
-        if "time" in table and any(n.endswith(("_dp", "_ru")) for n in table):
+        if len(table.get("time", ())) and any(n.endswith(("_dp", "_ru")) for n in table):
             tables.append(table)
     lines += ["", "![largest r_u and the area above 0.7](pore_water_history.png)", ""]
     if tables:

@@ -7,7 +7,6 @@ Run tools/plots.py first (make report does both). Inputs: fem/fem_history.csv,
 sweep.md and sweep.csv (slide-metrics sweep; its stress_quality_* columns give the
 table of the stress quality at rest), the figures in OUT/report/.
 """
-import csv
 import datetime
 import math
 import pathlib
@@ -19,6 +18,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+import slide  # noqa: E402  (tools/slide: the readers of what the programs write)
 
 G = 9.81
 ZONE_JACOBIAN_AVG = 0.97
@@ -33,10 +34,7 @@ def number(text):
 
 
 def read_csv(path):
-    if not path.exists():
-        return []
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    return slide.read_rows(path, missing_ok=True)
 
 
 def inside_zone(row):
@@ -84,7 +82,15 @@ def fem_summary(history, tau_c, case_file, out):
                      if number(r["scaled_jacobian_min"]) < 0.0), None) if shape else negative
     entangled = min((t for t in (negative, inverted) if t is not None), default=None)
     lines = []
-    if last_inside is not None:
+    # The FE phase never left the zone: its last output is no recommendation, only its end.
+    never_left = last_inside is not None and last_inside >= number(history[-1]["time"]) - 1e-9
+    if never_left:
+        lines.append(f"- **The FE phase never left the recommended transfer zone** "
+                     f"((|J_t|/|J_0|)_avg ≥ {ZONE_JACOBIAN_AVG} and εq,avg ≤ "
+                     f"{ZONE_EPS_Q_AVG:.0%}) up to its end at t = {last_inside:.2f} s: every "
+                     "FE output is a clean transfer, and the mesh sets no latest transfer time "
+                     "(run the FE phase longer to see when it leaves the zone).")
+    elif last_inside is not None:
         lines.append(f"- Last output time inside the recommended transfer zone "
                      f"((|J_t|/|J_0|)_avg ≥ {ZONE_JACOBIAN_AVG} and εq,avg ≤ "
                      f"{ZONE_EPS_Q_AVG:.0%}): **t = {last_inside:.2f} s** "
@@ -122,7 +128,7 @@ def fem_summary(history, tau_c, case_file, out):
     peak = max(history, key=lambda r: number(r["ke_over_pe0"]))
     lines.append(f"- Peak KE/PE0 in the FE phase: {number(peak['ke_over_pe0']):.4f} at "
                  f"t = {number(peak['time']):.2f} s.")
-    return last_inside, entangled, lines
+    return (None if never_left else last_inside), entangled, lines
 
 
 def geostatic_error(case, path):
@@ -177,6 +183,16 @@ def reading(case, sweep, last_inside, tau_c):
             f"{number(ref['sheet_thickness']):.2f} m (docs/method.md §6). The comparisons "
             "below are of R_N, the extreme toe.")
     transfers = [r for r in sweep if r["run"].startswith("tt") and r["run"] != "tt0"]
+    if any(r["runout_normalised_error"] == "" for r in transfers) or not transfers:
+        # slide-metrics leaves the relative error out when the reference runout is under
+        # one profile bin: compare the runs in metres.
+        if transfers:
+            text.append(
+                f"The reference runout R = {number(ref['runout']):.2f} m is under one profile "
+                f"bin ({case['metrics']['bin_width']:g} m), too short for a relative "
+                "error: the runs' runouts are " + ", ".join(
+                    f"{r['run']} {number(r['runout']):.2f} m" for r in transfers) + ".")
+        transfers = []
     if last_inside is not None and transfers:
         within = [r for r in transfers if number(r["tt"]) <= last_inside + 1e-9]
         beyond = [r for r in transfers if number(r["tt"]) > last_inside + 1e-9]
@@ -403,6 +419,174 @@ def grid_edge_lines(case, out, sweep):
             "|---|---|---|---|"] + rows + [""]
 
 
+REST_SPEED = 0.01  # m/s: a run is at rest from the output after which no particle is faster
+
+
+def slide_measures(case, run_dir):
+    """The slope engineer's measures of one MPM run (docs/method.md §6, "Slide measures"),
+    from its final state and history: displaced area, failure depth, travel angle, peak
+    speed, rest time. None when the run has no final state."""
+    final = run_dir / "mpm_final.h5"
+    if not final.exists():
+        return None
+    state = slide.read_checkpoint(final)
+    p = state.particles
+    x, u = p["coordinates"], p["displacement"]
+    origin = x - u                      # where each particle was at t = 0
+    moved = np.linalg.norm(u, axis=1)
+    threshold = 0.01 * case["metrics"]["initial_height"]
+    displaced = moved > threshold
+    m = {"run": run_dir.name, "threshold": threshold, "end": state.time,
+         "area": float(p["volume"][displaced].sum()), "max_u": float(moved.max())}
+    if displaced.any():
+        # The ground surface at t = 0: the highest original particle of each profile bin.
+        width = case["metrics"]["bin_width"]
+        bins = np.floor(origin[:, 0] / width).astype(int)
+        top = {b: origin[bins == b, 1].max() for b in np.unique(bins)}
+        depth = np.array([top[b] for b in bins[displaced]]) - origin[displaced, 1]
+        m["depth"] = float(depth.max())
+        source = origin[displaced]
+        crown = source[np.argmax(source[:, 1])]
+        tip = x[displaced][np.argmax(x[displaced, 0])]
+        drop, reach = crown[1] - tip[1], tip[0] - crown[0]
+        m["travel_angle"] = math.degrees(math.atan2(drop, reach)) if reach > 0 else math.nan
+    history = run_dir / "mpm_history.csv"
+    if history.exists():
+        h = slide.read_table(history)
+        if "max_speed" in h and len(h["max_speed"]):
+            k = int(np.argmax(h["max_speed"]))
+            m["peak_speed"], m["peak_time"] = float(h["max_speed"][k]), float(h["time"][k])
+            moving = np.nonzero(h["max_speed"] >= REST_SPEED)[0]
+            m["rest_time"] = (float(h["time"][0]) if len(moving) == 0 else
+                              float(h["time"][moving[-1] + 1]) if moving[-1] + 1 < len(h["time"])
+                              else None)
+    return m
+
+
+def slide_measure_lines(case, out, sweep):
+    """The table of slide measures of every MPM run of the sweep."""
+    rows = []
+    for row in sweep:
+        if row["run"] == "pure-fem":
+            continue
+        m = slide_measures(case, out / row["run"])
+        if m is None:
+            continue
+
+        def fmt(key, spec):
+            value = m.get(key)
+            return "–" if value is None or (isinstance(value, float) and math.isnan(value)) \
+                else format(value, spec)
+        rest = ("still moving" if "rest_time" in m and m["rest_time"] is None else
+                fmt("rest_time", ".1f") + (" s" if m.get("rest_time") is not None else ""))
+        rows.append(f"| {m['run']} | {m['end']:g} s | {rest} | {fmt('area', '.0f')} | "
+                    f"{fmt('depth', '.1f')} | {fmt('travel_angle', '.1f')} | "
+                    f"{fmt('peak_speed', '.2f')} | {fmt('peak_time', '.1f')} | "
+                    f"{fmt('max_u', '.2f')} |")
+    if not rows:
+        return []
+    threshold = 0.01 * case["metrics"]["initial_height"]
+    return ["## Slide measures", "",
+            f"Per MPM run, from its final state and history (docs/method.md §6): the "
+            f"displaced area (particles that moved more than {threshold:.2g} m, 1 % of H0, "
+            "since t = 0, their volume at the end), the deepest point of the failure surface "
+            "below the original ground (the deepest displaced particle's start under the "
+            "ground surface above it), the travel angle (Fahrböschung) from the highest "
+            "displaced point at t = 0 to the farthest displaced particle at the end, the "
+            f"peak particle speed and when, the time from which no particle moves faster than "
+            f"{REST_SPEED:g} m/s, and the largest displacement.", "",
+            "| run | ran to | at rest from | displaced area (m²) | failure depth (m) | "
+            "travel angle (°) | peak speed (m/s) | at t (s) | largest \\|u\\| (m) |",
+            "|---|---|---|---|---|---|---|---|---|"] + rows + [""]
+
+
+def read_strength_reduction(path):
+    """fem-solve --strength-reduction's table: ({key: value}, [trial rows])."""
+    trials = []
+    for line in path.read_text().splitlines():
+        if line.startswith("#") or not line.strip() or " = " in line:
+            continue
+        factor, stable, ratio, displacement, folder = [c.strip() for c in line.split(",")]
+        trials.append({"factor": float(factor), "stable": stable == "yes",
+                       "ratio": float(ratio), "displacement": float(displacement),
+                       "folder": folder})
+    return slide.read_summary(path), trials
+
+
+def mechanism_figure(trial_dir, report_dir, factor):
+    """The failing trial's displacement magnitude on its reference mesh: the mechanism."""
+    import h5py
+    from matplotlib.collections import PolyCollection
+    states = sorted(trial_dir.glob("fem_t*.h5"), key=lambda p: float(p.stem[5:]))
+    if not states:
+        return None
+    with h5py.File(states[-1], "r") as f:
+        x = f["nodes/reference_coordinates"][:]
+        u = np.linalg.norm(f["nodes/displacement"][:], axis=1)
+        cells = f["elements/connectivity"][:]
+    fig, ax = plt.subplots(figsize=(9, 3.6))
+    polygons = PolyCollection(x[cells], array=u[cells].mean(axis=1), cmap="viridis",
+                              edgecolors="none")
+    ax.add_collection(polygons)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"Strength reduction: the failing trial F = {factor:.3f}, |u| at its end")
+    fig.colorbar(polygons, ax=ax, label="|u| (m)")
+    fig.tight_layout()
+    name = "fos_mechanism.png"
+    path = report_dir / name
+    tmp = path.with_name(".fos_mechanism.tmp.png")
+    fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    tmp.replace(path)
+    return name
+
+
+def fos_lines(case, out, report_dir):
+    """The factor of safety by strength reduction (make fos) beside Bishop's."""
+    path = out / "fos" / "strength_reduction.txt"
+    if not path.exists():
+        return []
+    import limit_equilibrium
+    values, trials = read_strength_reduction(path)
+    srm = float(values["factor_of_safety"])
+    failing = float(values["failing_factor"])
+    # Bishop over the case's surface for one material on a profile or blocks mesh; on the
+    # t = 0 transfer's particles otherwise (a Gmsh mesh, several materials).
+    particles = out / "tt0" / "particles.h5"
+    simple = (case["mesh"].get("generator", "profile") in ("profile", "blocks")
+              and len(case["materials"]) == 1)
+    if simple:
+        bishop = limit_equilibrium.slope_stability(case)["fs"]
+    elif particles.exists():
+        bishop = limit_equilibrium.particle_stability(particles)["fs"]
+    else:
+        bishop = math.nan
+    lines = ["## Factor of safety", "",
+             "| method | F |", "|---|---|",
+             f"| strength reduction (FE, Mohr–Coulomb, `make fos`) | {srm:.3f} "
+             f"(fails at {failing:.3f}) |",
+             "| Bishop's simplified method (circles, tools/limit_equilibrium.py"
+             + ("" if simple else ", on the t = 0 particles") + ") | "
+             + ("not computed (no out/tt0/particles.h5)" if math.isnan(bishop) else
+                f"{bishop:.3f}") + " |", "",
+             ("" if math.isnan(bishop) else
+              f"The strength reduction's F is {signed_percent(srm / bishop - 1.0)} from "
+              "Bishop's. ")
+             + f"Criterion: {values.get('criterion', '')}; {len(trials)} trials of "
+             f"{float(values['trial_duration']):.3g} s (out/fos/strength_reduction.txt). "
+             + ("The slope fails under gravity alone (F < 1)." if srm < 1.0 else
+                "The slope stands under gravity (F ≥ 1): a runout needs a trigger."), ""]
+    failing_trial = [t for t in trials if not t["stable"] and t["factor"] == failing]
+    if failing_trial:
+        figure = mechanism_figure(out / "fos" / failing_trial[0]["folder"], report_dir, failing)
+        if figure:
+            lines += [f"![the mechanism at F = {failing:.3f}]({figure})", ""]
+    return lines
+
+
 PAPER_MEASURES = {"crest_height": ("crest height H_c", "m"),
                   "runout_normalised": ("normalised runout R_N", "")}
 
@@ -481,12 +665,15 @@ def main():
                             ("runout_and_energy.png", "Runout and kinetic energy"),
                             ("rmse_vs_mesh_quality.png", "Profile error against FE mesh quality"),
                             ("snapshots_sigma_yy.png", "Particles coloured by σyy"),
-                            ("snapshots_eps_q.png", "Particles coloured by εq"),
+                            ("snapshots_eps_q.png", "Particles coloured by εq (log scale)"),
+                            ("snapshots_displacement.png", "Particles coloured by |u| since t = 0"),
                             ("geostatic_transfer_error.png", "Transfer error of σyy")):
         if (report_dir / figure).exists():
             md += [f"![{caption}]({figure})", ""]
+    md += slide_measure_lines(case, out, sweep)
     md += grid_edge_lines(case, out, sweep)
     md += paper_lines(case, case_file, sweep)
+    md += fos_lines(case, out, report_dir)
     md += seismic_lines(case, out, report_dir, sweep)
     md += stress_quality_lines(case, sweep, report_dir)
     if sweep:

@@ -28,6 +28,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import slide  # noqa: E402  (tools/slide: the readers of what the programs write)
+
 G = 9.81
 
 # The tolerances of docs/method.md §8.
@@ -38,9 +40,8 @@ NEWMARK_TOLERANCE = 0.05  # permanent slip against the Newmark integral
 
 
 def read_table(path):
-    """A CSV with a header line, as a dict of numpy columns."""
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    return {name: np.atleast_1d(data[name]) for name in data.dtype.names}
+    """A CSV with a header line, as a dict of numpy columns (tools/slide)."""
+    return slide.read_table(path)
 
 
 def node_columns(table, quantity):

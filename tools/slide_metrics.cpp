@@ -152,17 +152,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string case_file, second;
   auto* info = app.add_subcommand("case-info", "print a case's make variables");
-  info->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
+  info->add_option("case", case_file, "case.toml")->required();
   auto* times = app.add_subcommand("transfer-times", "print the sweep's valid transfer times");
-  times->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
-  times->add_option("history", second, "fem_history.csv")->required()->check(CLI::ExistingFile);
+  times->add_option("case", case_file, "case.toml")->required();
+  times->add_option("history", second, "fem_history.csv")->required();
   auto* one = app.add_subcommand("measure", "measure one particle state");
-  one->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
-  one->add_option("particles", second, "particles or mpm checkpoint")
-      ->required()
-      ->check(CLI::ExistingFile);
+  one->add_option("case", case_file, "case.toml")->required();
+  one->add_option("particles", second, "particles or mpm checkpoint")->required();
   auto* all = app.add_subcommand("sweep", "measure every run of a case's output folder");
-  all->add_option("case", case_file, "case.toml")->required()->check(CLI::ExistingFile);
+  all->add_option("case", case_file, "case.toml")->required();
   all->add_option("out", second, "the case's output folder")->required();
   if (auto status = parse_command_line(app, argc, argv)) return *status;
   return run_main("slide-metrics", [&] {

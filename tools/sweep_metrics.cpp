@@ -65,8 +65,13 @@ SweepRow sweep_row(const Case& c, const RunMetrics& run, const RunMetrics* refer
   row.sheet_thickness = run.front.sheet_thickness;
   if (reference != nullptr) {
     const auto& ref = reference->measures;
-    row.runout_normalised_error =
-        (run.measures.runout_normalised - ref.runout_normalised) / ref.runout_normalised;
+    // A relative error of a runout the profile does not resolve says nothing (−102 % of a
+    // 0.1 m toe advance on 2 m bins): below one bin the cell stays empty and the runout
+    // column (m) carries the comparison.
+    if (std::abs(ref.runout) >= c.metrics.bin_width) {
+      row.runout_normalised_error =
+          (run.measures.runout_normalised - ref.runout_normalised) / ref.runout_normalised;
+    }
     row.crest_height_error = (run.measures.crest_height - ref.crest_height) / ref.crest_height;
     row.rmse = profile_rmse(run.profile, reference->profile, particle_spacing(c));
   }

@@ -110,9 +110,7 @@ int main(int argc, char** argv) {
       "(positions, velocities, stresses, state, masses, volumes) for mpm-solve",
       "fem2mpm");
   CommandLine line;
-  app.add_option("fem_checkpoint", line.input, "FE checkpoint (kind \"fem\")")
-      ->required()
-      ->check(CLI::ExistingFile);
+  app.add_option("fem_checkpoint", line.input, "FE checkpoint (kind \"fem\")")->required();
   app.add_option("-o,--output", line.output, "particle file to write (HDF5)")->required();
   app.add_option("--particles-per-element", line.particles_per_element,
                  "N (N×N per quad, N per triangle) or NxM; default 4 (triangles: 16)");
@@ -146,8 +144,7 @@ int main(int argc, char** argv) {
                  "residual-strength correlation for every material with a liquefaction rule: "
                  "idriss-boulanger-void-redistribution, idriss-boulanger, olson-stark, ratio, "
                  "none (default: each material's own)");
-  app.add_option("--case", line.case_file, "case file whose [transfer] table gives the defaults")
-      ->check(CLI::ExistingFile);
+  app.add_option("--case", line.case_file, "case file whose [transfer] table gives the defaults");
   app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
   return run_main("fem2mpm", [&] { run(line, app); });

@@ -19,9 +19,10 @@ struct Lifecycle {
   const Plan& plan;
   double last_output_time = -std::numeric_limits<double>::infinity();
 
-  /// The output of the current state; `start`: the stage's first (a frame whatever the
-  /// cadence). A time already written is written again only for a checkpoint.
-  void output(bool checkpoint, bool start) {
+  /// The output of the current state; `start`: the stage's first, `at_rest`: its last,
+  /// before the end time (it came to rest), each a frame whatever the cadence. A time already
+  /// written is written again only for a checkpoint.
+  void output(bool checkpoint, bool start, bool at_rest = false) {
     const double now = stage.time();
     if (now == last_output_time && !checkpoint) return;
     last_output_time = now;
@@ -39,8 +40,9 @@ struct Lifecycle {
       step.checkpoint =
           plan.output.folder / checkpoint_file_name(plan.output.checkpoint_prefix, now);
     }
-    step.frame = plan.output.write_vtk &&
-                 is_vtk_frame(now, plan.output.vtk_every, start || !step.checkpoint.empty());
+    step.frame =
+        plan.output.write_vtk &&
+        is_vtk_frame(now, plan.output.vtk_every, start || at_rest || !step.checkpoint.empty());
     stage.write_output(step);
     if (!step.checkpoint.empty()) set_last_checkpoint(step.checkpoint);
   }
@@ -53,7 +55,7 @@ struct Lifecycle {
     const OutputSchedule& schedule = plan.schedule;
     while (!schedule.is_end(stage.time())) {
       const bool reached = stage.advance_to(schedule.next_stop(stage.time()));
-      output(schedule.is_checkpoint(stage.time()), false);
+      output(schedule.is_checkpoint(stage.time()), false, !reached);
       if (!reached) return false;
     }
     return true;

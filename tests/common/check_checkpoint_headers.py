@@ -145,7 +145,9 @@ def main():
     for program in PROGRAMS.values():
         done = subprocess.run([str(bin_dir / program), "--version"], capture_output=True, text=True)
         versions[program] = done.stdout.strip()
-        check(done.returncode == 0 and re.fullmatch(r"slide [0-9]+\.[0-9]+\.[0-9]+", versions[program]),
+        check(done.returncode == 0
+              and re.fullmatch(r"slide [0-9]+\.[0-9]+\.[0-9]+ \(commit [0-9A-Za-z._-]+\)",
+                               versions[program]),
               f"{program} --version: status {done.returncode}, {versions[program]!r}")
     particle_steps = [check_chain(work, forms, versions) for work in works] if forms else []
     check(any(step for step in particle_steps),

@@ -158,7 +158,7 @@ TEST(CaseFile, SlopeCohesiveLoads) {
   EXPECT_DOUBLE_EQ(c.materials[0].cohesion, 5800.0);
   ASSERT_EQ(c.mesh.surface.size(), 4u);
   EXPECT_EQ(c.mesh.surface[2], Vec2(50.0, 5.0));
-  EXPECT_EQ(c.mesh.surface[3], Vec2(120.0, 5.0));
+  EXPECT_EQ(c.mesh.surface[3], Vec2(160.0, 5.0));
   EXPECT_EQ(c.fem.failure_boundaries.at("right"), BoundaryCondition::roller);
   EXPECT_NEAR(c.mpm.friction_coefficient, std::tan(3.6 * std::numbers::pi / 180.0), 1e-4);
   EXPECT_EQ(c.mpm.boundaries.at("right"), BoundaryCondition::roller);

@@ -163,7 +163,8 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
   // The history has the docs/contract.md columns.
   const std::string history = read_text(split / "mpm_history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
-            "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised,x_front_95");
+            "time,kinetic_energy,pe0,ke_over_pe0,x_toe,runout,runout_normalised,x_front_95,"
+            "max_speed");
 }
 
 using slide::testing::pvd_entries;
@@ -753,11 +754,15 @@ TEST(MpmSolveCli, StopsWhenAtRest) {
   for (Vec2& v : launched.particles.velocity) v = Vec2(3.0, 0.0);
   write_checkpoint(folder / "launched.h5", launched);
   const ProgramRun r =
-      run_solver(folder, fmt::format("{} -o {} --particles {} --no-vtk", c.string(),
+      run_solver(folder, fmt::format("{} -o {} --particles {} --vtk-every 1", c.string(),
                                      (folder / "out").string(), (folder / "launched.h5").string()));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("at rest"), std::string::npos) << r.out;
   const double stop = read_particle_checkpoint(folder / "out" / "mpm_final.h5").header.time;
+  // The state it stopped in is also the last VTK frame, although off the 1 s cadence.
+  const auto frames = pvd_entries(folder / "out" / "mpm.pvd");
+  ASSERT_FALSE(frames.empty());
+  EXPECT_NEAR(frames.back().first, stop, 1e-9);
 
   const auto rows = ke_over_pe0_rows(folder / "out" / "mpm_history.csv");
   ASSERT_GE(rows.size(), 2u);

@@ -283,21 +283,38 @@ TEST(SweepTable, ErrorsAndRmseAgainstTheReferenceRun) {
   expect_well_formed_markdown_table(md);
 }
 
+TEST(SweepTable, NoRelativeErrorOfARunoutUnderOneBin) {
+  // A reference toe advance of 0.1 m on 2 m bins (L0 = 5 m, toe 5.1 m): a run 0.2 m
+  // behind it would be "−200 %". The R_N error stays empty, the crest's is given.
+  Case c = column_short();
+  c.metrics.initial_length = 5.0;
+  ASSERT_EQ(c.metrics.bin_width, 2.0);
+  std::vector<RunMetrics> runs{run("tt0", 0.0, {10, 8, 6}, 5.1, 5.0),
+                               run("tt1", 1.0, {9, 8, 6}, 4.9, 5.0)};
+  const std::string csv = sweep_csv(c, runs, "tt0");
+  const auto row = csv.substr(csv.find("\ntt1,") + 1);
+  // run, tt, tt_over_tauc, runout, runout_normalised, runout_normalised_error, crest, error
+  EXPECT_EQ(row.substr(0, row.find(",9,")), "tt1,1,0.495227,-0.1,-0.02,");
+  EXPECT_NE(row.find(",9,-0.1,"), std::string::npos);  // H_c 9 against 10
+}
+
 TEST(SweepTable, NoNegativeZero) {
-  // A run identical to the reference gives (x − x)/x_ref = −0 where x_ref < 0 (the
-  // geostatic column's R_N is −0.004) and values that round to zero print as "-0.0":
-  // both are written without the minus sign.
+  // A run identical to the reference gives (x − x)/x_ref = −0 where x_ref < 0, and values
+  // that round to zero print as "-0.0": both are written without the minus sign. The
+  // reference's R_N of −0.004 (a geostatic column, R = −0.02 m, under one bin) has no
+  // relative error at all; the crest's error of −1e-7 would print as "-0.0 %".
   Case c = column_short();
   c.metrics.initial_length = 5.0;
   std::vector<RunMetrics> runs{run("tt0", 0.0, {4.0, 4.0}, 4.98, 5.0),
                                run("pure-mpm", std::nullopt, {4.0, 4.0}, 4.98, 5.0)};
-  runs[1].measures.runout_normalised = -0.004 * (1.0 + 1e-7);  // error −1e-7: "-0.0 %"
+  runs[1].measures.crest_height = 4.0 * (1.0 - 1e-7);  // error −1e-7: "-0.0 %"
   const std::string csv = sweep_csv(c, runs, "tt0");
-  EXPECT_NE(csv.find("tt0,0,0,-0.02,-0.004,0,4,0,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("tt0,0,0,-0.02,-0.004,,4,0,0,"), std::string::npos) << csv;
   EXPECT_EQ(csv.find(",-0,"), std::string::npos) << csv;
   const std::string md = sweep_markdown(c, runs, "tt0");
   EXPECT_EQ(md.find("-0.0 %"), std::string::npos) << md;
-  EXPECT_NE(md.find("| pure-mpm |  |  | -0.02 | -0.004 | +0.0 % |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| pure-mpm |  |  | -0.02 | -0.004 |  | 4.00 | +0.0 % |"), std::string::npos)
+      << md;
 }
 
 TEST(EnergyHistory, PeaksOfFemAndMpmHistoriesAndTheirErrors) {

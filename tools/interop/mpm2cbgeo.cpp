@@ -75,11 +75,9 @@ int main(int argc, char** argv) {
       "mpm2cbgeo");
   CommandLine line;
   app.add_option("case", line.case_file, "the case file (grid, boundaries, MPM settings)")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   app.add_option("particles", line.particles, "particle file (fem2mpm) or mpm checkpoint")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   app.add_option("-o,--output", line.output, "folder to write the CB-Geo input into")->required();
   app.add_option("--end-time", line.options.end_time,
                  "end time in s on the project's clock (default: the case's mpm.end_time)")
