@@ -479,7 +479,7 @@ def slide_measure_lines(case, out, sweep):
                 else format(value, spec)
         rest = ("still moving" if "rest_time" in m and m["rest_time"] is None else
                 fmt("rest_time", ".1f") + (" s" if m.get("rest_time") is not None else ""))
-        rows.append(f"| {m['run']} | {m['end']:g} s | {rest} | {fmt('area', '.0f')} | "
+        rows.append(f"| {m['run']} | {m['end']:.2f} s | {rest} | {fmt('area', '.0f')} | "
                     f"{fmt('depth', '.1f')} | {fmt('travel_angle', '.1f')} | "
                     f"{fmt('peak_speed', '.2f')} | {fmt('peak_time', '.1f')} | "
                     f"{fmt('max_u', '.2f')} |")
@@ -627,6 +627,49 @@ def paper_lines(case, case_file, sweep):
     return lines
 
 
+def input_echo_lines(case, case_file, out):
+    """What the runs were made from: the program version (the producer of the FE phase's
+    first checkpoint), the case file, and its materials and settings as a table."""
+    lines = ["## Inputs", ""]
+    first = out / "fem" / "fem_t0.000.h5"
+    if first.exists():
+        state = slide.read_checkpoint(first)
+        lines.append(f"- Made by {state.attrs.get('producer', 'an unknown program')} "
+                     f"(out/fem/fem_t0.000.h5), from `{case_file}`.")
+    fem, mpm, mesh = case["fem"], case["mpm"], case["mesh"]
+    damping = fem.get("damping", {})
+    lines += [
+        f"- Mesh: {mesh.get('generator', 'profile')}"
+        + (f" ({mesh['file']})" if "file" in mesh else "")
+        + f", {mesh.get('element', 'quad4-1gp')}"
+        + (f", element size {mesh['element_size']:g} m" if "element_size" in mesh else "")
+        + f"; FE: {fem.get('kinematics', 'small-strain')}, to {fem.get('end_time', 0):g} s, "
+        f"Courant {fem.get('courant', 0.5):g}, base μ {fem.get('friction_coefficient', 0):g}, "
+        f"Rayleigh β_K {damping.get('rayleigh_stiffness', 0):g} s, α_M "
+        f"{damping.get('rayleigh_mass', 0):g} 1/s, local α {damping.get('local', 0):g}"
+        + ("; base motion" if "motion" in fem else "") + ".",
+        f"- Transfer: {case['transfer'].get('particles_per_element', [4, 4])} particles per "
+        f"element, stresses by {case['transfer'].get('stress_interpolation', 'rbf')}, main "
+        f"t_T = {case['transfer'].get('main_time', 0):g} s.",
+        f"- MPM: domain {mpm['domain'][0]} to {mpm['domain'][1]} m, {mpm['cell_size']:g} m cells, "
+        f"{mpm.get('shape_function', 'gimp')}, {mpm.get('update_scheme', 'musl').upper()}, "
+        f"{mpm.get('velocity_transfer', 'flip-pic')}, to {mpm['end_time']:g} s, base μ "
+        f"{mpm.get('friction_coefficient', 0):g}, local α {mpm.get('local_damping', 0):g}, "
+        "boundaries " + ", ".join(f"{side} {kind}" for side, kind in
+                                  mpm.get("boundaries", {}).items()) + ".", "",
+        "| material | FE model | MPM model | ρ (kg/m³) | E (MPa) | ν | φ (°) | c (kPa) | ψ (°) |",
+        "|---|---|---|---|---|---|---|---|---|"]
+    for m in case["materials"]:
+        fe_model = m.get("fem_model", m.get("model", "mohr-coulomb"))
+        e = m.get("youngs_modulus")
+        lines.append(
+            f"| {m['name']} | {fe_model} | {m.get('mpm_model', fe_model)} | "
+            f"{m.get('density', 0):g} | {'–' if e is None else format(e / 1e6, 'g')} | "
+            f"{m.get('poisson_ratio', '–')} | {m.get('friction_angle', '–')} | "
+            f"{m.get('cohesion', 0) / 1e3:g} | {m.get('dilation_angle', 0)} |")
+    return lines + [""]
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: report.py CASE.toml OUT_DIR")
@@ -655,6 +698,7 @@ def main():
           f"{case['mpm']['end_time']:g} s on {case['mpm']['cell_size']:g} m cells "
           f"({case['mpm'].get('shape_function', 'gimp')}, "
           f"{case['mpm'].get('update_scheme', 'musl').upper()}).", ""]
+    md += input_echo_lines(case, case_file, out)
     if fem_lines:
         md += ["## FE phase: mesh quality and when to transfer", ""] + fem_lines + [""]
         if (report_dir / "fem_mesh_quality.png").exists():
