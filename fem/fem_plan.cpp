@@ -116,6 +116,8 @@ FemPlan plan_fem(const Case& original, const FemOptions& options, const Logger& 
   plan.fingerprint = fem_fingerprint(c);
   run::Plan& run = plan.run;
   run.case_name = c.name;
+  run.inputs.push_back(c.file);
+  if (!c.mesh.file().empty()) run.inputs.push_back(c.mesh.file());
   run.schedule = run::OutputSchedule(end, c.fem.output_every,
                                      {c.fem.checkpoint_every, options.checkpoint_every},
                                      c.fem.checkpoint_times);

@@ -77,6 +77,8 @@ MpmPlan plan_mpm(const Case& c, const RunOptions& options, const Logger& log) {
   MpmPlan plan;
   run::Plan& run = plan.run;
   run.case_name = c.name;
+  run.inputs.push_back(c.file);
+  if (!c.mesh.file().empty()) run.inputs.push_back(c.mesh.file());
   run.start = options.restart          ? run::Start::restart
               : options.particles_file ? run::Start::particle_file
                                        : run::Start::case_geometry;

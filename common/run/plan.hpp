@@ -61,6 +61,10 @@ struct Plan {
       start_file;  ///< the particle file or checkpoint (Start::case_geometry: none)
   OutputSchedule schedule{0.0, 0.0, {}, {}};
   OutputPlan output;
+  /// The files the run was made from (the case file, its mesh file): copied into the
+  /// output folder's inputs/ with run.txt (program, version, start), so that a folder
+  /// tells what made it.
+  std::vector<std::filesystem::path> inputs;
   /// The run continues outputs an earlier run wrote (history rows and VTK frames up to
   /// its start are kept): a restart, except fem-solve's from its geostatic checkpoint.
   bool resume_outputs = false;

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
+#include <fstream>
 #include <limits>
+#include <sstream>
 
 #include <fmt/format.h>
 
 #include "common/base/error.hpp"
+#include "common/base/program.hpp"
 #include "common/io/atomic_file.hpp"
 #include "common/run/output_lock.hpp"
 #include "common/run/stability_guard.hpp"
@@ -62,6 +66,40 @@ struct Lifecycle {
   }
 };
 
+namespace {
+
+/// run.txt (program, version and commit, start, case and start file) and a copy of each
+/// input file in inputs/, each written atomically: what made the folder's outputs.
+void record_provenance(const Plan& plan, const Logger& log) {
+  const std::filesystem::path& folder = plan.output.folder;
+  std::string inputs;
+  for (const auto& input : plan.inputs) {
+    std::ifstream in(input, std::ios::binary);
+    if (!in)
+      throw Error("{}: cannot read it to keep a copy in {}", input.string(), folder.string());
+    std::ostringstream text;
+    text << in.rdbuf();
+    std::filesystem::create_directories(folder / "inputs");
+    write_text_atomically(folder / "inputs" / input.filename(), text.str());
+    inputs += fmt::format("input = {}\n", std::filesystem::absolute(input).string());
+  }
+  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  write_text_atomically(
+      folder / "run.txt",
+      fmt::format(
+          "# what made this folder's outputs (docs/contract.md, \"Output files\")\n"
+          "program = {}\nversion = {}\ncase = {}\nstart = {}\nstarted_utc = "
+          "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}Z\n{}",
+          log.program(), version_string(), plan.case_name,
+          plan.start_file.empty() ? std::string("the case geometry") : plan.start_file.string(),
+          utc.tm_year + 1900, utc.tm_mon + 1, utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec,
+          inputs));
+}
+
+}  // namespace
+
 /// The output folder made and locked for this run (the root rank holds the lock), the
 /// temporaries of killed runs removed; every rank ends with the root's one-line error.
 void prepare_folder(const Plan& plan, const Logger& log, const Ranks& ranks,
@@ -75,6 +113,7 @@ void prepare_folder(const Plan& plan, const Logger& log, const Ranks& ranks,
         log.info("took over the output lock a killed run left in {}", plan.output.folder.string());
       }
       remove_temporaries_of_killed_runs(plan.output.folder, log);
+      record_provenance(plan, log);
     } catch (const std::exception& e) {
       problem = e.what();
     }

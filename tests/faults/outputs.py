@@ -29,8 +29,12 @@ TEMPORARY = re.compile(r"^\..+\.tmp-(\d+)$")
 ROOT_ATTRIBUTES = ("schema", "schema_version", "producer", "kind", "time", "step", "dimension",
                    "case", "pe0")
 VTK_CLOSING_TAG = b"</VTKFile>"
+# run.txt says how the folder's last run started (a restart: from its checkpoint), so a
+# restarted folder's differs from an uninterrupted one's by design; it is provenance,
+# not an output of the physics.
+PROVENANCE = {Path("run.txt")}
 # Lines and fields that hold wall-clock times, which no two runs share.
-WALL_CLOCK_LINE = re.compile(r"^wall_s = ")
+WALL_CLOCK_LINE = re.compile(r"^(wall_s|started_utc) = ")  # run.txt: when a run started
 WALL_CLOCK_FIELDS = ("seconds_interpolation", "seconds_total")
 
 
@@ -171,7 +175,7 @@ def complete_file_problems(folder, schema):
 
 def without_wall_clock(path):
     """The file's content without its wall-clock times (fem_summary.txt's wall_s line,
-    the transfer report's timing fields)."""
+    run.txt's started_utc, the transfer report's timing fields)."""
     if path.suffix == ".json":
         fields = json.loads(path.read_bytes())
         return {k: v for k, v in fields.items() if k not in WALL_CLOCK_FIELDS}
@@ -193,6 +197,8 @@ def reference_problems(folder, reference):
     prefix of the reference's)."""
     problems = []
     for relative in final_files(folder):
+        if relative in PROVENANCE:
+            continue
         path, expected = Path(folder) / relative, Path(reference) / relative
         if not expected.exists():
             problems.append(f"{relative}: the reference run has no such file")
@@ -241,8 +247,10 @@ def checkpoint_differences(path, other):
 def difference_problems(folder, reference):
     """Two output folders as the same outputs: the same files; every HDF5 file the same
     datasets and attributes (checkpoint_differences) and the same bytes; every other
-    file the same bytes, but for its wall-clock times (without_wall_clock)."""
+    file the same bytes, but for its wall-clock times (without_wall_clock) and run.txt's
+    start (PROVENANCE)."""
     files, expected = set(files_of(folder)), set(files_of(reference))
+    files, expected = files - PROVENANCE, expected - PROVENANCE
     problems = [f"{f}: only in the run" for f in sorted(files - expected)]
     problems += [f"{f}: only in the reference run" for f in sorted(expected - files)]
     for relative in sorted(files & expected):
