@@ -138,7 +138,7 @@ help::
 # time the report recommends can be run with `make mpm TT=1.3`.
 fem: $(FEM_DONE)
 $(FEM_DONE): $(CASE_INPUTS) $(FEM_SOLVE)
-	$(FEM_SOLVE) $(CASE) -o $(OUT)/fem --checkpoint-at-zone-exit $(FEM_FLAGS)
+	$(FEM_SOLVE) $(CASE) -o $(OUT)/fem --checkpoint-at-zone-exit --tag fem $(FEM_FLAGS)
 
 # TT names the folder (tt1.3) and, with three decimals, the FE checkpoint (fem_t1.300.h5).
 transfer: $(OUT)/tt$(RUN_TT)/particles.h5
@@ -147,7 +147,7 @@ $(OUT)/tt%/particles.h5: $(FEM_DONE) $(FEM2MPM)
 	  echo "no FE checkpoint at t_T = $* s ($(OUT)/fem/fem_t$(call three_decimals,$*).h5); the FE phase wrote t_T =" \
 	    $$(ls $(OUT)/fem | sed -n 's/^fem_t\(.*\)\.h5$$/\1/p' | sort -g | awk '{ printf "%g ", $$1 }') >&2; \
 	  exit 1; }
-	$(FEM2MPM) $(OUT)/fem/fem_t$(call three_decimals,$*).h5 -o $@ --case $(CASE) \
+	$(FEM2MPM) $(OUT)/fem/fem_t$(call three_decimals,$*).h5 -o $@ --case $(CASE) --tag tt$* \
 	  $(ALLOW_INVERTED) $(TRANSFER_FLAGS)
 
 # The main job transfers at t_T ≈ τc as the study prescribes, even where the toe
@@ -158,11 +158,12 @@ $(OUT)/tt$(MAIN_TT)/particles.h5: ALLOW_INVERTED := --allow-inverted
 
 mpm: $(call run_file,$(RUN_TT))
 $(OUT)/tt%/mpm_final.h5: $(OUT)/tt%/particles.h5 $(MPM_SOLVE)
-	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< $(MPM_OPTIONS) $(MPM_FLAGS)
+	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(OUT)/tt$* --particles $< --tag tt$* $(MPM_OPTIONS) \
+	  $(MPM_FLAGS)
 
 pure-mpm: $(PURE_MPM)
 $(PURE_MPM): $(CASE_INPUTS) $(MPM_SOLVE)
-	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(OUT)/pure-mpm $(MPM_OPTIONS) $(MPM_FLAGS)
+	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(OUT)/pure-mpm --tag pure-mpm $(MPM_OPTIONS) $(MPM_FLAGS)
 
 # Pure FE: the FE model run on to the MPM end time, measured through the same
 # particles (element-wise transfer of its final state, folded elements included:
@@ -170,7 +171,7 @@ $(PURE_MPM): $(CASE_INPUTS) $(MPM_SOLVE)
 # without a failure stage.
 pure-fem: $(filter $(PURE_FEM),$(PURE_RUNS))
 $(PURE_FEM): $(CASE_INPUTS) $(FEM_SOLVE) $(FEM2MPM)
-	$(FEM_SOLVE) $(CASE) -o $(OUT)/pure-fem --until $(MPM_END) --no-vtk $(FEM_FLAGS)
+	$(FEM_SOLVE) $(CASE) -o $(OUT)/pure-fem --until $(MPM_END) --no-vtk --tag pure-fem $(FEM_FLAGS)
 	$(FEM2MPM) $(OUT)/pure-fem/fem_t$(call three_decimals,$(MPM_END)).h5 -o $@ \
 	  --case $(CASE) --stress-interpolation element --allow-inverted --quiet
 
@@ -182,7 +183,7 @@ $(PURE_FEM): $(CASE_INPUTS) $(FEM_SOLVE) $(FEM2MPM)
 FOS := $(OUT)/fos/strength_reduction.txt
 fos: $(FOS)
 $(FOS): $(CASE_INPUTS) $(FEM_SOLVE) | $(OUT_STAMP)
-	$(FEM_SOLVE) $(CASE) -o $(OUT)/fos --strength-reduction $(FEM_FLAGS)
+	$(FEM_SOLVE) $(CASE) -o $(OUT)/fos --strength-reduction --tag fos $(FEM_FLAGS)
 
 # --------------------------------------------------------------------------- sweep
 # The valid transfer times are known only once the FE phase has run (the mesh must
@@ -244,7 +245,7 @@ endif
 # is measured; slide-metrics and plots.py do not take the folder for a run.
 AFTER_MAIN := $(OUT)/tt$(MAIN_TT)/after-0.5s/mpm_final.h5
 $(AFTER_MAIN): $(OUT)/tt$(MAIN_TT)/particles.h5 $(MPM_SOLVE)
-	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(dir $@) --particles $< \
+	$(MPIRUN) $(MPM_SOLVE) $(CASE) -o $(dir $@) --particles $< --tag tt$(MAIN_TT)-after-0.5s \
 	  --until $$(awk 'BEGIN { print $(MAIN_TT) + 0.5 }') --no-vtk --quiet \
 	  $(if $(mpm_threads),--threads $(mpm_threads)) $(MPM_FLAGS)
 SNAPSHOT_RUNS := $(if $(filter $(call run_file,$(MAIN_TT)),$(MEASURED)),$(AFTER_MAIN))

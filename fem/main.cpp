@@ -31,6 +31,7 @@ struct CommandLine {
   fem::FemOptions options;
   double until = 0.0, vtk_every = 0.0;
   bool quiet = false, no_vtk = false, no_disk_check = false, strength_reduction = false;
+  std::string tag;
 };
 
 void add_options(CLI::App& app, CommandLine& c) {
@@ -60,6 +61,9 @@ void add_options(CLI::App& app, CommandLine& c) {
                "instead of the failure stage: the factor of safety by strength reduction "
                "(tan φ and c divided by F, bisection on F; OUTPUT/strength_reduction.txt)");
   app.add_flag("-q,--quiet", c.quiet, "print only warnings, errors and the summary line");
+  app.add_option("--tag", c.tag,
+                 "a name for this run on every line it prints, e.g. tt2: \"mpm-solve[tt2]: ...\" "
+                 "(the case pipeline passes the run's folder name)");
 }
 
 fem::FemOptions options_of(const CLI::App& app, const CommandLine& c) {
@@ -89,7 +93,8 @@ int main(int argc, char** argv) {
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
 
   return run_main("fem-solve", [&] {
-    const Logger logger("fem-solve", command.quiet);
+    Logger logger("fem-solve", command.quiet);
+    logger.set_tag(command.tag);
     const Case c = load_case(command.case_file);
     if (command.strength_reduction) {
       const auto r = fem::run_strength_reduction(c, options_of(app, command), logger);

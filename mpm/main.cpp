@@ -33,6 +33,7 @@ struct CommandLine {
   double until = 0.0, vtk_every = 0.0;
   int threads = 0;
   bool quiet = false, no_vtk = false, no_disk_check = false, other_case = false;
+  std::string tag;
   std::vector<std::string> allow_changed;
 };
 
@@ -64,6 +65,9 @@ void add_options(CLI::App& app, CommandLine& c) {
                  "(materials, gravity, grid, algorithms, boundaries, damping, time_step, rest; "
                  "pure MPM: mesh, start, motion)");
   app.add_flag("-q,--quiet", c.quiet, "print warnings, errors and the summary line only");
+  app.add_option("--tag", c.tag,
+                 "a name for this run on every line it prints, e.g. tt2: \"mpm-solve[tt2]: ...\" "
+                 "(the case pipeline passes the run's folder name)");
 }
 
 mpm::RunOptions options_of(const CLI::App& app, const CommandLine& c) {
@@ -101,7 +105,8 @@ int main(int argc, char** argv) {
     if (threads == 0 && ranks.on_this_machine() > 1)
       threads = std::max(1, omp_get_num_procs() / ranks.on_this_machine());
     if (threads > 0) omp_set_num_threads(threads);
-    const Logger log("mpm-solve", command.quiet, !ranks.root());
+    Logger log("mpm-solve", command.quiet, !ranks.root());
+    log.set_tag(command.tag);
     const Case c = load_case(command.case_file);
     mpm::run_mpm(mpm::plan_mpm(c, options_of(app, command), log),
                  log);  // ends with the summary line

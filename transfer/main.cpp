@@ -36,6 +36,7 @@ struct CommandLine {
   std::vector<std::string> assume_liquefied;
   std::string correlation;
   bool quiet = false;
+  std::string tag;
 };
 
 transfer::TransferOptions options_for(const CommandLine& line, const CLI::App& app) {
@@ -69,7 +70,8 @@ transfer::TransferOptions options_for(const CommandLine& line, const CLI::App& a
 }
 
 void run(const CommandLine& line, const CLI::App& app) {
-  const Logger logger("fem2mpm", line.quiet);
+  Logger logger("fem2mpm", line.quiet);
+  logger.set_tag(line.tag);
   std::error_code same_error;
   if (std::filesystem::equivalent(line.input, line.output, same_error)) {
     throw Error("-o {}: is the FE checkpoint being read; write the particles to another file",
@@ -146,6 +148,9 @@ int main(int argc, char** argv) {
                  "none (default: each material's own)");
   app.add_option("--case", line.case_file, "case file whose [transfer] table gives the defaults");
   app.add_flag("-q,--quiet", line.quiet, "print nothing but errors and warnings");
+  app.add_option("--tag", line.tag,
+                 "a name for this run on every line it prints, e.g. tt2: \"mpm-solve[tt2]: ...\" "
+                 "(the case pipeline passes the run's folder name)");
   if (const auto status = parse_command_line(app, argc, argv)) return *status;
   return run_main("fem2mpm", [&] { run(line, app); });
 }

@@ -69,7 +69,8 @@ struct Lifecycle {
 namespace {
 
 /// run.txt (program, version and commit, start, case and start file) and a copy of each
-/// input file in inputs/, each written atomically: what made the folder's outputs.
+/// input file in inputs/, each written atomically: what made the folder's outputs (the
+/// run's own log goes to <program>.log beside them, Logger::write_to).
 void record_provenance(const Plan& plan, const Logger& log) {
   const std::filesystem::path& folder = plan.output.folder;
   std::string inputs;
@@ -113,6 +114,7 @@ void prepare_folder(const Plan& plan, const Logger& log, const Ranks& ranks,
         log.info("took over the output lock a killed run left in {}", plan.output.folder.string());
       }
       remove_temporaries_of_killed_runs(plan.output.folder, log);
+      log.write_to(plan.output.folder / (log.program() + ".log"));
       record_provenance(plan, log);
     } catch (const std::exception& e) {
       problem = e.what();

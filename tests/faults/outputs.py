@@ -29,10 +29,11 @@ TEMPORARY = re.compile(r"^\..+\.tmp-(\d+)$")
 ROOT_ATTRIBUTES = ("schema", "schema_version", "producer", "kind", "time", "step", "dimension",
                    "case", "pe0")
 VTK_CLOSING_TAG = b"</VTKFile>"
-# run.txt says how the folder's last run started (a restart: from its checkpoint), so a
-# restarted folder's differs from an uninterrupted one's by design; it is provenance,
-# not an output of the physics.
-PROVENANCE = {Path("run.txt")}
+# run.txt says how the folder's last run started (a restart: from its checkpoint) and
+# the run's log (<program>.log) holds its wall times and its restarts, so a restarted
+# folder's differ from an uninterrupted one's by design; they are provenance, not
+# outputs of the physics.
+PROVENANCE = {Path("run.txt"), Path("fem-solve.log"), Path("mpm-solve.log")}
 # Lines and fields that hold wall-clock times, which no two runs share.
 WALL_CLOCK_LINE = re.compile(r"^(wall_s|started_utc) = ")  # run.txt: when a run started
 WALL_CLOCK_FIELDS = ("seconds_interpolation", "seconds_total")

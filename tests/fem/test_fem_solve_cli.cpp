@@ -694,11 +694,12 @@ TEST(FemSolveCli, AFullDiskIsOneLineAndACleanExit) {
       dir);
   EXPECT_EQ(run.status, 1) << run.err;
   expect_one_line_error(run, "No space left on device");
-  // The run's provenance (run.txt, inputs/: written first, small and complete) may stay;
-  // no output, whole or partial.
+  // The run's provenance (run.txt, inputs/, its log: written first, small) may stay; no
+  // output, whole or partial.
   for (const auto& entry : fs::recursive_directory_iterator(dir / "disk")) {
-    const bool provenance =
-        entry.path().filename() == "run.txt" || entry.path().parent_path().filename() == "inputs";
+    const bool provenance = entry.path().filename() == "run.txt" ||
+                            entry.path().filename() == "fem-solve.log" ||
+                            entry.path().parent_path().filename() == "inputs";
     EXPECT_TRUE(entry.is_directory() || provenance) << "left on the full disk: " << entry.path();
   }
 }
