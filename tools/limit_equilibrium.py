@@ -12,7 +12,9 @@ iterated to convergence; the factor of safety is the smallest F. The pseudo-stat
 acceleration k_y (in g) of each circle is the horizontal inertia k W acting at the slice
 centres that brings its F to 1, Σ [c b + W tan φ]/m_α(F = 1) = Σ W sin α + k Σ W d/R
 (d the lever arm of the slice centre above the circle's centre); k_y is the smallest.
-Both are for the surface of the case's mesh ([mesh] surface of a profile mesh or the
+On the critical circle the tool also gives Spencer's F (force and moment equilibrium,
+the interslice forces at one inclination θ, found with F): on circles it agrees with
+Bishop's to a few per mille, a check of both. Both are for the surface of the case's mesh ([mesh] surface of a profile mesh or the
 top edges of its blocks), slides towards +x, circles that stay in the body (above the
 base y = 0, clear of the wall x = 0).
 
@@ -114,6 +116,84 @@ def circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
     k = ((np.sum(resisting / m1) - driving) / inertia
          if inertia > 0.0 and m1.min() > M_ALPHA_MIN else None)
     return f, k
+
+
+def _root(function, low, high, steps=200):
+    """A root of `function` in [low, high] by bisection (None if it does not change sign)."""
+    f_low = function(low)
+    if not np.isfinite(f_low) or np.sign(f_low) == np.sign(function(high)):
+        return None
+    for _ in range(steps):
+        middle = 0.5 * (low + high)
+        f_middle = function(middle)
+        if np.sign(f_middle) == np.sign(f_low):
+            low, f_low = middle, f_middle
+        else:
+            high = middle
+        if high - low < 1e-10 * max(1.0, abs(high)):
+            break
+    return 0.5 * (low + high)
+
+
+def spencer(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
+    """Spencer's F of one circle (force and moment equilibrium, interslice forces at one
+    inclination θ): each slice's interslice resultant is
+        Q = [c l/F + W cos α tan φ/F − W sin α] / [cos(α − θ) (1 + tan(α − θ) tan φ/F)],
+    l = b / cos α; F and θ solve Σ Q = 0 (forces) and Σ Q cos(α − θ) = 0 (moments about
+    the centre). Returns (F, θ in degrees), None for a circle circle() rejects or where
+    no θ in ±60° balances both."""
+    if circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices) is None:
+        return None
+    x_max = sx.max()
+    x = np.linspace(max(xc - radius, 0.0), min(xc + radius, x_max), slices)
+    base = yc - np.sqrt(np.maximum(radius**2 - (x - xc) ** 2, 0.0))
+    top = np.interp(x, sx, sy)
+    inside = base < top
+    width = x[1] - x[0]
+    weight = gamma * (top[inside] - base[inside]) * width
+    alpha = np.arcsin(np.clip((xc - x[inside]) / radius, -1.0, 1.0))
+    length = width / np.cos(alpha)
+
+    def q(f, theta):
+        numerator = (cohesion * length / f + weight * np.cos(alpha) * tan_phi / f
+                     - weight * np.sin(alpha))
+        return numerator / (np.cos(alpha - theta) * (1.0 + np.tan(alpha - theta) * tan_phi / f))
+
+    # Each sum has poles at small F (1 + tan(α − θ) tan φ / F = 0 on slices with α < θ):
+    # its root is the first sign change coming down from a large F.
+    def from_above(function):
+        grid = np.geomspace(50.0, 0.01, 400)
+        values = [function(f) for f in grid]
+        for (f1, v1), (f0, v0) in zip(zip(grid, values), zip(grid[1:], values[1:])):
+            if np.sign(v1) != np.sign(v0):
+                return _root(function, f0, f1)
+        return None
+
+    def f_forces(theta):
+        return from_above(lambda f: np.sum(q(f, theta)))
+
+    def f_moments(theta):
+        return from_above(lambda f: np.sum(q(f, theta) * np.cos(alpha - theta)))
+
+    def gap(theta):
+        ff, fm = f_forces(theta), f_moments(theta)
+        return np.nan if ff is None or fm is None else ff - fm
+
+    # Where several θ balance both, the one nearest 0 (the others put the interslice
+    # forces at angles no slide has, with factors of safety far from the slices' own).
+    thetas = np.radians(np.linspace(-60.0, 60.0, 49))
+    gaps = [gap(t) for t in thetas]
+    roots = []
+    for (t0, g0), (t1, g1) in zip(zip(thetas, gaps), zip(thetas[1:], gaps[1:])):
+        if np.isfinite(g0) and np.isfinite(g1) and np.sign(g0) != np.sign(g1) \
+                and abs(g0 - g1) < 1.0:  # a crossing, not the jump of a pole
+            theta = _root(gap, t0, t1, steps=60)
+            if theta is not None:
+                roots.append(theta)
+    if not roots:
+        return None
+    theta = min(roots, key=abs)
+    return f_moments(theta), math.degrees(theta)
 
 
 def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
@@ -264,8 +344,15 @@ def main(argv):
     # smallest k of a failing circle is negative and meaningless as a number).
     ky = (f"pseudo-static yield acceleration k_y = {r['ky']:.3f} g" if r["fs"] >= 1.0 else
           "no yield acceleration: the slope fails under gravity alone")
+    material = case["materials"][0]
+    surface = surface_of(case)
+    sp = spencer(np.array([p[0] for p in surface]), np.array([p[1] for p in surface]),
+                 material["density"] * G, material["cohesion"],
+                 math.tan(math.radians(material["friction_angle"])), xc, yc, radius)
+    spencer_text = ("" if sp is None else
+                    f"; Spencer on that circle {sp[0]:.3f} (interslice forces at {sp[1]:.1f}°)")
     print(f"factor of safety {r['fs']:.3f} (Bishop, circle centre ({xc:.1f}, {yc:.1f}) m, "
-          f"radius {radius:.1f} m); {ky}")
+          f"radius {radius:.1f} m){spencer_text}; {ky}")
     return 0
 
 
