@@ -81,19 +81,19 @@ def bishop(resisting, alpha, tan_phi, driving, m_alpha_floor=None):
     return f
 
 
-def circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
-    """Bishop's F and the pseudo-static k (g) of one circle under the surface (sx, sy),
-    one material; None for a circle that is not a slide of the body (it leaves through
-    the base, the wall x = 0 or the model's far end, is too shallow, or drives nothing).
-    k is None where Bishop's m_α at F = 1 falls below M_ALPHA_MIN."""
+def slices_of(sx, sy, gamma, xc, yc, radius, slices=400):
+    """The slices of one circle under the surface (sx, sy), one material of unit weight
+    gamma: (width b, weights W, base inclinations α (positive where the base falls
+    towards +x), levers of the slice centres above the circle's centre), or None for a
+    circle that is not a slide of the body: it leaves through the base, the wall x = 0
+    or the model's far end (a boundary of the model, not a free face), is too shallow,
+    or drives nothing."""
     x_max, height = sx.max(), sy.max()
     x = np.linspace(max(xc - radius, 0.0), min(xc + radius, x_max), slices)
     base = yc - np.sqrt(np.maximum(radius**2 - (x - xc) ** 2, 0.0))
     top = np.interp(x, sx, sy)
     inside = base < top
     width = x[1] - x[0]
-    # Circles stay in the body: above the base, clear of the wall x = 0 and of the
-    # model's far end (a boundary of the model, not a free face).
     if inside.sum() < 10 or (base[inside] < 0.0).any() \
             or x[inside].min() <= width or x[inside].max() >= x_max - width:
         return None
@@ -101,14 +101,23 @@ def circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
     if h.max() < 0.05 * height:
         return None
     weight = gamma * h * width
-    # α: inclination of the slice base, positive where it falls towards +x
     alpha = np.arcsin(np.clip((xc - x[inside]) / radius, -1.0, 1.0))
-    driving = np.sum(weight * np.sin(alpha))
-    if driving <= 0.0:
+    if np.sum(weight * np.sin(alpha)) <= 0.0:
         return None
+    lever = yc - 0.5 * (base[inside] + top[inside])
+    return width, weight, alpha, lever
+
+
+def circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
+    """Bishop's F and the pseudo-static k (g) of one circle (slices_of; None where it
+    gives none). k is None where Bishop's m_α at F = 1 falls below M_ALPHA_MIN."""
+    cut = slices_of(sx, sy, gamma, xc, yc, radius, slices)
+    if cut is None:
+        return None
+    width, weight, alpha, lever = cut
+    driving = np.sum(weight * np.sin(alpha))
     resisting = cohesion * width + weight * tan_phi
     f = bishop(resisting, alpha, tan_phi, driving)
-    lever = yc - 0.5 * (base[inside] + top[inside])
     inertia = np.sum(weight * lever) / radius
     m1 = np.cos(alpha) + np.sin(alpha) * tan_phi
     # Bishop's m_α near zero (slices steeper than 90° − φ against the slide at the toe)
@@ -140,18 +149,12 @@ def spencer(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
     inclination θ): each slice's interslice resultant is
         Q = [c l/F + W cos α tan φ/F − W sin α] / [cos(α − θ) (1 + tan(α − θ) tan φ/F)],
     l = b / cos α; F and θ solve Σ Q = 0 (forces) and Σ Q cos(α − θ) = 0 (moments about
-    the centre). Returns (F, θ in degrees), None for a circle circle() rejects or where
+    the centre). Returns (F, θ in degrees), None for a circle slices_of rejects or where
     no θ in ±60° balances both."""
-    if circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices) is None:
+    cut = slices_of(sx, sy, gamma, xc, yc, radius, slices)
+    if cut is None:
         return None
-    x_max = sx.max()
-    x = np.linspace(max(xc - radius, 0.0), min(xc + radius, x_max), slices)
-    base = yc - np.sqrt(np.maximum(radius**2 - (x - xc) ** 2, 0.0))
-    top = np.interp(x, sx, sy)
-    inside = base < top
-    width = x[1] - x[0]
-    weight = gamma * (top[inside] - base[inside]) * width
-    alpha = np.arcsin(np.clip((xc - x[inside]) / radius, -1.0, 1.0))
+    width, weight, alpha, _ = cut
     length = width / np.cos(alpha)
 
     def q(f, theta):

@@ -515,15 +515,14 @@ def read_strength_reduction(path):
 
 def mechanism_figure(trial_dir, report_dir, factor):
     """The failing trial's displacement magnitude on its reference mesh: the mechanism."""
-    import h5py
     from matplotlib.collections import PolyCollection
     states = sorted(trial_dir.glob("fem_t*.h5"), key=lambda p: float(p.stem[5:]))
     if not states:
         return None
-    with h5py.File(states[-1], "r") as f:
-        x = f["nodes/reference_coordinates"][:]
-        u = np.linalg.norm(f["nodes/displacement"][:], axis=1)
-        cells = f["elements/connectivity"][:]
+    last = slide.read_checkpoint(states[-1])
+    x = last.nodes["reference_coordinates"]
+    u = np.linalg.norm(last.nodes["displacement"], axis=1)
+    cells = last.elements["connectivity"]
     fig, ax = plt.subplots(figsize=(9, 3.6))
     polygons = PolyCollection(x[cells], array=u[cells].mean(axis=1), cmap="viridis",
                               edgecolors="none")

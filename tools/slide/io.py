@@ -28,9 +28,10 @@ def read_table(path):
     """A CSV with a header line as {column: numpy array}: numbers as float64 (an empty
     cell or "nan" is NaN), a column with any non-number text as an array of str. A
     header without rows gives empty arrays."""
-    rows = read_rows(path)
     with open(path, newline="") as f:
-        header = next(csv.reader(f), [])
+        reader = csv.DictReader(f)
+        rows = list(reader)
+        header = reader.fieldnames or []
     table = {}
     for name in header:
         texts = [r[name] for r in rows]
