@@ -429,7 +429,7 @@ void ExplicitStage::make_recorders() {
   recorders =
       std::make_unique<Recorders>(model_, fem.recorders, plan_.run.output.folder / "recorders",
                                   rigid ? motion : nullptr, std::move(base_nodes));
-  recorders->bound(plan_.run.end_time() - state_.time, time_step_, Recorders::limit_bytes);
+  recorders->bound(plan_.run.end_time() - state_.time, time_step_);
 }
 
 void ExplicitStage::start_recorders(bool resume) {

@@ -17,9 +17,10 @@
 // of a rigid base, the mean of the base nodes of a compliant one, zero for a static base.
 //
 // Rows are kept in memory and each file is rewritten whole and atomically at every
-// checkpoint and at the end of the run: a killed run leaves complete files up to its
-// last checkpoint, from which a restart continues them. A recorder of many nodes
-// recorded at every step grows by about 150 bytes per node and step: give it `every`.
+// checkpoint and at the end of the run (common/run/recorder_file.hpp): a killed run
+// leaves complete files up to its last checkpoint, from which a restart continues them.
+// A recorder of many nodes recorded at every step grows by about 150 bytes per node and
+// step: give it `every`.
 #pragma once
 
 #include <filesystem>
@@ -29,6 +30,7 @@
 
 #include "common/base/log.hpp"
 #include "common/physics/ground_motion.hpp"
+#include "common/run/recorder_file.hpp"
 #include "common/settings/fem_spec.hpp"
 #include "fem/fem_model.hpp"
 
@@ -44,18 +46,9 @@ class Recorders {
             std::vector<Index> base_nodes);
 
   bool empty() const { return recorders_.empty(); }
-  /// The longest recorder name: <name>.csv must be a file name (255 bytes).
-  static constexpr std::size_t max_name_bytes = 200;
-  /// A number as the rows print it, about: "-1.2345678901234567e-05,".
-  static constexpr double bytes_per_value = 24.0;
-  /// What a run's recorders may hold: 1 GB, a few hundred thousand rows of a few hundred
-  /// nodes; beyond it a cadence or a node set is a mistake, not a plan (and the rows, kept
-  /// in memory, would crowd the run out).
-  static constexpr std::size_t limit_bytes = 1'000'000'000;
   /// The rows the recorders hold in memory (and write) over a run of `duration` s in
-  /// steps of `step` s, bounded: Error above `limit_bytes`, before any file is written. A
-  /// cadence below the step becomes every step.
-  void bound(double duration, double step, std::size_t limit = limit_bytes);
+  /// steps of `step` s, bounded (run::bound_recorders): Error before any file is written.
+  void bound(double duration, double step, std::size_t limit = run::RecorderFile::limit_bytes);
   /// On restart: keeps the rows of the existing files up to `time`.
   void resume(double time, const Logger& logger);
   /// After a step of length `dt` that ended at state.time: a row where one is due.
@@ -67,16 +60,11 @@ class Recorders {
 
  private:
   struct Recorder {
-    std::string name;
     std::vector<Index> nodes;
     std::vector<Index> elements;
     /// A node-set recorder of a saturated model: the drained faces (indices into
     /// model.fluid.faces) with both nodes in the set, whose outflow it records.
     std::optional<std::vector<std::size_t>> drained_faces;
-    double every = 0.0;
-    double next = 0.0;
-    std::string header;
-    std::string rows;
   };
 
   const FemModel& model_;
@@ -84,6 +72,7 @@ class Recorders {
   const GroundMotion* motion_;
   std::vector<Index> base_nodes_;
   std::vector<Recorder> recorders_;
+  std::vector<run::RecorderFile> files_;  ///< one per recorder, in the same order
 };
 
 }  // namespace slide::fem

@@ -244,8 +244,22 @@ run::StartOutput MpmStage::start() {
     set_references(plan_.source, solver_, start_.references, from == run::Start::case_geometry,
                    log_);
   }
+  start_recorders(!fresh);
   progress_.emplace(log_, "mpm", time(), plan_.run.end_time());
   return fresh ? run::StartOutput::first : run::StartOutput::none;
+}
+
+/// The recorders, from the particles as the loop starts them (pure MPM's settled ones),
+/// bounded before any of their files is written; a fresh run's first row.
+void MpmStage::start_recorders(bool resume) {
+  const auto& specs = plan_.source.mpm.recorders;
+  if (specs.empty()) return;
+  const auto folder = plan_.run.output.folder / "recorders";
+  recorders_.emplace(solver_, specs, folder);
+  recorders_->bound(plan_.run.end_time() - time(), time_step(plan_.source.mpm, solver_));
+  if (resume) recorders_->resume(time(), log_);
+  log_.info("recorders → {}: {}", folder.string(), recorders_->describe());
+  if (!resume) recorders_->record(solver_);
 }
 
 bool MpmStage::advance_to(double stop) {
@@ -259,6 +273,7 @@ bool MpmStage::advance_to(double stop) {
     const StepReport report = solver_.step(landing ? stop - time : step);
     if (landing) solver_.land_on(stop);  // exactly, so restarts line up
     ++steps_;
+    if (recorders_) recorders_->record(solver_);
 
     const double now = solver_.clock().time;
     exits_.add(report.exited, now);
@@ -289,12 +304,14 @@ void MpmStage::write_output(const run::OutputStep& step) {
     write_mpm_checkpoint(step.checkpoint, solver_, start_.references, plan_.source.name,
                          start_.transfer, start_.motion, plan_.fingerprint);
     exits_.report(time());
+    if (recorders_) recorders_->write(solver_.ranks());
   }
 }
 
 void MpmStage::finish() {
   if (progress_) progress_->finish();
   exits_.finish(time());
+  if (recorders_) recorders_->write(solver_.ranks());
   write_mpm_checkpoint(plan_.run.output.folder / "mpm_final.h5", solver_, start_.references,
                        plan_.source.name, start_.transfer, start_.motion, plan_.fingerprint);
 }

@@ -2,8 +2,8 @@
 // particle file, a restart, or the case geometry for pure MPM), the initial state of the
 // loop (pure MPM's initial stresses, the switch to the MPM models, the guard's
 // references), the steps with the rest detection, and at each output the guard, the
-// history row, the VTK frame and the checkpoint. run_mpm (mpm_run.hpp) sets it up from
-// the plan and hands it to run::execute.
+// history row, the VTK frame, the recorders' files and the checkpoint. run_mpm (mpm_run.hpp) sets
+// it up from the plan and hands it to run::execute.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +18,7 @@
 #include "mpm/mpm_output.hpp"
 #include "mpm/mpm_plan.hpp"
 #include "mpm/mpm_solver.hpp"
+#include "mpm/particle_recorders.hpp"
 
 namespace slide::mpm {
 
@@ -127,12 +128,15 @@ class MpmStage final : public run::Stage {
   run::OutputSizes output_sizes() const override;
 
  private:
+  void start_recorders(bool resume);
+
   const MpmPlan& plan_;
   MpmSolver& solver_;
   Start& start_;
   const Logger& log_;
   std::optional<MpmHistory> history_;
   std::optional<VtkWriter> vtk_;
+  std::optional<ParticleRecorders> recorders_;
   std::optional<Progress> progress_;
   ExitLog exits_;
   std::int64_t steps_ = 0;

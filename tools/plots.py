@@ -4,9 +4,9 @@
     /usr/bin/python3 tools/plots.py cases/column-short/case.toml cases/column-short/out
 
 Uses Debian's python3-matplotlib, python3-numpy and python3-h5py only. Reads what the
-pipeline wrote: fem/fem_history.csv, tt*/mpm_history.csv, sweep.csv, profiles.csv, the
-particle checkpoints and, for the σyy figure of the main transfer, its FE checkpoint's
-Gauss points and tt<main>/after-0.5s/ (datasets as documented in
+pipeline wrote: fem/fem_history.csv, tt*/mpm_history.csv, the recorders' CSVs, sweep.csv,
+profiles.csv, the particle checkpoints and, for the σyy figure of the main transfer, its
+FE checkpoint's Gauss points and tt<main>/after-0.5s/ (datasets as documented in
 common/io/checkpoint-schema.md).
 Every figure is optional: one whose inputs are missing is skipped. The last file
 written is OUT/report/figures.txt, the names of the PNGs made (one a line): the Make
@@ -187,6 +187,52 @@ def plot_histories(case, out, figures):
         ax.legend(fontsize=7)
     fig.suptitle(f"{case['case']['name']}: runout and kinetic energy (τc = {tau_c:.2f} s)")
     save(fig, figures / "runout_and_energy.png")
+
+
+def point_motion(path):
+    """The first point of a recorder's CSV: (time, |u|, |v|), for an FE node (n<k>_ux …,
+    absolute) or an MPM particle (p<k>_ux …); None for an element recorder."""
+    recorder = slide.read_recorder(path)
+    for owner, values in recorder.items():
+        if owner[:1] in ("n", "p") and owner[1:].isdigit() and "ux" in values:
+            return (recorder["time"], np.hypot(values["ux"], values["uy"]),
+                    np.hypot(values["vx"], values["vy"]))
+    return None
+
+
+def plot_recorders(case, out, figures):
+    """Per [[mpm.recorders]] table: the displacement and speed of its first point through
+    the FE phase (the node nearest it, when [[fem.recorders]] has a table of that name)
+    and every MPM run (the particle that started nearest it)."""
+    runs = transfer_runs(out) + [out / "pure-mpm"]
+    for spec in case.get("mpm", {}).get("recorders", []):
+        name = spec["name"]
+        curves = [(d.name, point_motion(d / "recorders" / f"{name}.csv")) for d in runs
+                  if (d / "recorders" / f"{name}.csv").exists()]
+        curves = [(run, c) for run, c in curves if c is not None]
+        if not curves:
+            continue
+        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
+        styles = run_styles([run for run, _ in curves], max(len(c[0]) for _, c in curves))
+        for run, (t, u, v) in curves:
+            ax1.plot(t, u, label=run_label(run), **styles[run])
+            ax2.plot(t, v, label=run_label(run), **styles[run])
+        fem = out / "fem" / "recorders" / f"{name}.csv"
+        motion = point_motion(fem) if fem.exists() else None
+        if motion is not None:
+            for ax, values in ((ax1, motion[1]), (ax2, motion[2])):
+                ax.plot(motion[0], values, color="k", ls=(0, (2, 1)), lw=1, label="FE phase",
+                        zorder=5)
+        x, y = spec["points"][0]
+        ax1.set_ylabel("|u| since t = 0 (m)")
+        ax2.set_ylabel("speed (m/s)")
+        for ax in (ax1, ax2):
+            ax.set_xlabel("t (s)")
+            ax.grid(True, lw=0.3, alpha=0.5)
+            ax.legend(fontsize=7)
+        fig.suptitle(f"{case['case']['name']}: recorder \"{name}\", the material that started "
+                     f"nearest ({x:g}, {y:g}) m")
+        save(fig, figures / f"recorder_{name}.png")
 
 
 def zone_mask(rows):
@@ -521,8 +567,9 @@ def main():
     out = pathlib.Path(sys.argv[2])
     figures = out / "report"
     figures.mkdir(parents=True, exist_ok=True)
-    for plot in (plot_profiles, plot_histories, plot_fem_quality, plot_rmse_vs_quality,
-                 plot_snapshots, plot_geostatic_transfer_error, plot_stress_at_transfer):
+    for plot in (plot_profiles, plot_histories, plot_recorders, plot_fem_quality,
+                 plot_rmse_vs_quality, plot_snapshots, plot_geostatic_transfer_error,
+                 plot_stress_at_transfer):
         plot(case, out, figures)
     listing = figures / "figures.txt"
     tmp = listing.with_suffix(".txt.tmp")

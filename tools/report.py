@@ -713,6 +713,10 @@ def main():
                             ("geostatic_transfer_error.png", "Transfer error of σyy")):
         if (report_dir / figure).exists():
             md += [f"![{caption}]({figure})", ""]
+    for spec in case["mpm"].get("recorders", []):
+        if (report_dir / f"recorder_{spec['name']}.png").exists():
+            md += [f"![Recorder {spec['name']}: displacement and speed](recorder_{spec['name']}.png)",
+                   ""]
     md += slide_measure_lines(case, out, sweep)
     md += grid_edge_lines(case, out, sweep)
     md += paper_lines(case, case_file, sweep)

@@ -181,32 +181,16 @@ std::vector<RecorderSpec> read_recorders(const Section& s) {
   for (const Section& r :
        s.tables("recorders", Section::Keys{"name", "points", "node_set", "elements", "every"})) {
     RecorderSpec spec;
-    spec.name = r.string("name");
-    if (spec.name.empty() ||
-        spec.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                    "0123456789-_") != std::string::npos) {
-      r.fail("name",
-             fmt::format("\"{}\" is not a file name of letters, digits, - and _", spec.name));
-    }
-    for (const RecorderSpec& other : recorders) {
-      if (other.name == spec.name) r.fail("name", fmt::format("\"{}\" twice", spec.name));
-    }
+    std::vector<std::string> taken;
+    for (const RecorderSpec& other : recorders) taken.push_back(other.name);
+    spec.name = read_recorder_name(r, taken);
     const int kinds = int{r.has("points")} + int{r.has("node_set")} + int{r.has("elements")};
     if (kinds != 1) {
       throw Error("{}: {}: give exactly one of points, node_set, elements (found {})", r.where(),
                   r.path(), kinds);
     }
-    const auto read_points = [&](std::string_view key) {
-      std::vector<Vec2> points;
-      const auto& items = r.reader().array(r.node(key), r.dotted(key));
-      if (items.empty()) r.fail(key, "an empty list");
-      for (std::size_t i = 0; i < items.size(); ++i) {
-        points.push_back(r.reader().point(items[i], fmt::format("{}[{}]", r.dotted(key), i)));
-      }
-      return points;
-    };
-    if (r.has("points")) spec.points = read_points("points");
-    if (r.has("elements")) spec.elements = read_points("elements");
+    if (r.has("points")) spec.points = read_points(r, "points");
+    if (r.has("elements")) spec.elements = read_points(r, "elements");
     if (r.has("node_set")) spec.node_set = r.string("node_set");
     spec.every = r.number("every", non_negative("s"), 0.0);
     recorders.push_back(std::move(spec));

@@ -138,6 +138,21 @@ void read_pore_water_and_reservoir(const Section& s, MpmSpec& mpm) {
   }
 }
 
+/// [[mpm.recorders]].
+std::vector<ParticleRecorderSpec> read_particle_recorders(const Section& s) {
+  std::vector<ParticleRecorderSpec> recorders;
+  std::vector<std::string> taken;
+  for (const Section& r : s.tables("recorders", Section::Keys{"name", "points", "every"})) {
+    ParticleRecorderSpec spec;
+    spec.name = read_recorder_name(r, taken);
+    spec.points = read_points(r, "points");
+    spec.every = r.number("every", non_negative("s"), 0.0);
+    taken.push_back(spec.name);
+    recorders.push_back(std::move(spec));
+  }
+  return recorders;
+}
+
 }  // namespace
 
 MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const MeshSpec& mesh,
@@ -168,7 +183,8 @@ MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const Mesh
                                                     "gravity_stage_duration",
                                                     "gravity_stage_damping",
                                                     "reservoir",
-                                                    "pore_water"});
+                                                    "pore_water",
+                                                    "recorders"});
   MpmSpec mpm;
   // Order matters: of several faults, the first one read is the one reported.
   read_grid(s, mesh, mpm);
@@ -176,6 +192,7 @@ MpmSpec read_mpm(const Section& root, const MaterialTable& materials, const Mesh
   read_run(s, transfer, mpm);
   read_pure_mpm(s, mpm);
   read_pore_water_and_reservoir(s, mpm);
+  if (s.has("recorders")) mpm.recorders = read_particle_recorders(s);
   return mpm;
 }
 

@@ -47,6 +47,28 @@ std::string locate(const std::string& file, const toml::source_region& region) {
   return fmt::format("{}:{}", file, region.begin.line);
 }
 
+std::string read_recorder_name(const Section& r, const std::vector<std::string>& taken) {
+  std::string name = r.string("name");
+  if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                             "0123456789-_") != std::string::npos) {
+    r.fail("name", fmt::format("\"{}\" is not a file name of letters, digits, - and _", name));
+  }
+  if (std::find(taken.begin(), taken.end(), name) != taken.end()) {
+    r.fail("name", fmt::format("\"{}\" twice", name));
+  }
+  return name;
+}
+
+std::vector<Vec2> read_points(const Section& s, std::string_view key) {
+  std::vector<Vec2> points;
+  const auto& items = s.reader().array(s.node(key), s.dotted(key));
+  if (items.empty()) s.fail(key, "an empty list");
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    points.push_back(s.reader().point(items[i], fmt::format("{}[{}]", s.dotted(key), i)));
+  }
+  return points;
+}
+
 std::pair<int, int> read_particle_layout(const Section& s, std::string_view key, int fallback) {
   if (!s.has(key)) return {fallback, fallback};
   const auto& reader = s.reader();

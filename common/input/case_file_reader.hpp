@@ -347,6 +347,13 @@ BoundaryTable read_boundaries(const Section& parent, std::string_view key,
 /// The problem of a friction boundary when the section gives no coefficient.
 std::string friction_problem(const Section& s);
 
+/// A recorder's `name` (it names OUT/recorders/<name>.csv): letters, digits, - and _, not
+/// one of `taken` (the names of the stage's recorders before it).
+std::string read_recorder_name(const Section& r, const std::vector<std::string>& taken);
+
+/// A non-empty list of [x, y] points under `key`.
+std::vector<Vec2> read_points(const Section& s, std::string_view key);
+
 /// A material reference: the name must be one of the case's materials.
 std::string read_material_name(const Section& s, std::string_view key,
                                const MaterialTable& materials);

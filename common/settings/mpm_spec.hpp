@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "common/base/types.hpp"
@@ -12,6 +13,14 @@
 #include "common/physics/algorithms.hpp"
 
 namespace slide {
+
+/// [[mpm.recorders]]: time histories of the particles nearest `points`, written to
+/// OUT/recorders/<name>.csv (mpm/particle_recorders.hpp).
+struct ParticleRecorderSpec {
+  std::string name;
+  std::vector<Vec2> points;  ///< m, compared with each particle's reference position x − u
+  double every = 0.0;        ///< s between rows (0: every step)
+};
 
 struct MpmSpec {
   Vec2 domain_min = Vec2::Zero();  ///< lower-left corner of the grid, m
@@ -58,6 +67,7 @@ struct MpmSpec {
   InitialStress initial_stress = InitialStress::k0;
   double gravity_stage_duration = 0.0;  ///< s of damped elastic loading (InitialStress::gravity)
   double gravity_stage_damping = 0.0;   ///< local damping α during that stage
+  std::vector<ParticleRecorderSpec> recorders;
 };
 
 }  // namespace slide

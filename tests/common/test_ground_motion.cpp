@@ -311,5 +311,32 @@ TEST(CaseFile, MotionMistakesAreOneLineErrors) {
   EXPECT_NE(error("[fem.motion]\nbase = \"rigid\"\n").find("no motion"), std::string::npos);
 }
 
+TEST(CaseFile, MpmRecordersLoadAndTheirMistakesAreOneLineErrors) {
+  const std::string recorder = "\n[[mpm.recorders]]\nname = \"crest\"\npoints = [[0.0, 4.0]]\n";
+  const Case c = parse_case(column_case("") + recorder + "every = 0.5\n", "case.toml");
+  ASSERT_EQ(c.mpm.recorders.size(), 1u);
+  EXPECT_EQ(c.mpm.recorders[0].name, "crest");
+  ASSERT_EQ(c.mpm.recorders[0].points.size(), 1u);
+  EXPECT_EQ(c.mpm.recorders[0].points[0], Vec2(0.0, 4.0));
+  EXPECT_DOUBLE_EQ(c.mpm.recorders[0].every, 0.5);
+  const auto error = [](const std::string& text) {
+    return message_of([&] { parse_case(column_case("") + text, "case.toml"); });
+  };
+  EXPECT_NE(error(recorder + recorder).find("mpm.recorders[1].name: \"crest\" twice"),
+            std::string::npos)
+      << error(recorder + recorder);
+  EXPECT_NE(error("\n[[mpm.recorders]]\nname = \"a b\"\npoints = [[0.0, 4.0]]\n")
+                .find("\"a b\" is not a file name"),
+            std::string::npos);
+  EXPECT_NE(error("\n[[mpm.recorders]]\nname = \"x\"\npoints = []\n").find("an empty list"),
+            std::string::npos);
+  EXPECT_NE(error("\n[[mpm.recorders]]\nname = \"x\"\n").find("points: missing required key"),
+            std::string::npos)
+      << error("\n[[mpm.recorders]]\nname = \"x\"\n");
+  EXPECT_NE(error(recorder + "every = -1\n").find("every = -1 is not admissible"),
+            std::string::npos);
+  EXPECT_NE(error(recorder + "node_set = \"base\"\n").find("node_set"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace slide

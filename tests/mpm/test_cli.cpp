@@ -167,6 +167,78 @@ TEST(MpmSolveCli, RestartContinuesBitForBit) {
             "max_speed");
 }
 
+/// The header and the rows of a recorder's CSV.
+std::pair<std::vector<std::string>, std::vector<std::vector<double>>> read_recorder(
+    const fs::path& file) {
+  std::istringstream text(read_text(file));
+  std::string line, cell;
+  std::getline(text, line);
+  std::vector<std::string> header;
+  std::istringstream names(line);
+  while (std::getline(names, cell, ',')) header.push_back(cell);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(text, line)) {
+    std::istringstream values(line);
+    rows.emplace_back();
+    while (std::getline(values, cell, ','))
+      rows.back().push_back(std::strtod(cell.c_str(), nullptr));
+  }
+  return {header, rows};
+}
+
+TEST(MpmSolveCli, RecordersFollowTheParticleThatStartedNearestTheirPointThroughARestart) {
+  const fs::path folder = fresh_folder("recorders");
+  const Vec2 point(9.7, 7.9);  // the column's top corner, which collapses
+  const fs::path c =
+      write_case(folder, small_case("[[mpm.recorders]]\nname = \"corner\"\npoints = [[9.7, 7.9]]\n"
+                                    "every = 0.1\n"));
+  const ProgramRun straight = run_solver(
+      folder, fmt::format("{} -o {} --quiet", c.string(), (folder / "straight").string()));
+  ASSERT_EQ(straight.status, 0) << straight.err;
+  const fs::path split = folder / "split";
+  run_split(folder, c, split);
+  EXPECT_EQ(read_text(folder / "straight" / "recorders" / "corner.csv"),
+            read_text(split / "recorders" / "corner.csv"));
+
+  // The particle followed: the one whose x − u at the start is nearest the point.
+  const ParticleCheckpoint start = read_particle_checkpoint(split / "mpm_t0.000.h5");
+  std::size_t nearest = 0;
+  for (std::size_t p = 0; p < start.particles.count(); ++p) {
+    const auto distance = [&](std::size_t q) {
+      return (start.particles.coordinates[q] - start.particles.displacement[q] - point).norm();
+    };
+    if (distance(p) < distance(nearest)) nearest = p;
+  }
+  const std::int64_t id = start.particles.id[nearest];
+  const auto [header, rows] = read_recorder(split / "recorders" / "corner.csv");
+  ASSERT_EQ(header.size(), 12u);
+  EXPECT_EQ(header[1], fmt::format("p{}_x", id));
+  EXPECT_EQ(header[11], fmt::format("p{}_eq", id));
+  // A row at the start and one at the first step end at or after each 0.1 s, to the end.
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows.front()[0], 0.0);
+  EXPECT_EQ(rows.back()[0], 0.5);
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    EXPECT_GE(rows[r][0], 0.1 * static_cast<double>(r) - 1e-12);
+    EXPECT_LT(rows[r][0], 0.1 * static_cast<double>(r) + 0.02);
+  }
+  // The last row is the particle's state in the final checkpoint, digit for digit.
+  const ParticleCheckpoint end = read_particle_checkpoint(split / "mpm_final.h5");
+  const auto at = std::ranges::find(end.particles.id, id) - end.particles.id.begin();
+  ASSERT_LT(static_cast<std::size_t>(at), end.particles.count());
+  const auto p = static_cast<std::size_t>(at);
+  const std::vector<double>& last = rows.back();
+  EXPECT_EQ(last[1], end.particles.coordinates[p].x());
+  EXPECT_EQ(last[2], end.particles.coordinates[p].y());
+  EXPECT_EQ(last[3], end.particles.displacement[p].x());
+  EXPECT_EQ(last[4], end.particles.displacement[p].y());
+  EXPECT_EQ(last[5], end.particles.velocity[p].x());
+  EXPECT_EQ(last[8], end.particles.stress[p][1]);
+  EXPECT_EQ(last[11], end.particles.eps_q[p]);
+  // The corner moved: the record is of a particle in the collapse, not a resting one.
+  EXPECT_GT(std::hypot(last[3], last[4]), 0.05);
+}
+
 using slide::testing::pvd_entries;
 
 std::vector<double> times_of(const std::vector<std::pair<double, std::string>>& entries) {

@@ -83,6 +83,33 @@ class Tables(unittest.TestCase):
         self.assertTrue(np.isnan(table["tt"][1]))
         self.assertTrue(np.isnan(table["value"][1]))
 
+    def test_recorder_columns_are_grouped_by_what_they_follow(self):
+        path = CHAIN / "recorder.csv"
+        path.write_text("time,base_ux,n12_ux,n12_ux_rel,e5_sxx,p7_eq,outflow\n"
+                        "0,0,0,0,-1e4,0,0\n0.5,0.1,0.3,0.2,-2e4,0.01,1e-6\n")
+        rec = slide.read_recorder(path)
+        np.testing.assert_array_equal(rec["time"], [0.0, 0.5])
+        self.assertEqual(rec["n12"]["ux_rel"][1], 0.2)
+        self.assertEqual(rec["e5"]["sxx"][1], -2e4)
+        self.assertEqual(rec["p7"]["eq"][1], 0.01)
+        self.assertEqual(rec["base"]["ux"][1], 0.1)
+        self.assertEqual(rec["outflow"][1], 1e-6)
+
+    def test_particles_as_a_dataframe_where_pandas_is_installed(self):
+        try:
+            import pandas  # noqa: F401
+        except ImportError:
+            self.skipTest("python3-pandas is not installed (to_dataframe needs it)")
+        mpm = slide.read_checkpoint(CHAIN / "mpm" / "mpm_final.h5")
+        frame = slide.to_dataframe(mpm.particles)
+        count = len(mpm.particles["id"])
+        self.assertEqual(len(frame), count)
+        np.testing.assert_array_equal(frame["id"].to_numpy(), mpm.particles["id"])
+        np.testing.assert_array_equal(frame["coordinates_1"].to_numpy(),
+                                      mpm.particles["coordinates"][:, 1])
+        np.testing.assert_array_equal(frame["stress_3"].to_numpy(),
+                                      mpm.particles["stress"][:, 3])
+
     def test_summary_keeps_words_and_reads_numbers(self):
         summary = slide.read_summary(CHAIN / "fem" / "fem_summary.txt")
         self.assertEqual(summary["element"], "quad4-1gp")

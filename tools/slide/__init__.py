@@ -9,6 +9,7 @@
     history = slide.read_table("out/tt2/mpm_history.csv")     # {column: numpy array}
     sweep = slide.read_rows("out/sweep.csv")                   # [{column: text}]
     slide.read_pvd("out/tt2/mpm.pvd")                          # [(time, frame path)]
+    crest = slide.read_recorder("out/tt2/recorders/crest.csv") # {"time": …, "p3322": {"ux": …}}
     slide.read_summary("out/fem/fem_summary.txt")             # {key: value}
     slide.to_dataframe(mpm.particles)                          # pandas, when installed
 
@@ -20,8 +21,8 @@ python3-pandas only for to_dataframe.
 
 From the source tree: PYTHONPATH=tools; installed: PYTHONPATH=PREFIX/share/slide/tools.
 """
-from slide.io import (Checkpoint, read_checkpoint, read_pvd, read_rows, read_summary,
-                      read_table, to_dataframe)
+from slide.io import (Checkpoint, read_checkpoint, read_pvd, read_recorder, read_rows,
+                      read_summary, read_table, to_dataframe)
 
-__all__ = ["Checkpoint", "read_checkpoint", "read_pvd", "read_rows", "read_summary",
-           "read_table", "to_dataframe"]
+__all__ = ["Checkpoint", "read_checkpoint", "read_pvd", "read_recorder", "read_rows",
+           "read_summary", "read_table", "to_dataframe"]

@@ -43,6 +43,21 @@ def read_table(path):
     return table
 
 
+def read_recorder(path):
+    """A recorder's CSV (OUT/recorders/<name>.csv of fem-solve or mpm-solve) grouped by what
+    each column follows: {"time": array, "n12": {"ux": array, "ux_rel": …}, "e5": {"sxx": …},
+    "p3322": {"x": …, "ux": …, "eq": …}, "base": {"ux": …}}; a column without a prefix
+    ("outflow") stays an array at the top."""
+    grouped = {}
+    for name, values in read_table(path).items():
+        owner, _, quantity = name.partition("_")
+        if quantity and owner != "time":
+            grouped.setdefault(owner, {})[quantity] = values
+        else:
+            grouped[name] = values
+    return grouped
+
+
 def read_summary(path):
     """A `key = value` file (fem_summary.txt, strength_reduction.txt's head): values as
     float where they are numbers, else the text ("none" stays "none")."""
