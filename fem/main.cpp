@@ -36,9 +36,12 @@ struct CommandLine {
 
 void add_options(CLI::App& app, CommandLine& c) {
   app.add_option("case", c.case_file, "case file (case.toml)")->required();
-  app.add_option("-o,--output", c.options.output_dir, "output folder")->required();
+  app.add_option("-o,--output", c.options.output_dir, "output folder")
+      ->required()
+      ->type_name("DIR");
   app.add_option("--until", c.until, "end time in s (instead of fem.end_time)");
-  app.add_option("--restart", c.restart, "continue from this kind \"fem\" checkpoint");
+  app.add_option("--restart", c.restart, "continue from this kind \"fem\" checkpoint")
+      ->type_name("FILE");
   app.add_option("--checkpoint-every", c.options.checkpoint_every,
                  "also write a checkpoint every DT s");
   app.add_flag("--checkpoint-at-zone-exit", c.options.checkpoint_at_zone_exit,

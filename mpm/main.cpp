@@ -39,10 +39,12 @@ struct CommandLine {
 
 void add_options(CLI::App& app, CommandLine& c) {
   app.add_option("case", c.case_file, "case file (case.toml)")->required();
-  app.add_option("-o,--output", c.output_dir, "output folder")->required();
-  app.add_option("--particles", c.particles, "particle file to start from (fem2mpm output)");
+  app.add_option("-o,--output", c.output_dir, "output folder")->required()->type_name("DIR");
+  app.add_option("--particles", c.particles, "particle file to start from (fem2mpm output)")
+      ->type_name("FILE");
   app.add_option("--until", c.until, "stop at this time (s) instead of the case's end time");
-  app.add_option("--restart", c.restart, "continue from an mpm checkpoint (mpm_t<T>.h5)");
+  app.add_option("--restart", c.restart, "continue from an mpm checkpoint (mpm_t<T>.h5)")
+      ->type_name("FILE");
   app.add_option("--threads", c.threads,
                  "OpenMP threads (default: all cores; under mpirun, the cores over the ranks "
                  "on the machine)")

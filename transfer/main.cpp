@@ -113,7 +113,9 @@ int main(int argc, char** argv) {
       "fem2mpm");
   CommandLine line;
   app.add_option("fem_checkpoint", line.input, "FE checkpoint (kind \"fem\")")->required();
-  app.add_option("-o,--output", line.output, "particle file to write (HDF5)")->required();
+  app.add_option("-o,--output", line.output, "particle file to write (HDF5)")
+      ->required()
+      ->type_name("FILE");
   app.add_option("--particles-per-element", line.particles_per_element,
                  "N (N×N per quad, N per triangle) or NxM; default 4 (triangles: 16)");
   app.add_option("--stress-interpolation", line.stress_interpolation,

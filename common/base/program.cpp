@@ -1,6 +1,8 @@
 #include "common/base/program.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,10 +22,10 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
-    fmt::print("{}", app.help());
+    fmt::print("{}", gnu_help(app));
     return 0;
   } catch (const CLI::CallForAllHelp&) {
-    fmt::print("{}", app.help("", CLI::AppFormatMode::All));
+    fmt::print("{}", gnu_help(app));
     return 0;
   } catch (const CLI::CallForVersion&) {
     fmt::print("{}\n", version_string());
@@ -34,6 +36,157 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
     return 2;
   }
   return std::nullopt;
+}
+
+namespace {
+
+constexpr std::size_t help_width = 79;     // GNU: lines within 80 columns
+constexpr std::size_t option_column = 30;  // where an option's meaning starts
+
+/// Characters of UTF-8 text (what a terminal shows), for the columns.
+std::size_t shown_width(std::string_view text) {
+  return static_cast<std::size_t>(std::ranges::count_if(
+      text, [](char c) { return (static_cast<unsigned char>(c) & 0xc0) != 0x80; }));
+}
+
+/// `text` wrapped at spaces into lines that start at column `indent` (the first line
+/// where `first` leaves off) and end before help_width.
+std::string wrapped(std::string_view text, std::size_t indent, std::size_t first) {
+  std::string out;
+  std::size_t column = first;
+  bool line_start = true;
+  while (!text.empty()) {
+    const std::size_t end = std::min(text.find(' '), text.size());
+    const std::string_view word = text.substr(0, end);
+    text.remove_prefix(std::min(end + 1, text.size()));
+    if (word.empty()) continue;
+    if (!line_start && column + 1 + shown_width(word) > help_width) {
+      out += '\n' + std::string(indent, ' ');
+      column = indent;
+      line_start = true;
+    }
+    if (!line_start) {
+      out += ' ';
+      ++column;
+    }
+    out += word;
+    column += shown_width(word);
+    line_start = false;
+  }
+  return out + '\n';
+}
+
+/// "  -o, --output=TEXT" and its meaning in the column.
+std::string option_entry(const std::string& names, std::string_view meaning) {
+  std::string line = "  " + names;
+  const std::size_t width = shown_width(line);
+  if (width + 2 <= option_column)
+    return line + std::string(option_column - width, ' ') +
+           wrapped(meaning, option_column, option_column);
+  return line + '\n' + std::string(option_column, ' ') +
+         wrapped(meaning, option_column, option_column);
+}
+
+/// The value an option takes as the help shows it: "TEXT", "FLOAT", "{gimp,linear}".
+std::string value_name(const CLI::Option& option) {
+  const std::string type = option.get_type_name();
+  const std::size_t colon = type.find(':');
+  if (colon != std::string::npos && type.compare(colon + 1, 1, "{") == 0)
+    return type.substr(colon + 1);
+  return type.substr(0, colon);
+}
+
+std::string option_names(const CLI::Option& option) {
+  std::string names;
+  for (const std::string& s : option.get_snames()) names += (names.empty() ? "-" : ", -") + s;
+  names = names.empty() ? "    " : names + ", ";
+  std::string longs;
+  for (const std::string& l : option.get_lnames()) longs += (longs.empty() ? "--" : ", --") + l;
+  names += longs;
+  if (const std::string value = value_name(option); !value.empty()) {  // not a flag
+    names += "=" + value;
+    if (option.get_items_expected_max() > 1) names += "...";
+  }
+  return names;
+}
+
+/// "fem2mpm: converts an FE checkpoint …" as "Converts an FE checkpoint …".
+std::string what_it_does(const CLI::App& app) {
+  std::string text = app.get_description();
+  const std::string prefix = app.get_name() + ": ";
+  if (text.starts_with(prefix)) text.erase(0, prefix.size());
+  if (!text.empty() && text[0] >= 'a' && text[0] <= 'z')
+    text[0] = static_cast<char>(text[0] - 'a' + 'A');
+  if (!text.empty() && text.back() != '.') text += '.';
+  return text;
+}
+
+}  // namespace
+
+std::string gnu_help(const CLI::App& top) {
+  const CLI::App* app = &top;
+  std::string program = top.get_name();
+  while (!app->get_subcommands().empty()) {
+    app = app->get_subcommands().front();
+    program += " " + app->get_name();
+  }
+  const auto options = app->get_options([](const CLI::Option* o) { return !o->get_positional(); });
+  const auto positionals =
+      app->get_options([](const CLI::Option* o) { return o->get_positional(); });
+  const auto commands = app->get_subcommands([](const CLI::App*) { return true; });
+
+  std::string usage = "Usage: " + program;
+  if (!commands.empty()) usage += " COMMAND";
+  if (options.size() > 2 || !commands.empty()) usage += " [OPTION]...";
+  for (const CLI::Option* p : positionals) {
+    std::string name = p->get_name();
+    std::ranges::transform(name, name.begin(), [](char c) {
+      return c == '-' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    });
+    if (p->get_items_expected_max() > 1) name += "...";
+    usage += " " + (p->get_required() ? name : "[" + name + "]");
+  }
+  std::string text = usage + '\n' + wrapped(what_it_does(*app), 0, 0);
+  if (!positionals.empty()) {
+    text += "\nArguments:\n";
+    for (const CLI::Option* p : positionals) {
+      std::string name = p->get_name();
+      std::ranges::transform(name, name.begin(), [](char c) {
+        return c == '-' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      });
+      text += option_entry(name, p->get_description());
+    }
+  }
+  if (!commands.empty()) {
+    text += "\nCommands:\n";
+    for (const CLI::App* c : commands) text += option_entry(c->get_name(), c->get_description());
+    text += fmt::format("(\"{} COMMAND --help\" gives a command's options.)\n", program);
+  }
+  text += "\nOptions:\n";
+  const CLI::Option* help = top.get_help_ptr();
+  const CLI::Option* version = app->get_version_ptr();
+  for (const CLI::Option* o : options) {
+    if (o == help || o == version || o->get_lnames() == std::vector<std::string>{"help"}) continue;
+    std::string meaning = o->get_description();
+    if (o->get_required()) meaning += " (required)";
+    text += option_entry(option_names(*o), meaning);
+  }
+  text += option_entry("-h, --help", "display this help and exit");
+  if (version != nullptr)
+    text += option_entry("    --version", "output version information and exit");
+  text +=
+      "\nExit status:\n"
+      " 0  done (and after --help, --version)\n"
+      " 1  bad input, a missing file or a failed run: one line on stderr\n"
+      "    (\"" +
+      top.get_name() +
+      ": error: ...\")\n"
+      " 2  a usage error (an unknown option, a missing or malformed value)\n\n" +
+      wrapped(
+          "Documentation: docs/contract.md in the source tree; where installed, "
+          "PREFIX/share/doc/slide/contract.md.",
+          0, 0);
+  return text;
 }
 
 namespace {

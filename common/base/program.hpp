@@ -20,7 +20,15 @@ std::string version_string();
 /// Parses the command line. Returns an exit status when the program should stop now
 /// (0 after --help or --version, 2 after a bad option, with a one-line message), or
 /// nothing when it should go on.
+///
+/// --help prints `gnu_help`: the layout of the GNU coding standards ("Usage: PROGRAM
+/// [OPTION]... CASE", what it does, the options as "-o, --output=TEXT" with their meaning
+/// in a column, then the exit statuses and where the documentation is).
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
+
+/// The help text of `app` (or of the subcommand the command line selected) in the GNU
+/// layout, lines within 80 columns.
+std::string gnu_help(const CLI::App& app);
 
 /// Option checks with a readable message ("must be > 0"); CLI11's PositiveNumber names
 /// the range of the type instead, a 309-digit number for a double.

@@ -78,7 +78,9 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("particles", line.particles, "particle file (fem2mpm) or mpm checkpoint")
       ->required();
-  app.add_option("-o,--output", line.output, "folder to write the CB-Geo input into")->required();
+  app.add_option("-o,--output", line.output, "folder to write the CB-Geo input into")
+      ->required()
+      ->type_name("DIR");
   app.add_option("--end-time", line.options.end_time,
                  "end time in s on the project's clock (default: the case's mpm.end_time)")
       ->check(positive_number());

@@ -74,7 +74,9 @@ int main(int argc, char** argv) {
   app.add_option("case", line.case_file,
                  "case file with mesh.generator = \"opensees\" and an [opensees] table")
       ->required();
-  app.add_option("-o,--output", line.output, "folder to write fem_t<T>.h5 into")->required();
+  app.add_option("-o,--output", line.output, "folder to write fem_t<T>.h5 into")
+      ->required()
+      ->type_name("DIR");
   app.add_option("-t,--time", line.times,
                  "recorder time(s) to import, s on OpenSees's clock (repeat for several)")
       ->required();
