@@ -57,6 +57,20 @@ for program in fem-solve fem2mpm mpm-solve; do
     grep -q "Usage:" "$work/out" || fail "$program $flag: no usage on stdout"
     [[ ! -s $work/err ]] || fail "$program $flag: wrote to stderr: $(cat "$work/err")"
   done
+  # The GNU layout: the usage first, options as "-o, --output=DIR", the help and version
+  # options last, the exit statuses; no line beyond 80 columns.
+  head -1 "$work/out" | grep -qE "^Usage: $program \[OPTION\]\.\.\. [A-Z_]+$" ||
+    fail "$program --help: first line '$(head -1 "$work/out")'"
+  grep -qE '^  -o, --output=(DIR|FILE) ' "$work/out" || fail "$program --help: no '-o, --output=…' entry"
+  grep -qE '^  -h, --help +display this help and exit$' "$work/out" || fail "$program --help: no -h entry"
+  grep -qE '^      --version +output version information and exit$' "$work/out" ||
+    fail "$program --help: no --version entry"
+  grep -q '^Exit status:$' "$work/out" || fail "$program --help: no exit statuses"
+  grep -qE '^ 2  a usage error' "$work/out" || fail "$program --help: no status 2"
+  while IFS= read -r line; do  # characters, not bytes: the help has → and φ
+    (( $(LC_ALL=C.UTF-8 bash -c 'echo ${#1}' _ "$line") <= 80 )) ||
+      fail "$program --help: a line beyond 80 columns: $line"
+  done < "$work/out"
 
   run "$program --version" 0 "$exe" --version
   grep -q "^slide " "$work/out" || fail "$program --version: no version on stdout"
