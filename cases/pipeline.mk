@@ -31,7 +31,8 @@
 #               decimals; TT=1.3, 1.30 and 1.3004 all mean fem_t1.300.h5 and run tt1.3
 #   OUT=dir     where the runs go (default out/ next to case.toml); a relative dir is
 #               taken from the directory make was called from (`make -C`, too)
-#   BUILD=dir   the build (default build/ at the top of the repository)
+#   BUILD=dir   the build, with the source tree's pipeline (default build/ at its top;
+#               the installed pipeline uses the installed programs)
 #   BIN=dir     the programs (default BUILD/bin)
 #   PYTHON=py   for the plots and the report (default /usr/bin/python3, Debian's,
 #               with h5py and matplotlib)
