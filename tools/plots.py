@@ -323,12 +323,14 @@ def plot_rmse_vs_quality(case, out, figures):
 
 
 def read_snapshot(path):
-    """Coordinates, {field: values} and time of a particle checkpoint."""
+    """Coordinates, {field: values} and time of a particle checkpoint; the field "spacing"
+    is each particle's own (m: the square root of its area)."""
     with h5py.File(path, "r") as f:
         x = f["particles/coordinates"][:]
         fields = {"sigma_yy": f["particles/stress"][:, 1] / 1e3,
                   "eps_q": 100 * f["particles/eps_q"][:],
-                  "displacement": np.linalg.norm(f["particles/displacement"][:], axis=1)}
+                  "displacement": np.linalg.norm(f["particles/displacement"][:], axis=1),
+                  "spacing": np.sqrt(f["particles/volume"][:])}
         return x, fields, float(f.attrs["time"])
 
 
@@ -443,23 +445,20 @@ def plot_geostatic_transfer_error(case, out, figures):
 
 
 def read_gauss_points(path):
-    """Current coordinates, σyy (kPa), time and point spacing (m: the square root of the
-    median area a Gauss point stands for) of an FE checkpoint."""
+    """Current coordinates, σyy (kPa), time and each point's spacing (m: the square root of
+    the area it stands for, its element's over the element's Gauss points; the points are
+    stored element by element) of an FE checkpoint."""
     with h5py.File(path, "r") as f:
         x = f["gauss_points/coordinates"][:]
-        area = np.median(f["elements/volume"][:]) * len(f["elements/volume"]) / max(len(x), 1)
-        return x, f["gauss_points/stress"][:, 1] / 1e3, float(f.attrs["time"]), math.sqrt(area)
-
-
-def particle_spacing(path):
-    """The square root of the median particle area (m) of a particle checkpoint."""
-    with h5py.File(path, "r") as f:
-        return math.sqrt(np.median(f["particles/volume"][:]))
+        volume = f["elements/volume"][:]
+        per_element = max(len(x) // max(len(volume), 1), 1)
+        spacing = np.sqrt(np.repeat(volume / per_element, per_element))
+        return x, f["gauss_points/stress"][:, 1] / 1e3, float(f.attrs["time"]), spacing
 
 
 def main_transfer_states(case, out):
     """The σyy states of the main transfer (transfer.main_time), as (what, time, x, σyy in
-    kPa, point spacing in m): the FE Gauss points at t_T, the particles made from them, the
+    kPa, each point's spacing in m): the FE Gauss points at t_T, the particles made from them, the
     particles 0.5 s later and at the end. Missing files are left out."""
     tt = case["transfer"].get("main_time", 0)
     run = out / f"tt{tt:g}"
@@ -482,7 +481,7 @@ def main_transfer_states(case, out):
         x, fields, time = read_snapshot(path)
         if what == "MPM":
             what = f"MPM, t_T + {time - tt:.2f} s"
-        states.append((what, time, x, fields["sigma_yy"], particle_spacing(path)))
+        states.append((what, time, x, fields["sigma_yy"], fields["spacing"]))
     return states
 
 
@@ -521,14 +520,16 @@ def plot_stress_at_transfer(case, out, figures):
                ] if quality.get("stress_quality_p50") else []
     for ax, (what, time, x, syy, spacing) in zip(axes, states):
         # The points' values, interpolated linearly over a Delaunay triangulation of them
-        # with the triangles longer than 2.5 spacings left out (across the gaps and
-        # concave parts of the outline): a solid body at any scale, where markers of a
-        # pixel or two leave pale lines between the rows once rasterised. Every point's
-        # own value shows at its position, so the particle-to-particle noise stays visible.
+        # with the triangles longer than 2.5 of their corners' largest spacing left out
+        # (across the gaps and concave parts of the outline; per point, so that a mesh of
+        # square elements over flat ones keeps both): a solid body at any scale, where
+        # markers of a pixel or two leave pale lines between the rows once rasterised.
+        # Every point's own value shows at its position, so the particle-to-particle
+        # noise stays visible.
         mesh = matplotlib.tri.Triangulation(x[:, 0], x[:, 1])
         corners = x[mesh.triangles]
         longest = np.max(np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2), axis=1)
-        mesh.set_mask(longest > 2.5 * spacing)
+        mesh.set_mask(longest > 2.5 * spacing[mesh.triangles].max(axis=1))
         sc = ax.tripcolor(mesh, syy, shading="gouraud", cmap="viridis", vmin=vmin, vmax=vmax,
                           rasterized=True)
         ax.set_xlim(0, x_max)
