@@ -90,6 +90,17 @@ def fem_summary(history, tau_c, case_file, out):
                      f"{ZONE_EPS_Q_AVG:.0%}) up to its end at t = {last_inside:.2f} s: every "
                      "FE output is a clean transfer, and the mesh sets no latest transfer time "
                      "(run the FE phase longer to see when it leaves the zone).")
+        peak = max(history, key=lambda r: number(r["ke_over_pe0"]))
+        top, end = number(peak["ke_over_pe0"]), number(history[-1]["ke_over_pe0"])
+        if top > 0 and end < 0.01 * top:
+            # The slide stopped inside the zone: a transfer after the stop hands MPM a
+            # body at rest (docs/new-case.md §5).
+            lines.append(f"  The FE slide stopped inside the zone: KE/PE0 fell from its peak "
+                         f"{top:.3g} at t = {number(peak['time']):.2f} s to {end:.3g} at the "
+                         "end, so the FE phase carried the whole failure (the pure FE run). "
+                         "For MPM to carry the moving mass, transfer while it moves, at or "
+                         f"before t ≈ {number(peak['time']):.1f} s; a transfer after the stop "
+                         "hands MPM a body at rest.")
     elif last_inside is not None:
         lines.append(f"- Last output time inside the recommended transfer zone "
                      f"((|J_t|/|J_0|)_avg ≥ {ZONE_JACOBIAN_AVG} and εq,avg ≤ "
