@@ -44,6 +44,10 @@ Case reduced_case(const Case& c, double factor, double duration) {
   fem.vtk_every.reset();
   fem.damping = DampingSpec{};
   fem.damping.local = strength_reduction_damping;
+  // A shaken stage's base is rock, rigid or compliant, which the soil does not slide on:
+  // the static equivalent is a fixed base, not the roller its motion drives (a roller
+  // would let the whole body slide on a frictionless base at any factor).
+  if (fem.motion) fem.failure_boundaries["base"] = BoundaryCondition::fixed;
   fem.motion.reset();
   fem.recorders.clear();
   return reduced;

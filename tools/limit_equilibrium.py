@@ -144,62 +144,217 @@ def _root(function, low, high, steps=200):
     return 0.5 * (low + high)
 
 
-def spencer(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
-    """Spencer's F of one circle (force and moment equilibrium, interslice forces at one
-    inclination θ): each slice's interslice resultant is
+F_GRID = np.geomspace(50.0, 0.01, 120)
+
+
+def spencer_slices(width, weight, alpha, cohesion, tan_phi, xb, yb, theta_guess=None):
+    """Spencer's F of any slip surface cut into slices (widths b, weights W, base
+    inclinations α positive where the base falls towards +x, base strengths c and tan φ,
+    per slice or one for all, base midpoints (xb, yb) relative to any point): force and
+    moment equilibrium with the interslice forces at one inclination θ. Each slice's
+    interslice resultant is
         Q = [c l/F + W cos α tan φ/F − W sin α] / [cos(α − θ) (1 + tan(α − θ) tan φ/F)],
-    l = b / cos α; F and θ solve Σ Q = 0 (forces) and Σ Q cos(α − θ) = 0 (moments about
-    the centre). Returns (F, θ in degrees), None for a circle slices_of rejects or where
-    no θ in ±60° balances both."""
-    cut = slices_of(sx, sy, gamma, xc, yc, radius, slices)
-    if cut is None:
-        return None
-    width, weight, alpha, _ = cut
-    length = width / np.cos(alpha)
+    l = b / cos α, acting through its base midpoint (thin slices: W, N and S do); F and θ
+    solve Σ Q = 0 (forces) and Σ Q (xb sin θ + yb cos θ) = 0 (moments). On a circle about
+    its centre the moment sum is −R Σ Q cos(α − θ), the classical form. Returns (F, θ in
+    degrees), or None where no θ in ±60° balances both. `theta_guess` (degrees), a
+    nearby surface's θ, is tried first."""
+    tan_phi = np.broadcast_to(tan_phi, alpha.shape)
+    a = (cohesion * width / np.cos(alpha) + weight * np.cos(alpha) * tan_phi)
+    d = weight * np.sin(alpha)
 
     def q(f, theta):
-        numerator = (cohesion * length / f + weight * np.cos(alpha) * tan_phi / f
-                     - weight * np.sin(alpha))
-        return numerator / (np.cos(alpha - theta) * (1.0 + np.tan(alpha - theta) * tan_phi / f))
+        f = np.asarray(f, dtype=float)[..., None]
+        return (a / f - d) / (np.cos(alpha - theta) + np.sin(alpha - theta) * tan_phi / f)
 
-    # Each sum has poles at small F (1 + tan(α − θ) tan φ / F = 0 on slices with α < θ):
-    # its root is the first sign change coming down from a large F.
-    def from_above(function):
-        grid = np.geomspace(50.0, 0.01, 400)
-        values = [function(f) for f in grid]
-        for (f1, v1), (f0, v0) in zip(zip(grid, values), zip(grid[1:], values[1:])):
-            if np.sign(v1) != np.sign(v0):
-                return _root(function, f0, f1)
-        return None
-
-    def f_forces(theta):
-        return from_above(lambda f: np.sum(q(f, theta)))
-
-    def f_moments(theta):
-        return from_above(lambda f: np.sum(q(f, theta) * np.cos(alpha - theta)))
+    # Each sum has poles at small F (cos(α − θ) + sin(α − θ) tan φ / F = 0 on slices with
+    # α < θ): its root is the first sign change coming down from a large F.
+    def from_above(sum_of):
+        values = sum_of(F_GRID)
+        change = np.nonzero(np.sign(values[:-1]) != np.sign(values[1:]))[0]
+        if len(change) == 0:
+            return None
+        k = change[0]
+        return _root(lambda f: sum_of(np.array([f]))[0], F_GRID[k + 1], F_GRID[k], steps=60)
 
     def gap(theta):
-        ff, fm = f_forces(theta), f_moments(theta)
-        return np.nan if ff is None or fm is None else ff - fm
+        lever = xb * np.sin(theta) + yb * np.cos(theta)
+        ff = from_above(lambda f: q(f, theta).sum(axis=-1))
+        fm = from_above(lambda f: (q(f, theta) * lever).sum(axis=-1))
+        return (np.nan, None) if ff is None or fm is None else (ff - fm, fm)
 
+    def crossing(t0, t1):
+        g0, g1 = gap(t0)[0], gap(t1)[0]
+        if np.isfinite(g0) and np.isfinite(g1) and np.sign(g0) != np.sign(g1) \
+                and abs(g0 - g1) < 1.0:  # a crossing, not the jump of a pole
+            return _root(lambda t: gap(t)[0], t0, t1, steps=50)
+        return None
+
+    if theta_guess is not None:
+        guess = math.radians(theta_guess)
+        for span in (math.radians(2.0), math.radians(8.0)):
+            theta = crossing(guess - span, guess + span)
+            if theta is not None:
+                return gap(theta)[1], math.degrees(theta)
     # Where several θ balance both, the one nearest 0 (the others put the interslice
     # forces at angles no slide has, with factors of safety far from the slices' own).
     thetas = np.radians(np.linspace(-60.0, 60.0, 49))
-    gaps = [gap(t) for t in thetas]
+    gaps = [gap(t)[0] for t in thetas]
     roots = []
     for (t0, g0), (t1, g1) in zip(zip(thetas, gaps), zip(thetas[1:], gaps[1:])):
         if np.isfinite(g0) and np.isfinite(g1) and np.sign(g0) != np.sign(g1) \
-                and abs(g0 - g1) < 1.0:  # a crossing, not the jump of a pole
-            theta = _root(gap, t0, t1, steps=60)
+                and abs(g0 - g1) < 1.0:
+            theta = _root(lambda t: gap(t)[0], t0, t1, steps=50)
             if theta is not None:
                 roots.append(theta)
     if not roots:
         return None
     theta = min(roots, key=abs)
-    return f_moments(theta), math.degrees(theta)
+    return gap(theta)[1], math.degrees(theta)
 
 
-def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
+def spencer(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices=400):
+    """Spencer's F of one circle (spencer_slices, moments about its centre): (F, θ in
+    degrees), None for a circle slices_of rejects or where no θ in ±60° balances both."""
+    cut = slices_of(sx, sy, gamma, xc, yc, radius, slices)
+    if cut is None:
+        return None
+    width, weight, alpha, _ = cut
+    # The base midpoints relative to the centre.
+    xb, yb = -radius * np.sin(alpha), -radius * np.cos(alpha)
+    return spencer_slices(width, weight, alpha, cohesion, tan_phi, xb, yb)
+
+
+def base_interface(case):
+    """The strength (c, tan φ) of the model's base y = 0 as the FE model's failure stage
+    has it (the strength reduction's): a "friction" base μ without cohesion, a roller
+    none; None for a fixed base or a shaken stage's (rock, which a slip surface along it
+    shears through the soil above it)."""
+    fem = case.get("fem", {})
+    base = fem.get("failure", {}).get("boundaries", {}).get("base")
+    if "motion" in fem or base not in ("friction", "roller"):
+        return None
+    return (0.0, fem.get("friction_coefficient", 0.0) if base == "friction" else 0.0)
+
+
+def polyline_slices(sx, sy, px, py, slices=120):
+    """The slices of the slip surface through the vertices (px, py) (x increasing, its ends
+    on the ground (sx, sy)), its base clipped at the model's base y = 0: (widths, base
+    midpoints (x, y), α, heights, on the model's base?), or None where no slice is under
+    the ground."""
+    x = np.linspace(px[0], px[-1], slices + 1)
+    mid = 0.5 * (x[:-1] + x[1:])
+    width = x[1] - x[0]
+    raw = np.interp(mid, px, py)
+    segment = np.clip(np.searchsorted(px, mid) - 1, 0, len(px) - 2)
+    slope = (py[segment + 1] - py[segment]) / (px[segment + 1] - px[segment])
+    on_base = raw <= 0.0
+    yb = np.where(on_base, 0.0, raw)
+    alpha = np.where(on_base, 0.0, np.arctan(-slope))
+    h = np.interp(mid, sx, sy) - yb
+    inside = h > 0.0
+    if inside.sum() < 10:
+        return None
+    return width, mid[inside], yb[inside], alpha[inside], h[inside], on_base[inside]
+
+
+def noncircular(case, circle, vertices=9, slices=120):
+    """Spencer's F minimised over convex slip surfaces, from the critical circle: the
+    polyline of `vertices` points, its ends on the ground and its inner points at depths
+    below it, moved by a compass search (each parameter up and down by a step, the step
+    halved when no move lowers F) until the step is 1e-3 of the slope height. Slices on
+    the model's base take its interface's strength (base_interface). Returns {"fs",
+    "theta", "surface": (px, py)}, or None when the circle gives no start."""
+    material = case["materials"][0]
+    gamma = material["density"] * G
+    cohesion = material["cohesion"]
+    tan_phi = math.tan(math.radians(material["friction_angle"]))
+    interface = base_interface(case)
+    surface = surface_of(case)
+    sx = np.array([p[0] for p in surface])
+    sy = np.array([p[1] for p in surface])
+    x_max, height = sx.max(), sy.max()
+    # The far end is a boundary a surface may not leave through unless the ground meets
+    # the base there (a toe at the model's end).
+    x_last = x_max if sy[-1] <= 1e-9 else x_max - 0.01 * height
+    xc, yc, radius = circle
+    fine = np.linspace(max(xc - radius, 0.0), min(xc + radius, x_max), 4000)
+    under = yc - np.sqrt(np.maximum(radius**2 - (fine - xc) ** 2, 0.0)) < np.interp(fine, sx, sy)
+    if under.sum() < 2:
+        return None
+    entry, exit_ = fine[under][0], fine[under][-1]
+    inner = np.linspace(entry, exit_, vertices)[1:-1]
+    depth = np.interp(inner, sx, sy) - (yc - np.sqrt(np.maximum(radius**2 - (inner - xc) ** 2, 0)))
+    theta_last = [None]
+
+    def evaluate(params):
+        x0, x1, depths = params[0], params[1], params[2:]
+        if not (0.01 * height <= x0 < x1 <= x_last) or (depths <= 0.0).any():
+            return math.inf, None
+        px = np.linspace(x0, x1, vertices)
+        py = np.interp(px, sx, sy)
+        py[1:-1] -= depths
+        slope = np.diff(py) / np.diff(px)
+        if (np.diff(slope) < -1e-9).any():  # not convex: no admissible mechanism
+            return math.inf, None
+        cut = polyline_slices(sx, sy, px, py, slices)
+        if cut is None:
+            return math.inf, None
+        width, xb, yb, alpha, h, on_base = cut
+        weight = gamma * h * width
+        if np.sum(weight * np.sin(alpha)) <= 0.0:
+            return math.inf, None
+        c = np.full(len(xb), cohesion)
+        t = np.full(len(xb), tan_phi)
+        if interface is not None:
+            c[on_base], t[on_base] = interface
+        result = spencer_slices(width, weight, alpha, c, t, xb - xb.mean(),
+                                yb - (yb.max() + height), theta_last[0])
+        if result is None:
+            return math.inf, None
+        theta_last[0] = result[1]
+        return result[0], (px, py, result[1])
+
+    shapes = {}
+
+    def f_of(params):
+        value, shape = evaluate(params)
+        shapes[value] = shape
+        return value
+
+    best, _ = compass_search(f_of, np.concatenate([[entry, exit_], depth]), 0.1 * height,
+                             1e-3 * height)
+    if not math.isfinite(best):
+        return None
+    found = shapes[best]
+    return {"fs": best, "theta": found[2], "surface": (found[0], found[1])}
+
+
+def compass_search(function, start, step, smallest):
+    """The minimum of `function` near `start` by compass search: each parameter up and
+    down by `step`, the step halved when no move lowers the value, until it is below
+    `smallest`. Returns (value, parameters)."""
+    params = np.array(start, dtype=float)
+    best = function(params)
+    while step > smallest:
+        moved = False
+        for k in range(len(params)):
+            for sign in (1.0, -1.0):
+                trial = params.copy()
+                trial[k] += sign * step
+                value = function(trial)
+                if value < best:
+                    best, params, moved = value, trial, True
+        if not moved:
+            step *= 0.5
+    return best, params
+
+
+def slope_stability(case, centres_x=50, centres_y=40, radii=90, slices=400):
+    """Bishop's F over circles: a grid of centres from the wall to two slope heights
+    beyond the model's end (the centres of toe circles of steep slopes lie beyond the
+    toe) and up to six heights, radii up to six heights, then the best circle refined by
+    compass search; and the smallest yield acceleration over the grid."""
     material = case["materials"][0]
     gamma = material["density"] * G
     cohesion = material["cohesion"]
@@ -209,17 +364,32 @@ def slope_stability(case, centres_x=40, centres_y=40, radii=90, slices=400):
     sy = np.array([p[1] for p in surface])
     x_max, height = sx.max(), sy.max()
     best = {"fs": math.inf, "ky": math.inf, "circle": None, "ky_circle": None}
-    for xc in np.linspace(0.0, x_max, centres_x):
-        for yc in np.linspace(0.5 * height, 4.0 * height, centres_y):
-            for radius in np.linspace(0.1 * height, 3.5 * height, radii):
-                result = circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices)
-                if result is None:
+    # The best circle of each depth (its deepest point below the ground, in slope
+    # heights): starts for the search over non-circular surfaces, which from the deep
+    # critical circle alone would miss a shallow slab along the face.
+    depths = {}
+    for xc in np.linspace(0.0, x_max + 2.0 * height, centres_x):
+        for yc in np.linspace(0.5 * height, 6.0 * height, centres_y):
+            for radius in np.linspace(0.1 * height, 6.0 * height, radii):
+                cut = slices_of(sx, sy, gamma, xc, yc, radius, slices)
+                if cut is None:
                     continue
+                result = circle(sx, sy, gamma, cohesion, tan_phi, xc, yc, radius, slices)
                 f, k = result
+                depth = min(int(np.max(cut[1]) / (gamma * cut[0] * height) / 0.1), 5)
+                if f < depths.get(depth, (math.inf,))[0]:
+                    depths[depth] = (f, (xc, yc, radius))
                 if f < best["fs"]:
                     best["fs"], best["circle"] = f, (xc, yc, radius)
                 if k is not None and k < best["ky"]:
                     best["ky"], best["ky_circle"] = k, (xc, yc, radius)
+    if best["circle"] is not None:
+        def bishop_of(p):
+            result = circle(sx, sy, gamma, cohesion, tan_phi, p[0], p[1], p[2], slices)
+            return math.inf if result is None else result[0]
+        fs, refined = compass_search(bishop_of, best["circle"], 0.05 * height, 1e-3 * height)
+        best["fs"], best["circle"] = fs, tuple(float(v) for v in refined)
+    best["depth_circles"] = [c for _, (f, c) in sorted(depths.items())]
     return best
 
 
