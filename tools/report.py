@@ -568,8 +568,12 @@ def fos_lines(case, out, report_dir):
     particles = out / "tt0" / "particles.h5"
     simple = (case["mesh"].get("generator", "profile") in ("profile", "blocks")
               and len(case["materials"]) == 1)
+    noncircular = None
     if simple:
-        bishop = limit_equilibrium.slope_stability(case)["fs"]
+        stability = limit_equilibrium.slope_stability(case)
+        bishop = stability["fs"]
+        noncircular = limit_equilibrium.noncircular(
+            case, [stability["circle"]] + stability["depth_circles"])
     elif particles.exists():
         bishop = limit_equilibrium.particle_stability(particles)["fs"]
     else:
@@ -581,14 +585,31 @@ def fos_lines(case, out, report_dir):
              "| Bishop's simplified method (circles, tools/limit_equilibrium.py"
              + ("" if simple else ", on the t = 0 particles") + ") | "
              + ("not computed (no out/tt0/particles.h5)" if math.isnan(bishop) else
-                f"{bishop:.3f}") + " |", "",
-             ("" if math.isnan(bishop) else
-              f"The strength reduction's F is {signed_percent(srm / bishop - 1.0)} from "
-              "Bishop's. ")
-             + f"Criterion: {values.get('criterion', '')}; {len(trials)} trials of "
-             f"{float(values['trial_duration']):.3g} s (out/fos/strength_reduction.txt). "
-             + ("The slope fails under gravity alone (F < 1)." if srm < 1.0 else
-                "The slope stands under gravity (F ≥ 1): a runout needs a trigger."), ""]
+                f"{bishop:.3f}") + " |"]
+    if noncircular is not None:
+        lowest = min(bishop, noncircular["fs"])
+        lines.append("| Spencer's method over convex non-circular surfaces (the lowest found; "
+                     + limit_equilibrium.describe_surface(*noncircular["surface"]) + ") | "
+                     f"{noncircular['fs']:.3f} |")
+    else:
+        lowest = bishop
+    comparison = ("" if math.isnan(lowest) else
+                  f"The strength reduction's F is {signed_percent(srm / lowest - 1.0)} from the "
+                  "lowest limit-equilibrium F (docs/method.md §3 gives the reasons they "
+                  "differ). ")
+    # At the factor found the reduced friction angle can be large for a weak slope, and
+    # the flow rule's dilation (ψ ≤ φ_F) far below it: a non-associated soil fails at a
+    # lower F than the rigid-plastic mechanisms of limit equilibrium (docs/method.md §3).
+    soil = case["materials"][0]
+    phi_f = math.degrees(math.atan(math.tan(math.radians(soil.get("friction_angle", 0.0))) / srm))
+    if phi_f - min(soil.get("dilation_angle", 0.0), phi_f) > 20.0:
+        comparison += (f"At F = {srm:.3f} the reduced friction angle is φ_F = "
+                       f"{phi_f:.1f}° with ψ = {soil.get('dilation_angle', 0.0):g}°: "
+                       "non-associated flow that far from φ_F fails below limit equilibrium. ")
+    lines += ["", comparison + f"Criterion: {values.get('criterion', '')}; {len(trials)} trials "
+              f"of {float(values['trial_duration']):.3g} s (out/fos/strength_reduction.txt). "
+              + ("The slope fails under gravity alone (F < 1)." if srm < 1.0 else
+                 "The slope stands under gravity (F ≥ 1): a runout needs a trigger."), ""]
     failing_trial = [t for t in trials if not t["stable"] and t["factor"] == failing]
     if failing_trial:
         figure = mechanism_figure(out / "fos" / failing_trial[0]["folder"], report_dir, failing)

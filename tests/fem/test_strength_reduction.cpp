@@ -50,6 +50,21 @@ TEST(StrengthReduction, DilationNeverExceedsTheReducedFriction) {
   EXPECT_EQ(r.dilation_angle, r.friction_angle);
 }
 
+TEST(StrengthReduction, AShakenStagesBaseIsFixedNotTheRollerItsMotionDrives) {
+  // slope-seismic: its failure table's base is a roller that the compliant base's motion
+  // drives; without the motion a roller would let the body slide on a frictionless base
+  // (the reduction found 1.160 so, 1.340 on the rock that the base is).
+  const Case c = load_case(SLIDE_SOURCE_DIR "/cases/slope-seismic/case.toml");
+  ASSERT_TRUE(c.fem.motion.has_value());
+  ASSERT_EQ(c.fem.failure_boundaries.at("base"), BoundaryCondition::roller);
+  const Case reduced = reduced_case(c, 1.2, 1.0);
+  EXPECT_EQ(reduced.fem.failure_boundaries.at("base"), BoundaryCondition::fixed);
+  EXPECT_EQ(reduced.fem.failure_boundaries.at("left"), c.fem.failure_boundaries.at("left"));
+  // An unshaken case keeps its own base.
+  EXPECT_EQ(reduced_case(template_case(), 1.2, 1.0).fem.failure_boundaries.at("base"),
+            BoundaryCondition::friction);
+}
+
 TEST(StrengthReduction, EquilibriumNeedsTheMotionDeadAndNoSlide) {
   // A tenth of a 13 m model is 1.3 m; KE must have fallen below 1e-4 of its peak.
   EXPECT_TRUE(in_equilibrium(1e-6, 1.2, 13.0));

@@ -78,6 +78,43 @@ class Spencer(unittest.TestCase):
         self.assertTrue(-60.0 < theta < 60.0)
 
 
+class NonCircular(unittest.TestCase):
+    def test_a_planar_wedge_is_its_sliding_block(self):
+        # One plane through the toe: every slice has the same α, so Σ Q = 0 is the
+        # wedge's own force balance along and across the plane whatever θ, F =
+        # (c L + W cos α tan φ) / (W sin α), and the moment equation only sets θ.
+        height, gamma, c, tan_phi = 10.0, 2000.0 * G, 5000.0, math.tan(math.radians(25.0))
+        sx = np.array([0.0, 20.0, 30.0, 60.0])
+        sy = np.array([height, height, 0.0, 0.0])
+        px, py = np.array([12.0, 30.0]), np.array([height, 0.0])  # 29° plane, toe to crest
+        width, xb, yb, alpha, h, on_base = limit_equilibrium.polyline_slices(sx, sy, px, py,
+                                                                              slices=400)
+        weight = gamma * h * width
+        f, theta = limit_equilibrium.spencer_slices(width, weight, alpha, c, tan_phi,
+                                                    xb - 20.0, yb - 30.0)
+        a = math.atan(height / 18.0)
+        w = gamma * 0.5 * 8.0 * height  # the wedge between the plane and the 45° face
+        exact = (c * math.hypot(18.0, height) + w * math.cos(a) * tan_phi) / (w * math.sin(a))
+        self.assertAlmostEqual(f / exact, 1.0, delta=1e-3)
+        self.assertFalse(on_base.any())
+
+    def test_a_weak_base_interface_draws_the_surface_along_the_base(self):
+        # slope-cohesive's geometry and soil (c 5.8 kPa, φ 3.6°) on a base that is a
+        # "friction" interface with μ = tan 3.6° and no cohesion: the lowest surface runs
+        # along it, below every circle's F (kept above the base); on a fixed base (the
+        # soil's own strength there) the non-circular F is within 2 % of the circles'.
+        soil = case([[0.0, 15.0], [20.0, 15.0], [50.0, 5.0], [160.0, 5.0]], 3.6, 5800.0, 1690.0)
+        circles = limit_equilibrium.slope_stability(soil, centres_x=30, centres_y=20, radii=40)
+        soil["fem"] = {"failure": {"boundaries": {"base": "fixed"}}}
+        fixed = limit_equilibrium.noncircular(soil, [circles["circle"]])
+        soil["fem"] = {"failure": {"boundaries": {"base": "friction"}},
+                       "friction_coefficient": math.tan(math.radians(3.6))}
+        weak = limit_equilibrium.noncircular(soil, [circles["circle"]])
+        self.assertLess(abs(fixed["fs"] / circles["fs"] - 1.0), 0.02)
+        self.assertLess(weak["fs"], 0.92 * circles["fs"])
+        self.assertIn("along the model's base", limit_equilibrium.describe_surface(*weak["surface"]))
+
+
 class Exclusions(unittest.TestCase):
     def test_no_circle_leaves_through_the_far_end(self):
         # A long flat foundation ending at the model's far end: the end is a boundary,
