@@ -15,6 +15,7 @@
 // cohesionless φ_cv soil for the other two; all without damping and with the same step, so
 // they differ by the constitutive update only), and with the case's own models and damping.
 #include <chrono>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/model_setup.hpp"
+#include "tools/benchmarks/instruction_counter.hpp"
 
 namespace {
 
@@ -48,19 +50,24 @@ void benchmark(Case c, ElementType type, const std::string& label) {
   solver.return_to_yield_surface(state);
   const double dt =
       c.fem.time_step > 0.0 ? c.fem.time_step : solver.stable_time_step(state, c.fem.courant);
+  bench::InstructionCounter counter;  // the main thread's: a count with OMP_NUM_THREADS=1
   const auto start = Clock::now();
+  counter.start();
   Index steps = 0;
   while (state.time < c.fem.end_time) {
     solver.step(state, dt);
     ++steps;
   }
+  const std::optional<double> instructions = counter.stop();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const double element_steps = static_cast<double>(steps * model.element_count());
   fmt::print(
       "{:<10} {:<34} elements={} gauss_points={} steps={} wall_s={:.3f} "
-      "element_steps_per_s={:.3g}\n",
+      "element_steps_per_s={:.3g} instructions_per_element_step={}\n",
       to_string(type), label, model.element_count(), model.gauss_count(), steps, seconds,
-      element_steps / seconds);
+      element_steps / seconds,
+      instructions ? fmt::format("{:.0f}", *instructions / element_steps)
+                   : "n/a (no hardware counter: tools/benchmarks/instructions.sh)");
 }
 
 }  // namespace

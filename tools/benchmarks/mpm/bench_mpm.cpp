@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -33,6 +34,7 @@
 #include "mpm/domain.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
+#include "tools/benchmarks/instruction_counter.hpp"
 #include "tools/synthetic/soil.hpp"
 
 namespace {
@@ -154,13 +156,15 @@ struct Options {
 /// The best of `repeat` timed runs on the current thread count.
 struct Best {
   double rate = 0.0, wall = 0.0;
+  std::optional<double> instructions;  ///< of the timed steps (1 thread, with a counter)
   std::size_t particles = 0;
   MpmSolver::Memory memory;
   std::vector<RankFigures> figures;
 };
 
-Best time_runs(const Options& o, const Ranks& ranks) {
+Best time_runs(const Options& o, const Ranks& ranks, int threads) {
   Best best;
+  bench::InstructionCounter counter;
   for (int r = 0; r < o.repeat; ++r) {
     MpmSolver solver = o.column(ranks);
     solver.distribute(ranks);
@@ -171,7 +175,9 @@ Best time_runs(const Options& o, const Ranks& ranks) {
     const auto sent_before = domain ? domain->bytes_sent : 0;
     ranks.barrier();
     const auto begin = std::chrono::steady_clock::now();
+    counter.start();
     for (int s = 0; s < o.steps; ++s) solver.step(dt);
+    const std::optional<double> instructions = counter.stop();
     const double wall =
         ranks.max(std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count());
     best.particles =
@@ -180,6 +186,7 @@ Best time_runs(const Options& o, const Ranks& ranks) {
     if (rate > best.rate) {
       best.rate = rate;
       best.wall = wall;
+      if (threads == 1 && !ranks.distributed()) best.instructions = instructions;
       const RankFigures mine{domain ? domain->exchange_seconds - exchanged_before : 0.0,
                              domain ? static_cast<double>(domain->bytes_sent - sent_before) : 0.0,
                              static_cast<double>(solver.active_count())};
@@ -209,6 +216,12 @@ std::string report(const Best& best, int threads, double rate_one, const Options
         "kB_sent_per_step={:.4g}\n",
         r, f.particles, 1e3 * f.exchange_seconds / o.steps, 100 * f.exchange_seconds / best.wall,
         f.bytes_sent / 1e3 / o.steps);
+  }
+  if (threads == 1 && !ranks.distributed()) {
+    text += best.instructions ? fmt::format("  instructions_per_particle_step={:.0f}\n",
+                                            *best.instructions / (n * static_cast<double>(o.steps)))
+                              : "  instructions_per_particle_step: no hardware counter here "
+                                "(tools/benchmarks/instructions.sh counts them under callgrind)\n";
   }
   // The windows keep their widest capacity, so this is the peak of the steps run.
   if (!ranks.distributed()) {
@@ -251,7 +264,7 @@ int main(int argc, char** argv) {
   double rate_one = 0.0;
   for (int t : o.thread_counts()) {
     omp_set_num_threads(t);
-    const Best best = time_runs(o, ranks);
+    const Best best = time_runs(o, ranks, t);
     if (t == 1) rate_one = best.rate;
     print(report(best, t, rate_one, o, ranks));
   }
