@@ -1,6 +1,7 @@
 #include "fem/recorders.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
 #include <fmt/format.h>
@@ -97,6 +98,33 @@ void append_elements(const FemModel& model, const FemState& state,
   }
 }
 
+/// The base's u, v, a, then per node its absolute and relative (to the base) u, v, a and
+/// with pore water p and Δp.
+void append_nodes(const FemModel& model, const FemState& state, const std::vector<Index>& nodes,
+                  const std::array<Vec2, 3>& base, run::RecorderFile& file) {
+  for (const Vec2& q : base) {
+    file.add(q.x());
+    file.add(q.y());
+  }
+  for (const Index node : nodes) {
+    const auto n = static_cast<std::size_t>(node);
+    const std::array<Vec2, 3> absolute{state.displacement[n], state.velocity[n],
+                                       state.acceleration[n]};
+    for (const Vec2& q : absolute) {
+      file.add(q.x());
+      file.add(q.y());
+    }
+    for (int i = 0; i < 3; ++i) {
+      file.add(absolute[i].x() - base[i].x());
+      file.add(absolute[i].y() - base[i].y());
+    }
+    if (model.fluid.active()) {
+      file.add(state.pore_pressure[n]);
+      file.add(state.pore_pressure[n] - state.static_pore_pressure[n]);
+    }
+  }
+}
+
 /// The drained faces whose two nodes are both in `nodes`.
 std::vector<std::size_t> faces_of_set(const FemModel& model, const std::vector<Index>& nodes) {
   std::vector<std::uint8_t> in_set(static_cast<std::size_t>(model.node_count()), 0);
@@ -149,52 +177,26 @@ void Recorders::record(const FemState& state, double dt) {
   const double t = state.time;
   if (std::ranges::none_of(files_, [&](const run::RecorderFile& f) { return f.due(t); })) return;
   // The base's fields as the nodes' are formed: u at t, v over the step, a at t − dt.
-  Vec2 base_u = Vec2::Zero(), base_v = Vec2::Zero(), base_a = Vec2::Zero();
+  std::array<Vec2, 3> base{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
   if (motion_ != nullptr && dt > 0.0) {
-    base_u = motion_->displacement(t);
-    base_v = motion_->step_velocity(t - dt, dt);
-    base_a = motion_->acceleration(t - dt);
+    base = {motion_->displacement(t), motion_->step_velocity(t - dt, dt),
+            motion_->acceleration(t - dt)};
   } else if (!base_nodes_.empty()) {
-    for (const Index n : base_nodes_) {
-      base_u += state.displacement[static_cast<std::size_t>(n)];
-      base_v += state.velocity[static_cast<std::size_t>(n)];
-      base_a += state.acceleration[static_cast<std::size_t>(n)];
+    for (const Index node : base_nodes_) {
+      const auto n = static_cast<std::size_t>(node);
+      base[0] += state.displacement[n];
+      base[1] += state.velocity[n];
+      base[2] += state.acceleration[n];
     }
     const double share = 1.0 / static_cast<double>(base_nodes_.size());
-    base_u *= share;
-    base_v *= share;
-    base_a *= share;
+    for (Vec2& q : base) q *= share;
   }
   for (std::size_t k = 0; k < files_.size(); ++k) {
     run::RecorderFile& file = files_[k];
     const Recorder& r = recorders_[k];
     if (!file.due(t)) continue;
     file.begin_row(t);
-    if (!r.nodes.empty()) {
-      for (const Vec2* q : {&base_u, &base_v, &base_a}) {
-        file.add(q->x());
-        file.add(q->y());
-      }
-      for (const Index node : r.nodes) {
-        const auto n = static_cast<std::size_t>(node);
-        const std::array<Vec2, 3> absolute{state.displacement[n], state.velocity[n],
-                                           state.acceleration[n]};
-        for (const Vec2& q : absolute) {
-          file.add(q.x());
-          file.add(q.y());
-        }
-        const std::array<Vec2, 3> relative{absolute[0] - base_u, absolute[1] - base_v,
-                                           absolute[2] - base_a};
-        for (const Vec2& q : relative) {
-          file.add(q.x());
-          file.add(q.y());
-        }
-        if (model_.fluid.active()) {
-          file.add(state.pore_pressure[n]);
-          file.add(state.pore_pressure[n] - state.static_pore_pressure[n]);
-        }
-      }
-    }
+    if (!r.nodes.empty()) append_nodes(model_, state, r.nodes, base, file);
     append_elements(model_, state, r.elements, file);
     if (r.drained_faces) {
       double outflow = 0.0;
