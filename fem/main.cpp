@@ -87,6 +87,7 @@ fem::FemOptions options_of(const CLI::App& app, const CommandLine& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  prefer_yielding_threads(argv);
   CLI::App app{
       "fem-solve: the finite element phase (geostatic stage, failure stage, mesh "
       "quality, checkpoints)",

@@ -93,6 +93,7 @@ mpm::RunOptions options_of(const CLI::App& app, const CommandLine& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  prefer_yielding_threads(argv);
   // MPI build: the ranks of `mpirun -np N mpm-solve …` (docs/parallel.md); one otherwise.
   const RankSession session(argc, argv);
   CLI::App app{"mpm-solve: material point runout phase (sequential hybrid FEM → MPM)", "mpm-solve"};

@@ -107,6 +107,7 @@ void run(const CommandLine& line, const CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  prefer_yielding_threads(argv);
   CLI::App app(
       "fem2mpm: converts an FE checkpoint at the transfer time into material points "
       "(positions, velocities, stresses, state, masses, volumes) for mpm-solve",

@@ -10,8 +10,17 @@
 #include <string>
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 namespace slide {
+
+void prefer_yielding_threads(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
+  const std::string setting = omp_wait_setting;
+  const std::size_t equals = setting.find('=');
+  if (setenv(setting.substr(0, equals).c_str(), setting.substr(equals + 1).c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);  // returns only on failure: run on as it is
+}
 
 std::string version_string() {
   return "slide " SLIDE_VERSION " (commit " SLIDE_COMMIT ")";
@@ -123,6 +132,53 @@ std::string what_it_does(const CLI::App& app) {
 
 }  // namespace
 
+namespace {
+
+/// A positional argument's name as usage lines show it: "case" as CASE.
+std::string argument_name(const CLI::Option& positional) {
+  std::string name = positional.get_name();
+  std::ranges::transform(name, name.begin(), [](char c) {
+    return c == '-' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  });
+  return name;
+}
+
+/// The options' entries: the program's own, then -h and --version.
+std::string option_entries(const CLI::App& top, const CLI::App& app,
+                           const std::vector<const CLI::Option*>& options) {
+  std::string text = "\nOptions:\n";
+  const CLI::Option* help = top.get_help_ptr();
+  const CLI::Option* version = app.get_version_ptr();
+  for (const CLI::Option* o : options) {
+    if (o == help || o == version || o->get_lnames() == std::vector<std::string>{"help"}) continue;
+    std::string meaning = o->get_description();
+    if (o->get_required()) meaning += " (required)";
+    text += option_entry(option_names(*o), meaning);
+  }
+  text += option_entry("-h, --help", "display this help and exit");
+  if (version != nullptr) {
+    text += option_entry("    --version", "output version information and exit");
+  }
+  return text;
+}
+
+/// The exit statuses every program shares (docs/contract.md) and where the docs are.
+std::string exit_statuses(const std::string& program) {
+  return "\nExit status:\n"
+         " 0  done (and after --help, --version)\n"
+         " 1  bad input, a missing file or a failed run: one line on stderr\n"
+         "    (\"" +
+         program +
+         ": error: ...\")\n"
+         " 2  a usage error (an unknown option, a missing or malformed value)\n\n" +
+         wrapped(
+             "Documentation: docs/contract.md in the source tree; where installed, "
+             "PREFIX/share/doc/slide/contract.md.",
+             0, 0);
+}
+
+}  // namespace
+
 std::string gnu_help(const CLI::App& top) {
   const CLI::App* app = &top;
   std::string program = top.get_name();
@@ -139,22 +195,14 @@ std::string gnu_help(const CLI::App& top) {
   if (!commands.empty()) usage += " COMMAND";
   if (options.size() > 2 || !commands.empty()) usage += " [OPTION]...";
   for (const CLI::Option* p : positionals) {
-    std::string name = p->get_name();
-    std::ranges::transform(name, name.begin(), [](char c) {
-      return c == '-' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    });
-    if (p->get_items_expected_max() > 1) name += "...";
+    const std::string name = argument_name(*p) + (p->get_items_expected_max() > 1 ? "..." : "");
     usage += " " + (p->get_required() ? name : "[" + name + "]");
   }
   std::string text = usage + '\n' + wrapped(what_it_does(*app), 0, 0);
   if (!positionals.empty()) {
     text += "\nArguments:\n";
     for (const CLI::Option* p : positionals) {
-      std::string name = p->get_name();
-      std::ranges::transform(name, name.begin(), [](char c) {
-        return c == '-' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-      });
-      text += option_entry(name, p->get_description());
+      text += option_entry(argument_name(*p), p->get_description());
     }
   }
   if (!commands.empty()) {
@@ -162,31 +210,7 @@ std::string gnu_help(const CLI::App& top) {
     for (const CLI::App* c : commands) text += option_entry(c->get_name(), c->get_description());
     text += fmt::format("(\"{} COMMAND --help\" gives a command's options.)\n", program);
   }
-  text += "\nOptions:\n";
-  const CLI::Option* help = top.get_help_ptr();
-  const CLI::Option* version = app->get_version_ptr();
-  for (const CLI::Option* o : options) {
-    if (o == help || o == version || o->get_lnames() == std::vector<std::string>{"help"}) continue;
-    std::string meaning = o->get_description();
-    if (o->get_required()) meaning += " (required)";
-    text += option_entry(option_names(*o), meaning);
-  }
-  text += option_entry("-h, --help", "display this help and exit");
-  if (version != nullptr)
-    text += option_entry("    --version", "output version information and exit");
-  text +=
-      "\nExit status:\n"
-      " 0  done (and after --help, --version)\n"
-      " 1  bad input, a missing file or a failed run: one line on stderr\n"
-      "    (\"" +
-      top.get_name() +
-      ": error: ...\")\n"
-      " 2  a usage error (an unknown option, a missing or malformed value)\n\n" +
-      wrapped(
-          "Documentation: docs/contract.md in the source tree; where installed, "
-          "PREFIX/share/doc/slide/contract.md.",
-          0, 0);
-  return text;
+  return text + option_entries(top, *app, options) + exit_statuses(top.get_name());
 }
 
 namespace {

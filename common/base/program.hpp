@@ -12,6 +12,23 @@
 
 namespace slide {
 
+/// OpenMP threads that sleep instead of spinning at the kernels' barriers. By
+/// default libgomp spins some 300,000 times before a waiting thread sleeps; when another
+/// process holds the core of the thread being waited for, the spinning burns the
+/// timeslices that thread needs, and 2 threads on a loaded 2-core machine ran 3-8 times
+/// slower than 1 (mpm/README.md, "Threads on a shared machine"). Unless the environment
+/// chooses already (OMP_WAIT_POLICY or GOMP_SPINCOUNT), the program starts itself again,
+/// once, with `omp_wait_setting` in its environment: libgomp reads its settings when it
+/// loads, before main, so no call can change them later. Call first in main, before
+/// anything else (MPI included); returns only when nothing is to change or the new start
+/// failed (the program then runs as it is).
+void prefer_yielding_threads(char** argv);
+/// The setting prefer_yielding_threads adds to the environment: passive, the standard
+/// policy (a waiting thread sleeps at once), which on the 2 cores each loaded by another
+/// process kept 2 threads above 1 (5.5-5.8 M particle-steps/s against 4.0 M) where a
+/// short spin (GOMP_SPINCOUNT=10000) did not (3.4-5.0 M), for 3 % on a quiet machine.
+inline constexpr const char* omp_wait_setting = "OMP_WAIT_POLICY=passive";
+
 /// "slide 0.1.0 (commit 2e5f598c1a2b)": the version and the commit the build was configured
 /// from (cmake/SlideVersion.cmake); goes into every file's `producer` attribute with the
 /// program name, and `--version` prints it.

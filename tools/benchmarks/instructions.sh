@@ -1,32 +1,58 @@
 #!/usr/bin/env bash
-# Instructions per particle-step of the MPM step loop, per phase, under callgrind: for
-# machines whose CPU counter is hidden (bench_mpm then says so), and for the phase table
-# of mpm/README.md ("Where a step's instructions go"). Instruction counts do not change
-# with the machine's load, so they compare across days where seconds do not.
+# Instructions per particle-step of the MPM step loop (with its phase table) or per
+# element-step of the FE step loop, under callgrind: for machines whose CPU counter is
+# hidden (the benchmarks then say so), and for the tables of mpm/README.md ("Where a
+# step's instructions go") and fem/README.md. Instruction counts do not change with the
+# machine's load, so they compare across days where seconds do not.
 #
-#   tools/benchmarks/instructions.sh [BUILD] [-- bench_mpm options]
+#   tools/benchmarks/instructions.sh [mpm] [BUILD] [-- bench_mpm options]
+#   tools/benchmarks/instructions.sh fem [BUILD] [ELEMENT MODEL]     (default quad4-1gp mohr-coulomb)
 #
 # BUILD is a build folder (default build-portable: `cmake -S . -B build-portable
 # -DSLIDE_NATIVE=OFF`, the portable x86-64 build the project's figures are quoted for;
-# `cmake --build build-portable --target bench_mpm`). It runs bench_mpm on 1 thread for
-# 20 and for 60 steps after the same untimed start (default --skip 200: the column is
-# collapsing) and divides the difference by 40 × the particles, so that the set-up and
-# the skipped steps cancel. Needs valgrind (Debian's package). About 3 minutes.
+# `cmake --build build-portable --target bench_mpm bench_fem`). mpm: bench_mpm on 1
+# thread for 20 and for 60 steps after the same untimed start (default --skip 200: the
+# column is collapsing), the difference divided by 40 × the particles, so that the set-up
+# and the skipped steps cancel (about 1 minute). fem: bench_fem on column-short's failure
+# stage with the step loop alone collected (callgrind --toggle-collect), divided by the
+# element-steps it prints (10 s to 2 minutes). Needs valgrind (Debian's package).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
+mode=mpm
+[[ ${1-} == mpm || ${1-} == fem ]] && { mode=$1; shift; }
 build=${1:-$root/build-portable}
 [[ $# -gt 0 ]] && shift
 [[ ${1-} == -- ]] && shift
+command -v valgrind > /dev/null || { echo "instructions.sh: valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
+# The wait setting given here: the benchmarks would otherwise start themselves again with
+# it (prefer_yielding_threads), out of valgrind's sight.
+export GOMP_SPINCOUNT=10000 OMP_NUM_THREADS=1
+if [[ $mode == fem ]]; then
+  bench=$build/tools/benchmarks/fem/bench_fem
+  [[ -x $bench ]] || { echo "instructions.sh: no $bench (cmake --build $build --target bench_fem)" >&2; exit 1; }
+  element=${1:-quad4-1gp} model=${2:-mohr-coulomb}
+  out=$(mktemp)
+  trap 'rm -f "$out" "$out.cg"' EXIT
+  valgrind --tool=callgrind --callgrind-out-file="$out.cg" \
+    "--toggle-collect=slide::fem::ExplicitSolver::step(*" \
+    "$bench" "$root/cases/column-short/case.toml" "$element" "$model" > "$out" 2> /dev/null
+  total=$(callgrind_annotate "$out.cg" | grep 'PROGRAM TOTALS' | awk '{gsub(",", "", $1); print $1}')
+  line=$(grep "elements=" "$out")
+  elements=$(grep -o 'elements=[0-9]*' <<< "$line" | cut -d= -f2)
+  steps=$(grep -o 'steps=[0-9]*' <<< "$line" | head -1 | cut -d= -f2)
+  echo "$element $model: $((total / (elements * steps))) instructions per element-step" \
+       "(callgrind, $steps steps of $elements elements)"
+  exit 0
+fi
 bench=$build/tools/benchmarks/mpm/bench_mpm
 [[ -x $bench ]] || { echo "instructions.sh: no $bench (cmake --build $build --target bench_mpm)" >&2; exit 1; }
-command -v valgrind > /dev/null || { echo "instructions.sh: valgrind is not installed (apt-get install valgrind)" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 [[ -n ${KEEP_CALLGRIND-} ]] && trap - EXIT && echo "instructions.sh: files in $work" >&2
 skip=200
 for arg in "$@"; do [[ $arg == --skip=* ]] && skip=${arg#--skip=}; done
 for steps in 20 60; do
-  OMP_NUM_THREADS=1 valgrind --tool=callgrind --callgrind-out-file="$work/cg.$steps" \
+  valgrind --tool=callgrind --callgrind-out-file="$work/cg.$steps" \
     "$bench" --threads 1 --repeat 1 --skip "$skip" --steps "$steps" "$@" \
     > "$work/out.$steps" 2> "$work/err.$steps" ||
     { cat "$work/err.$steps" >&2; exit 1; }

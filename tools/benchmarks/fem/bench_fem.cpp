@@ -73,6 +73,7 @@ void benchmark(Case c, ElementType type, const std::string& label) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  slide::prefer_yielding_threads(argv);  // as fem-solve runs
   return slide::run_main("bench_fem", [&] {
     const std::string file = argc > 1 ? argv[1] : SLIDE_SOURCE_DIR "/cases/column-short/case.toml";
     const Case c = load_case(file);

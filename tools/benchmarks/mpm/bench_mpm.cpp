@@ -30,6 +30,7 @@
 #include <CLI/CLI.hpp>
 #include <omp.h>
 
+#include "common/base/program.hpp"
 #include "common/base/ranks.hpp"
 #include "mpm/domain.hpp"
 #include "mpm/mpm_solver.hpp"
@@ -236,6 +237,7 @@ std::string report(const Best& best, int threads, double rate_one, const Options
 }  // namespace
 
 int main(int argc, char** argv) {
+  prefer_yielding_threads(argv);  // as mpm-solve runs
   const RankSession session(argc, argv);
   const Ranks& ranks = Ranks::world();
   CLI::App app{"bench_mpm: particle-steps per second of the MPM step loop (column-short)"};
