@@ -21,6 +21,7 @@ packages=(
   libnanoflann-dev libfmt-dev libgtest-dev libbenchmark-dev
   nlohmann-json3-dev  # OpenSees model import (print -JSON) and CB-Geo MPM input export
   python3 python3-h5py python3-matplotlib python3-numpy
+  python3-pandas  # slide.to_dataframe (optional for users), which tools.python-module tests
   gmsh  # cases/slope-gmsh's mesh: the test gmsh.slope-gmsh remakes it from its .geo
 )
 # The MPI build's: mpirun and the MPI headers, HDF5 built on them (h5pcc). They coexist
