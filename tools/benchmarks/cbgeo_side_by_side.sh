@@ -2,7 +2,7 @@
 # Particle-steps per second of this project's MPM and of CB-Geo MPM on the same column,
 # side by side, for anyone who has built CB-Geo (github.com/cb-geo/mpm; its `mpm`
 # program). The suite never needs CB-Geo; this script is the recipe behind the ratio
-# quoted in mpm/README.md ("Against CB-Geo").
+# quoted in README.md ("For scale: …", the performance section).
 #
 #   tools/benchmarks/cbgeo_side_by_side.sh CBGEO_MPM [STEPS] [BUILD]
 #
@@ -17,7 +17,7 @@
 # on one thread (OMP_NUM_THREADS=1, TBB's too); run it on a quiet machine and
 # alternate rounds: the ratios are what compare across days, not the seconds.
 set -euo pipefail
-[[ $# -ge 1 ]] || { sed -n '2,17s/^# \{0,1\}//p' "$0" >&2; exit 2; }
+[[ $# -ge 1 ]] || { sed -n '2,18s/^# \{0,1\}//p' "$0" >&2; exit 2; }
 cbgeo=$1
 steps=${2:-1000}
 root=$(cd "$(dirname "$0")/../.." && pwd)
