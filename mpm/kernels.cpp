@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <new>
 
 #include "common/base/error.hpp"
 #include "mpm/shape_functions.hpp"
@@ -44,6 +45,13 @@ struct ParticleWeights {
     return grid.node_index(x.base + a, y.base);
   }
 };
+
+/// The weights P2G computed for the step (ParticleBlocks::shape_weights): an array of
+/// ParticleWeights<Shape>, which P2G constructs in place and the later passes read.
+template <class Shape>
+ParticleWeights<Shape>* step_weights(ParticleBlocks& blocks) {
+  return std::launder(reinterpret_cast<ParticleWeights<Shape>*>(blocks.shape_weights.data()));
+}
 
 /// APIC's moments of one particle's weights (shape_functions.hpp): D_p = h² diag(x.inertia,
 /// y.inertia) and N_ip D_p⁻¹ (x_i − x_p) = (x.value[a] S_b, S_a y.value[b])/h.
@@ -150,13 +158,15 @@ void locate_block(const Particles& particles, const GridGeometry& grid, std::siz
 template <class Shape, VelocityTransfer Transfer>
 void scatter_block(const Particles& particles, const GridGeometry& grid, const Vec2& gravity,
                    const Reservoir& reservoir, std::size_t begin, std::size_t end, int column_begin,
-                   std::vector<NodeSums>& window) {
+                   std::vector<NodeSums>& window, ParticleBlocks& blocks) {
+  ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
   constexpr int n = Shape::support;
   constexpr bool apic = Transfer == VelocityTransfer::apic;
   for (std::size_t p = begin; p < end; ++p) {
-    const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
+    const ParticleWeights<Shape>& w = *new (weights + p) ParticleWeights<Shape>(
+        grid, particles.coordinates[p], particles.size[p]);
     const double m = particles.mass[p];
     const Vec2& v = particles.velocity[p];
     const Vec4& s = particles.stress[p];
@@ -233,14 +243,15 @@ template <class Shape, VelocityTransfer Transfer>
 void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
                               const GridState& state, const StepLengths& step, double pic_fraction,
                               std::size_t begin, std::size_t end, int column_begin,
-                              std::vector<Vec2>& window) {
+                              std::vector<Vec2>& window, ParticleBlocks& blocks) {
+  const ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
   constexpr int n = Shape::support;
   const double dt_velocity = step.dt_velocity;
   const double flip = 1.0 - pic_fraction;
   for (std::size_t p = begin; p < end; ++p) {
-    const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
+    const ParticleWeights<Shape>& w = weights[p];
     Vec2& v = particles.velocity[p];
     if constexpr (Transfer == VelocityTransfer::apic) {
       // The particle takes the nodal field's value and first moment C_p, which it keeps
@@ -347,8 +358,9 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
   constexpr bool apic = Transfer == VelocityTransfer::apic;
   const double flip = 1.0 - pic_fraction;
   double kinetic = 0.0;
+  const ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
   for (std::size_t p = begin; p < end; ++p) {
-    const ParticleWeights<Shape> w(grid, particles.coordinates[p], particles.size[p]);
+    const ParticleWeights<Shape>& w = weights[p];
     double ax = 0.0, ay = 0.0, vx = 0.0, vy = 0.0;
     double lxx = 0.0, lxy = 0.0, lyx = 0.0, lyy = 0.0;
     for (int a = 0; a < n; ++a) {
@@ -502,8 +514,8 @@ std::size_t ParticleBlocks::bytes() const {
   for (const auto& w : sums_window) total += w.capacity() * sizeof(NodeSums);
   for (const auto& w : momentum_window) total += w.capacity() * sizeof(Vec2);
   for (const auto& w : cell_window) total += w.capacity() * sizeof(CellSums);
-  total +=
-      velocity_gradient.capacity() * sizeof(Vec4) + step_displacement.capacity() * sizeof(Vec2);
+  total += velocity_gradient.capacity() * sizeof(Vec4) +
+           step_displacement.capacity() * sizeof(Vec2) + shape_weights.capacity();
   return total;
 }
 
@@ -551,14 +563,19 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
   state.active_begin = active_begin;
   state.active_end = active_end;
   state.parallel = blocks.parallel;
+  const std::size_t active = blocks.offsets.empty() ? 0 : blocks.offsets.back();
+  blocks.shape_weights.resize(active * (shape == ShapeFunction::gimp
+                                            ? sizeof(ParticleWeights<GimpShape>)
+                                            : sizeof(ParticleWeights<LinearShape>)));
 #pragma omp parallel for schedule(dynamic, 1) if (blocks.parallel)
   for (int b = 0; b < nblocks; ++b) {
     const auto k = static_cast<std::size_t>(b);
     auto& window = blocks.sums_window[k];
     const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
     window.assign(width * rows, NodeSums{});
-    using Scatter = void (*)(const Particles&, const GridGeometry&, const Vec2&, const Reservoir&,
-                             std::size_t, std::size_t, int, std::vector<NodeSums>&);
+    using Scatter =
+        void (*)(const Particles&, const GridGeometry&, const Vec2&, const Reservoir&, std::size_t,
+                 std::size_t, int, std::vector<NodeSums>&, ParticleBlocks&);
     const bool apic = transfer == VelocityTransfer::apic;
     Scatter scatter = nullptr;
     if (shape == ShapeFunction::gimp) {
@@ -569,7 +586,7 @@ void particles_to_grid(const Particles& particles, const GridGeometry& grid, Sha
                      : scatter_block<LinearShape, VelocityTransfer::flip_pic>;
     }
     scatter(particles, grid, gravity, reservoir, blocks.offsets[k], blocks.offsets[k + 1],
-            blocks.column_begin[k], window);
+            blocks.column_begin[k], window, blocks);
   }
 }
 
@@ -648,8 +665,9 @@ void remap_momenta(Particles& particles, const GridGeometry& grid, ShapeFunction
     auto& window = blocks.momentum_window[k];
     const auto width = static_cast<std::size_t>(blocks.column_end[k] - blocks.column_begin[k]);
     window.assign(width * rows, Vec2::Zero());
-    using Remap = void (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&,
-                           double, std::size_t, std::size_t, int, std::vector<Vec2>&);
+    using Remap =
+        void (*)(Particles&, const GridGeometry&, const GridState&, const StepLengths&, double,
+                 std::size_t, std::size_t, int, std::vector<Vec2>&, ParticleBlocks&);
     const bool apic = transfer == VelocityTransfer::apic;
     Remap remap = nullptr;
     if (shape == ShapeFunction::gimp) {
@@ -660,7 +678,7 @@ void remap_momenta(Particles& particles, const GridGeometry& grid, ShapeFunction
                    : velocity_and_remap_block<LinearShape, VelocityTransfer::flip_pic>;
     }
     remap(particles, grid, state, step, pic_fraction, blocks.offsets[k], blocks.offsets[k + 1],
-          blocks.column_begin[k], window);
+          blocks.column_begin[k], window, blocks);
   }
   // Momenta summed in block order.
 #pragma omp parallel for schedule(static) if (blocks.parallel)

@@ -57,6 +57,7 @@
 // velocity pass.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -82,7 +83,12 @@ struct ParticleBlocks {
   std::vector<Vec4> velocity_gradient;  ///< L_p
   std::vector<Vec2> step_displacement;  ///< Δt Σ N_ip v_i^L
   std::vector<double> kinetic_energy;   ///< partial sums of ½ m v²
-  bool parallel = false;                ///< worth running the kernels on several threads
+  /// Each active particle's shape weights of the step (values, derivatives, APIC's
+  /// inputs), computed once by P2G and read by the MUSL velocity pass and the final
+  /// pass: the particles move only at the end of the step. Raw storage of the kernels'
+  /// weight type for the shape function (kernels.cpp), indexed like the particles.
+  std::vector<std::byte> shape_weights;
+  bool parallel = false;  ///< worth running the kernels on several threads
 
   /// Splits n active particles into blocks; their number depends on n only.
   void partition(std::size_t active_count);
