@@ -203,7 +203,11 @@ TEST(SlidingBlock, LoneParticlesOfAPartedFrontStopAfterVSquaredOverTwoMuG) {
   }
   MpmSolver solver(s, materials, std::move(p));
   const double dt = solver.courant_time_step(0.5);
-  // No kick: along the way no particle ever speeds up.
+  // No kick: along the way no particle ever speeds up. Along the way: while it slides
+  // faster than 1 cm/s. A particle at rest on the base keeps an elastic jitter of about
+  // ±0.6 mm/s (its own vibration against the frictional contact), whose step-to-step
+  // changes reach 1e-3 m/s and depend on round-off; a kick on leaving the others' cells
+  // would be a gain while sliding.
   std::vector<double> previous = speed;
   double largest_gain = 0.0;
   while (solver.clock().time < 1.5 * 8.0 / (mu * g)) {
@@ -211,12 +215,14 @@ TEST(SlidingBlock, LoneParticlesOfAPartedFrontStopAfterVSquaredOverTwoMuG) {
     const Particles& q = solver.particles();
     for (std::size_t k = 0; k < q.count(); ++k) {
       const auto i = static_cast<std::size_t>(q.id[k]);
-      largest_gain = std::max(largest_gain, q.velocity[k].x() - previous[i]);
+      if (previous[i] > 0.01) {
+        largest_gain = std::max(largest_gain, q.velocity[k].x() - previous[i]);
+      }
       previous[i] = q.velocity[k].x();
     }
   }
-  std::printf("largest gain of speed in a step %.3e m/s\n", largest_gain);
-  EXPECT_LT(largest_gain, 1e-3);
+  std::printf("largest gain of speed in a step while sliding %.3e m/s\n", largest_gain);
+  EXPECT_LT(largest_gain, 1e-4);
   const Particles& q = solver.particles();
   for (std::size_t k = 0; k < q.count(); ++k) {
     const auto i = static_cast<std::size_t>(q.id[k]);
