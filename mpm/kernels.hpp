@@ -142,6 +142,9 @@ struct Reservoir {
 /// the submerged surface, written over the volume by the divergence theorem,
 /// −∫ (p_w ∇N_i + N_i ∇p_w) dV: inside a submerged body they cancel node by node, at its
 /// surface they are the water's load, and their sum is Archimedes' buoyancy.
+/// Also keeps each particle's shape weights in ParticleBlocks::shape_weights, which the
+/// step's later particle passes (remap_momenta, grid_to_particles) read: they must follow
+/// it in the same step, with the particles where it found them.
 void particles_to_grid(const Particles& particles, const GridGeometry& grid, ShapeFunction shape,
                        VelocityTransfer transfer, const Vec2& gravity, ParticleBlocks& blocks,
                        GridState& state, const Reservoir& reservoir = {});

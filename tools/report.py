@@ -266,13 +266,24 @@ def stress_quality_lines(case, sweep, report_dir):
     return lines
 
 
+_STABILITY = {}
+
+
+def slope_stability_of(case):
+    """limit_equilibrium.slope_stability of the report's case, searched once (a few
+    seconds) for the sections that use it (Shaking, Factor of safety)."""
+    import limit_equilibrium
+    if id(case) not in _STABILITY:
+        _STABILITY[id(case)] = limit_equilibrium.slope_stability(case)
+    return _STABILITY[id(case)]
+
+
 def seismic_lines(case, out, report_dir, sweep):
     """The shaking of a case with [fem.motion] (docs/method.md §8): the motion, the check
     that the slope stands before it, the time histories, KE/PE0 of both phases."""
     spec = case["fem"].get("motion")
     if spec is None or not (out / "fem" / "motion.csv").exists():
         return []
-    import limit_equilibrium
     import seismic
 
     motion = seismic.read_table(out / "fem" / "motion.csv")
@@ -282,7 +293,7 @@ def seismic_lines(case, out, report_dir, sweep):
     peak_a = np.max(np.abs(motion["ax"]))
     peak_v = np.max(np.abs(motion["vx"]))
     peak_u = np.max(np.abs(motion["ux"]))
-    stability = limit_equilibrium.slope_stability(case)
+    stability = slope_stability_of(case)
     history = read_csv(out / "fem" / "fem_history.csv")
     before = [r for r in history if number(r["time"]) <= start + 1e-9]
     lines = ["## Shaking", ""]
@@ -570,7 +581,7 @@ def fos_lines(case, out, report_dir):
               and len(case["materials"]) == 1)
     noncircular = None
     if simple:
-        stability = limit_equilibrium.slope_stability(case)
+        stability = slope_stability_of(case)
         bishop = stability["fs"]
         noncircular = limit_equilibrium.noncircular(
             case, [stability["circle"]] + stability["depth_circles"])

@@ -178,12 +178,12 @@ MotionSpec read_motion(const Section& s, const std::filesystem::path& case_folde
 /// [[fem.recorders]].
 std::vector<RecorderSpec> read_recorders(const Section& s) {
   std::vector<RecorderSpec> recorders;
+  std::vector<std::string> taken;
   for (const Section& r :
        s.tables("recorders", Section::Keys{"name", "points", "node_set", "elements", "every"})) {
     RecorderSpec spec;
-    std::vector<std::string> taken;
-    for (const RecorderSpec& other : recorders) taken.push_back(other.name);
     spec.name = read_recorder_name(r, taken);
+    taken.push_back(spec.name);
     const int kinds = int{r.has("points")} + int{r.has("node_set")} + int{r.has("elements")};
     if (kinds != 1) {
       throw Error("{}: {}: give exactly one of points, node_set, elements (found {})", r.where(),

@@ -16,6 +16,8 @@
 # and the skipped steps cancel (about 1 minute). fem: bench_fem on column-short's failure
 # stage with the step loop alone collected (callgrind --toggle-collect), divided by the
 # element-steps it prints (10 s to 2 minutes). Needs valgrind (Debian's package).
+# KEEP_CALLGRIND=1 keeps the mpm mode's callgrind files (the folder is printed) for
+# callgrind_annotate.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 mode=mpm
