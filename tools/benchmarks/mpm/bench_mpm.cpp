@@ -23,6 +23,7 @@
 //   tools/benchmarks/mpm/scaling.sh       (1 → 2 ranks, strong and weak, with ratios)
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -118,6 +119,7 @@ struct RankFigures {
 /// smoothing.
 struct Options {
   int steps = 500, repeat = 3, sort_interval = 10, skip = 0, widen = 1;
+  bool digest = false;
   double pic_fraction = 0.0;
   std::string threads = "1,2", shape = "gimp", scheme = "musl", transfer = "apic",
               smoothing = "cell";
@@ -135,6 +137,9 @@ struct Options {
         ->check(CLI::IsMember({"none", "cell"}));
     app.add_option("--sort-interval", sort_interval, "steps between two sorts by cell");
     app.add_option("--skip", skip, "untimed steps before timing");
+    app.add_flag("--digest", digest,
+                 "print a hash of the particles' bits after the runs (equal hashes: "
+                 "bit-identical results, e.g. across thread counts or builds)");
     app.add_option("--widen", widen, "column and grid this many times as long (weak scaling)")
         ->check(CLI::PositiveNumber);
   }
@@ -154,6 +159,22 @@ struct Options {
   }
 };
 
+/// FNV-1a over the bits of the particles' evolving fields, in particle order: equal
+/// digests mean bit-identical states (one rank).
+std::uint64_t particle_digest(const Particles& p) {
+  std::uint64_t hash = 14695981039346656037ull;
+  auto add = [&hash](const auto& values) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
+    for (std::size_t i = 0; i < values.size() * sizeof(values[0]); ++i) {
+      hash = (hash ^ bytes[i]) * 1099511628211ull;
+    }
+  };
+  add(p.coordinates), add(p.displacement), add(p.velocity), add(p.stress), add(p.strain);
+  add(p.eps_q), add(p.pore_pressure), add(p.volume), add(p.affine_velocity), add(p.state);
+  add(p.id);
+  return hash;
+}
+
 /// The best of `repeat` timed runs on the current thread count.
 struct Best {
   double rate = 0.0, wall = 0.0;
@@ -161,6 +182,7 @@ struct Best {
   std::size_t particles = 0;
   MpmSolver::Memory memory;
   std::vector<RankFigures> figures;
+  std::uint64_t digest = 0;  ///< of the last run's particles
 };
 
 Best time_runs(const Options& o, const Ranks& ranks, int threads) {
@@ -195,6 +217,7 @@ Best time_runs(const Options& o, const Ranks& ranks, int threads) {
           ranks.gather_to_root(Ranks::bytes_of(std::span<const RankFigures>(&mine, 1))));
     }
     best.memory = solver.memory();
+    best.digest = particle_digest(solver.particles());
   }
   return best;
 }
@@ -224,6 +247,7 @@ std::string report(const Best& best, int threads, double rate_one, const Options
                               : "  instructions_per_particle_step: no hardware counter here "
                                 "(tools/benchmarks/instructions.sh counts them under callgrind)\n";
   }
+  if (o.digest && !ranks.distributed()) text += fmt::format("  digest={:016x}\n", best.digest);
   // The windows keep their widest capacity, so this is the peak of the steps run.
   if (!ranks.distributed()) {
     const MpmSolver::Memory& m = best.memory;
