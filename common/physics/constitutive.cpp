@@ -39,13 +39,14 @@ constexpr double yield_tolerance = 1e-12;
 
 /// The Mohr–Coulomb constants one return needs, gathered once per call.
 struct MohrCoulomb {
-  double lambda;   // Lamé λ
-  double shear;    // G
-  double n_phi;    // Nφ
-  double n_psi;    // Nψ
-  double k;        // 2c sqrt(Nφ)
-  double tension;  // T ≤ apex
-  double apex;     // c cot φ = k/(Nφ − 1), +∞ for φ = 0
+  double lambda;    // Lamé λ
+  double shear;     // G
+  double n_phi;     // Nφ
+  double n_psi;     // Nψ
+  double k;         // 2c sqrt(Nφ)
+  double tension;   // T ≤ apex
+  double apex;      // c cot φ = k/(Nφ − 1), +∞ for φ = 0
+  Vec4 main_plane;  // the main plane's D b and 1/(aᵀ D b) (main_plane_constants)
 
   /// The cut-off is a separate surface only below the apex; at the apex the
   /// Mohr–Coulomb pyramid already implies σ1 ≤ T.
@@ -157,6 +158,21 @@ Planes yield_planes(const MohrCoulomb& m) {
   }};
 }
 
+/// D b for D = λ 11ᵀ + 2G I: the stress a unit multiplier of flow b takes off.
+Vec3 stiffness_times(double lambda, double shear, const Vec3& b) {
+  return (lambda * b.sum()) * Vec3::Ones() + (2.0 * shear) * b;
+}
+
+/// The main plane's constants of a return, which depend on the elastic constants and
+/// Nφ, Nψ only: D b and 1/(aᵀ D b), as [D b, 1/(aᵀ D b)]. A model computes them once;
+/// return_to computes the same numbers for the other planes in every return.
+[[gnu::noinline]] Vec4 main_plane_constants(double lambda, double shear, double n_phi,
+                                            double n_psi) {
+  const Vec3 normal(n_phi, 0.0, -1.0);
+  const Vec3 flow = stiffness_times(lambda, shear, Vec3(n_psi, 0.0, -1.0));
+  return {flow[0], flow[1], flow[2], 1.0 / normal.dot(flow)};
+}
+
 /// One candidate return: the stress, the plastic strain (principal), and how well it
 /// meets the Kuhn–Tucker conditions.
 struct Candidate {
@@ -184,7 +200,7 @@ Candidate return_to(const MohrCoulomb& m, const Planes& planes,
   Vector residual;
   for (int j = 0; j < Size; ++j) {
     const Vec3& b = planes[set[j]].flow;
-    stiffness_flow[j] = (m.lambda * b.sum()) * Vec3::Ones() + (2.0 * m.shear) * b;
+    stiffness_flow[j] = stiffness_times(m.lambda, m.shear, b);
   }
   for (int i = 0; i < Size; ++i) {
     const Plane& plane = planes[set[i]];
@@ -199,6 +215,18 @@ Candidate return_to(const MohrCoulomb& m, const Planes& planes,
   }
   const double total = multiplier.cwiseAbs().sum();
   c.smallest_multiplier = total > 0.0 ? multiplier.minCoeff() / total : 0.0;
+  c.violation = violation_of(m, c.sigma);
+  return c;
+}
+
+/// return_to for the main plane alone, with the model's constants: the same numbers, the
+/// plane's constants computed once per model instead of in every return.
+Candidate return_to_main_plane(const MohrCoulomb& m, const Vec3& trial) {
+  const Vec3 normal(m.n_phi, 0.0, -1.0);
+  const double multiplier = m.main_plane[3] * (normal.dot(trial) - m.k);
+  Candidate c{trial - multiplier * m.main_plane.head<3>(), multiplier * Vec3(m.n_psi, 0.0, -1.0),
+              0.0, 0.0};
+  c.smallest_multiplier = std::abs(multiplier) > 0.0 ? multiplier / std::abs(multiplier) : 0.0;
   c.violation = violation_of(m, c.sigma);
   return c;
 }
@@ -220,9 +248,14 @@ Candidate return_to_apex(const MohrCoulomb& m, const Vec3& trial) {
 /// round-off reject every one (a trial on a region boundary), it takes the admissible
 /// candidate that comes closest to them; the corners are always admissible.
 Candidate return_map(const MohrCoulomb& m, const Vec3& trial) {
-  const Planes planes = yield_planes(m);
   const double tolerance = yield_tolerance * stress_scale(m.n_phi, m.k, trial[0], trial[2]);
-  Candidate result{trial, Vec3::Zero(), -infinity, infinity};  // the closest so far
+  auto kuhn_tucker = [tolerance](const Candidate& c) {
+    return c.violation <= tolerance && c.smallest_multiplier >= -yield_tolerance;
+  };
+  // The main plane first, from the model's constants: most returns end there.
+  Candidate result = return_to_main_plane(m, trial);
+  if (kuhn_tucker(result)) return result;
+  const Planes planes = yield_planes(m);
   auto closer = [tolerance](const Candidate& c, const Candidate& than) {
     const bool admissible = c.violation <= tolerance;
     if (admissible != (than.violation <= tolerance)) return admissible;
@@ -231,13 +264,12 @@ Candidate return_map(const MohrCoulomb& m, const Vec3& trial) {
   };
   auto solves = [&](const auto& set) {
     const Candidate c = return_to(m, planes, set, trial);
-    const bool kuhn_tucker = c.violation <= tolerance && c.smallest_multiplier >= -yield_tolerance;
-    if (kuhn_tucker || closer(c, result)) result = c;
-    return kuhn_tucker;
+    const bool found = kuhn_tucker(c);
+    if (found || closer(c, result)) result = c;
+    return found;
   };
   const bool cutoff = m.has_tension_cutoff();
   const bool found =
-      solves(std::array{mc}) ||                                     // main plane
       (cutoff && solves(std::array{tension_1})) ||                  // tension plane
       solves(std::array{mc, mc_2_minor}) ||                         // edge σ2 = σ3
       solves(std::array{mc, mc_2_major}) ||                         // edge σ1 = σ2
@@ -324,6 +356,7 @@ ConstitutiveModel ConstitutiveModel::from(const Material& material, Phase phase)
   const double apex = apex_stress(model.n_phi_, model.two_c_sqrt_n_phi_);
   model.tension_cutoff_ =
       material.tension_cutoff >= apex * (1.0 - 1e-12) ? apex : material.tension_cutoff;
+  model.main_plane_ = main_plane_constants(model.lambda_, model.shear_, model.n_phi_, model.n_psi_);
   return model;
 }
 
@@ -336,6 +369,7 @@ ConstitutiveModel ConstitutiveModel::liquefied(const Material& material) {
   model.surfaces_ = 1;
   model.softening_strain_ = rule.softening_strain;
   model.tension_cutoff_ = 0.0;
+  model.main_plane_ = main_plane_constants(model.lambda_, model.shear_, 1.0, 1.0);
   return model;
 }
 
@@ -371,12 +405,14 @@ bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& s
     const double k =
         2.0 * liquefaction::cohesion(surfaces[0], state.plastic_shear_strain, softening_strain_);
     if (admissible(stress, 1.0, k, tension_cutoff_)) return false;
-    return_to_surface({lambda_, shear_, 1.0, 1.0, k, tension_cutoff_, infinity}, stress, state);
+    return_to_surface({lambda_, shear_, 1.0, 1.0, k, tension_cutoff_, infinity, main_plane_},
+                      stress, state);
     return true;
   }
   if (admissible(stress, n_phi_, two_c_sqrt_n_phi_, tension_cutoff_)) return false;
   const double apex = apex_stress(n_phi_, two_c_sqrt_n_phi_);
-  const MohrCoulomb m{lambda_, shear_, n_phi_, n_psi_, two_c_sqrt_n_phi_, tension_cutoff_, apex};
+  const MohrCoulomb m{lambda_,           shear_,          n_phi_, n_psi_,
+                      two_c_sqrt_n_phi_, tension_cutoff_, apex,   main_plane_};
   return_to_surface(m, stress, state);
   return true;
 }

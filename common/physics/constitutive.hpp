@@ -102,12 +102,14 @@ class ConstitutiveModel {
 
  private:
   MaterialModel model_ = MaterialModel::linear_elastic;
-  double lambda_ = 0.0;          // Lamé λ
-  double shear_ = 0.0;           // G
-  double n_phi_ = 1.0;           // Nφ
-  double n_psi_ = 1.0;           // Nψ
-  double two_c_sqrt_n_phi_ = 0;  // 2c sqrt(Nφ)
-  double tension_cutoff_ = 0.0;  // T (already limited to the apex)
+  double lambda_ = 0.0;             // Lamé λ
+  double shear_ = 0.0;              // G
+  double n_phi_ = 1.0;              // Nφ
+  double n_psi_ = 1.0;              // Nψ
+  double two_c_sqrt_n_phi_ = 0;     // 2c sqrt(Nφ)
+  double tension_cutoff_ = 0.0;     // T (already limited to the apex)
+  Vec4 main_plane_ = Vec4::Zero();  // Mohr–Coulomb, residual strength: the main plane's
+                                    // return constants D b, 1/(aᵀ D b)
   // Multi-yield: q_f = strength_slope_ · p′₀ + strength_intercept_, the backbone's γ_peak.
   int surfaces_ = 0;
   double strength_slope_ = 0.0;

@@ -28,6 +28,7 @@
 #include "fem/fem_model.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/model_setup.hpp"
+#include "tools/benchmarks/digest.hpp"
 #include "tools/benchmarks/instruction_counter.hpp"
 
 namespace {
@@ -63,11 +64,13 @@ void benchmark(Case c, ElementType type, const std::string& label) {
   const double element_steps = static_cast<double>(steps * model.element_count());
   fmt::print(
       "{:<10} {:<34} elements={} gauss_points={} steps={} wall_s={:.3f} "
-      "element_steps_per_s={:.3g} instructions_per_element_step={}\n",
+      "element_steps_per_s={:.3g} instructions_per_element_step={} digest={:016x}\n",
       to_string(type), label, model.element_count(), model.gauss_count(), steps, seconds,
       element_steps / seconds,
       instructions ? fmt::format("{:.0f}", *instructions / element_steps)
-                   : "n/a (no hardware counter: tools/benchmarks/instructions.sh)");
+                   : "n/a (no hardware counter: tools/benchmarks/instructions.sh)",
+      bench::digest(state.displacement, state.velocity, state.stress, state.strain,
+                    state.material_state, state.surface_stress.values));
 }
 
 }  // namespace

@@ -36,6 +36,7 @@
 #include "mpm/domain.hpp"
 #include "mpm/mpm_solver.hpp"
 #include "mpm/particle_generation.hpp"
+#include "tools/benchmarks/digest.hpp"
 #include "tools/benchmarks/instruction_counter.hpp"
 #include "tools/synthetic/soil.hpp"
 
@@ -119,7 +120,6 @@ struct RankFigures {
 /// smoothing.
 struct Options {
   int steps = 500, repeat = 3, sort_interval = 10, skip = 0, widen = 1;
-  bool digest = false;
   double pic_fraction = 0.0;
   std::string threads = "1,2", shape = "gimp", scheme = "musl", transfer = "apic",
               smoothing = "cell";
@@ -137,9 +137,6 @@ struct Options {
         ->check(CLI::IsMember({"none", "cell"}));
     app.add_option("--sort-interval", sort_interval, "steps between two sorts by cell");
     app.add_option("--skip", skip, "untimed steps before timing");
-    app.add_flag("--digest", digest,
-                 "print a hash of the particles' bits after the runs (equal hashes: "
-                 "bit-identical results, e.g. across thread counts or builds)");
     app.add_option("--widen", widen, "column and grid this many times as long (weak scaling)")
         ->check(CLI::PositiveNumber);
   }
@@ -159,20 +156,10 @@ struct Options {
   }
 };
 
-/// FNV-1a over the bits of the particles' evolving fields, in particle order: equal
-/// digests mean bit-identical states (one rank).
+/// The bits of the particles' evolving fields, in particle order (one rank).
 std::uint64_t particle_digest(const Particles& p) {
-  std::uint64_t hash = 14695981039346656037ull;
-  auto add = [&hash](const auto& values) {
-    const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
-    for (std::size_t i = 0; i < values.size() * sizeof(values[0]); ++i) {
-      hash = (hash ^ bytes[i]) * 1099511628211ull;
-    }
-  };
-  add(p.coordinates), add(p.displacement), add(p.velocity), add(p.stress), add(p.strain);
-  add(p.eps_q), add(p.pore_pressure), add(p.volume), add(p.affine_velocity), add(p.state);
-  add(p.id);
-  return hash;
+  return bench::digest(p.coordinates, p.displacement, p.velocity, p.stress, p.strain, p.eps_q,
+                       p.pore_pressure, p.volume, p.affine_velocity, p.state, p.id);
 }
 
 /// The best of `repeat` timed runs on the current thread count.
@@ -247,7 +234,8 @@ std::string report(const Best& best, int threads, double rate_one, const Options
                               : "  instructions_per_particle_step: no hardware counter here "
                                 "(tools/benchmarks/instructions.sh counts them under callgrind)\n";
   }
-  if (o.digest && !ranks.distributed()) text += fmt::format("  digest={:016x}\n", best.digest);
+  // Equal digests: bit-identical particles (tools/benchmarks/digest.hpp).
+  if (!ranks.distributed()) text += fmt::format("  digest={:016x}\n", best.digest);
   // The windows keep their widest capacity, so this is the peak of the steps run.
   if (!ranks.distributed()) {
     const MpmSolver::Memory& m = best.memory;
