@@ -226,26 +226,30 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
       c_x = Pair{mh * c[0], mh * c[2]};
       c_y = Pair{mh * c[1], mh * c[3]};
     }
+    // The sums separate like the weights, S_a S_b: per stencil column a the pairs its
+    // nodes b take in proportion to S_b or S'_b, then per node two products. Force:
+    // N m g − σ_x ∂N/∂x − σ_y ∂N/∂y = S_b (S_a m g − S'_a σ_x) − S'_b (S_a σ_y).
     for (int a = 0; a < n; ++a) {
       NodeSums* column = window.data() + (w.column_start(rows, a) - offset);
-      [[maybe_unused]] Pair along{}, across{};
+      const double sa = w.x.value[a];
+      const double mass_a = sa * m;
+      const Pair force_a = sa * mg - w.x.derivative[a] * stress_x;
+      const Pair force_b = sa * stress_y;
+      Pair along = sa * mv, across{};
       if constexpr (apic) {
-        const double sa = w.x.value[a];
-        along = sa * mv + c_x * affine.x.moment[a];
+        along += c_x * affine.x.moment[a];
         across = sa * c_y;
       }
       for (int b = 0; b < n; ++b) {
-        const double weight = w.x.value[a] * w.y.value[b];
-        const double gx = w.x.derivative[a] * w.y.value[b];  // ×1/h folded into vh
-        const double gy = w.x.value[a] * w.y.derivative[b];
+        const double sb = w.y.value[b];
         NodeSums& node = column[b];
-        node.mass += weight * m;
+        node.mass += sb * mass_a;
         if constexpr (apic) {
-          add_pair(&node.momentum_x, w.y.value[b] * along + affine.y.moment[b] * across);
+          add_pair(&node.momentum_x, sb * along + affine.y.moment[b] * across);
         } else {
-          add_pair(&node.momentum_x, weight * mv);
+          add_pair(&node.momentum_x, sb * along);
         }
-        add_pair(&node.force_x, weight * mg - (stress_x * gx + stress_y * gy));
+        add_pair(&node.force_x, sb * force_a - w.y.derivative[b] * force_b);
       }
     }
   }
@@ -384,27 +388,34 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   for (std::size_t p = begin; p < end; ++p) {
     const ParticleWeights<Shape>& w = weights[p];
-    // Σ N a, Σ N v (FLIP/PIC), and the velocity gradient's columns (∂v/∂x, ∂v/∂y) × h.
+    // Σ N a, Σ N v (FLIP/PIC), and the velocity gradient's columns (∂v/∂x, ∂v/∂y) × h,
+    // separated like the weights: per stencil column a, u_a = Σ_b S_b u_ab and
+    // t_a = Σ_b S'_b u_ab, then ∂u/∂x = Σ_a S'_a u_a and ∂u/∂y = Σ_a S_a t_a.
     Pair acceleration{}, velocity{}, gradient_x{}, gradient_y{};
     for (int a = 0; a < n; ++a) {
       const std::size_t start = w.column_start(rows, a);
       const NodeMotion* column = state.motion.data() + start;
       [[maybe_unused]] const Vec2* remapped = state.remapped_velocity.data() + start;
+      Pair along{}, across{};  // u_a, t_a
+      [[maybe_unused]] Pair acceleration_a{}, velocity_a{};
       for (int b = 0; b < n; ++b) {
-        const double gx = w.x.derivative[a] * w.y.value[b];
-        const double gy = w.x.value[a] * w.y.derivative[b];
         if constexpr (!apic) {
-          const double weight = w.x.value[a] * w.y.value[b];
-          velocity += weight * load_pair(&column[b].velocity_x);
+          velocity_a += w.y.value[b] * load_pair(&column[b].velocity_x);
           if constexpr (Scheme == UpdateScheme::usl) {
-            acceleration += weight * load_pair(&column[b].acceleration_x);
+            acceleration_a += w.y.value[b] * load_pair(&column[b].acceleration_x);
           }
         }
         // The velocity field the gradient is taken of: MUSL's re-projected one, USL's v^L.
         const Pair u = Scheme == UpdateScheme::musl ? load_pair(remapped[b].data())
                                                     : load_pair(&column[b].velocity_x);
-        gradient_x += u * gx;
-        gradient_y += u * gy;
+        along += w.y.value[b] * u;
+        across += w.y.derivative[b] * u;
+      }
+      gradient_x += w.x.derivative[a] * along;
+      gradient_y += w.x.value[a] * across;
+      if constexpr (!apic) {
+        velocity += w.x.value[a] * velocity_a;
+        acceleration += w.x.value[a] * acceleration_a;
       }
     }
     double vx = velocity[0], vy = velocity[1];
