@@ -232,9 +232,9 @@ inline std::size_t particle_model(const Particles& particles, std::size_t p,
 template <class Update>
 auto on_model_stress(const ConstitutiveModel& model, Particles& particles, std::size_t p,
                      Update&& update) {
-  const double pressure =
-      model.model() == MaterialModel::residual_strength ? particles.pore_pressure[p] : 0.0;
   Vec4& stress = particles.stress[p];
+  if (model.model() != MaterialModel::residual_strength) return update(stress);
+  const double pressure = particles.pore_pressure[p];
   for (int i = 0; i < 3; ++i) stress[i] -= pressure;
   const auto result = update(stress);
   for (int i = 0; i < 3; ++i) stress[i] += pressure;

@@ -502,7 +502,7 @@ bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient
   if (objective) {
     const double spin = 0.5 * dt * (l[1] - l[2]);
     rotate_jaumann(stress, spin);
-    model.rotate_records(surfaces, spin);
+    if (!surfaces.empty()) model.rotate_records(surfaces, spin);
   }
   const bool yielded = model.update(stress, state, increment, surfaces);
   strain += increment;
@@ -567,16 +567,6 @@ double von_mises_stress(const Vec4& stress) {
   const double szz = stress[2] + p;
   const double s_s = sxx * sxx + syy * syy + szz * szz + 2.0 * stress[3] * stress[3];
   return std::sqrt(1.5 * s_s);
-}
-
-double deviatoric_strain(const Vec4& strain) {
-  const double mean = (strain[0] + strain[1] + strain[2]) / 3.0;
-  const double exx = strain[0] - mean;
-  const double eyy = strain[1] - mean;
-  const double ezz = strain[2] - mean;
-  const double exy = 0.5 * strain[3];
-  const double e_e = exx * exx + eyy * eyy + ezz * ezz + 2.0 * exy * exy;
-  return std::sqrt(2.0 / 3.0 * e_e);
 }
 
 }  // namespace slide

@@ -27,6 +27,7 @@
 // record: peak and residual undrained strength, softening from the transfer).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -161,6 +162,14 @@ inline double mean_stress(const Vec4& stress) {
 /// deviator s (not the deviator itself); q = |σ| in uniaxial stress.
 double von_mises_stress(const Vec4& stress);
 /// Deviatoric strain invariant εq = sqrt(2/3 e:e) of a strain vector with γxy = 2εxy.
-double deviatoric_strain(const Vec4& strain);
+inline double deviatoric_strain(const Vec4& strain) {
+  const double mean = (strain[0] + strain[1] + strain[2]) / 3.0;
+  const double exx = strain[0] - mean;
+  const double eyy = strain[1] - mean;
+  const double ezz = strain[2] - mean;
+  const double exy = 0.5 * strain[3];
+  const double e_e = exx * exx + eyy * eyy + ezz * ezz + 2.0 * exy * exy;
+  return std::sqrt(2.0 / 3.0 * e_e);
+}
 
 }  // namespace slide
