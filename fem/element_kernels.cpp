@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/base/error.hpp"
+
 namespace slide::fem {
 
 namespace {
@@ -141,7 +143,8 @@ void dispatch_element_forces(const FemModel& model, const ElementGeometry& geome
 
 template <int NPE, int NGP, bool HOURGLASS, bool JAUMANN>
 void stress_update_kernel(const FemModel& model, const ElementGeometry& geometry,
-                          std::span<const ConstitutiveModel> models, double dt, FemState& state) {
+                          std::span<const ConstitutiveModel> models, double dt, FemState& state,
+                          std::span<multi_yield::KeptComponents> kept) {
   const Index n_elements = model.element_count();
   const Index* connectivity = model.mesh.connectivity.data();
   for (Index e = 0; e < n_elements; ++e) {
@@ -163,7 +166,8 @@ void stress_update_kernel(const FemModel& model, const ElementGeometry& geometry
       // The point update MPM's particles share (objective in updated Lagrangian).
       const bool yielded =
           advance_point(material, Vec4(lxx, lxy, lyx, lyy), dt, JAUMANN, state.stress[gp],
-                        state.material_state[gp], state.surface_stress.of(gp), state.strain[gp]);
+                        state.material_state[gp], state.surface_stress.of(gp), state.strain[gp],
+                        kept.empty() ? nullptr : &kept[gp]);
       state.yielded[gp] = yielded ? 1 : 0;
     }
     if constexpr (HOURGLASS) {
@@ -179,20 +183,21 @@ void stress_update_kernel(const FemModel& model, const ElementGeometry& geometry
 
 template <bool JAUMANN>
 void dispatch_stress_update(const FemModel& model, const ElementGeometry& geometry,
-                            std::span<const ConstitutiveModel> models, double dt, FemState& state) {
+                            std::span<const ConstitutiveModel> models, double dt, FemState& state,
+                            std::span<multi_yield::KeptComponents> kept) {
   switch (model.mesh.element_type) {
     case ElementType::quad4_1gp:
       if (model.hourglass_coefficient != 0.0) {
-        stress_update_kernel<4, 1, true, JAUMANN>(model, geometry, models, dt, state);
+        stress_update_kernel<4, 1, true, JAUMANN>(model, geometry, models, dt, state, kept);
       } else {
-        stress_update_kernel<4, 1, false, JAUMANN>(model, geometry, models, dt, state);
+        stress_update_kernel<4, 1, false, JAUMANN>(model, geometry, models, dt, state, kept);
       }
       return;
     case ElementType::quad4_2x2:
-      stress_update_kernel<4, 4, false, JAUMANN>(model, geometry, models, dt, state);
+      stress_update_kernel<4, 4, false, JAUMANN>(model, geometry, models, dt, state, kept);
       return;
     case ElementType::tri3:
-      stress_update_kernel<3, 1, false, JAUMANN>(model, geometry, models, dt, state);
+      stress_update_kernel<3, 1, false, JAUMANN>(model, geometry, models, dt, state, kept);
   }
 }
 
@@ -247,11 +252,15 @@ void compute_element_forces(const FemModel& model, const ElementGeometry& geomet
 
 void update_stresses(const FemModel& model, const ElementGeometry& geometry,
                      std::span<const ConstitutiveModel> models, double dt, bool jaumann,
-                     FemState& state) {
+                     FemState& state, std::span<multi_yield::KeptComponents> kept) {
+  if (!kept.empty() && kept.size() != static_cast<std::size_t>(model.gauss_count())) {
+    throw Error("update_stresses: {} kept components for {} Gauss points", kept.size(),
+                model.gauss_count());
+  }
   if (jaumann) {
-    dispatch_stress_update<true>(model, geometry, models, dt, state);
+    dispatch_stress_update<true>(model, geometry, models, dt, state, kept);
   } else {
-    dispatch_stress_update<false>(model, geometry, models, dt, state);
+    dispatch_stress_update<false>(model, geometry, models, dt, state, kept);
   }
 }
 

@@ -65,9 +65,11 @@ void compute_element_forces(const FemModel& model, const ElementGeometry& geomet
 /// `dt` from the nodal velocities in `state` (the mid-step velocity). With `jaumann` the
 /// stress is first rotated by the spin increment (updated Lagrangian). `models` is
 /// indexed by material id. Whether each Gauss point yielded goes to state.yielded.
+/// `kept` (empty, or one per Gauss point): the points' multi-yield components between
+/// steps (ConstitutiveModel::update).
 void update_stresses(const FemModel& model, const ElementGeometry& geometry,
                      std::span<const ConstitutiveModel> models, double dt, bool jaumann,
-                     FemState& state);
+                     FemState& state, std::span<multi_yield::KeptComponents> kept = {});
 
 /// Elastic element stiffness (2n × 2n, DOFs ordered [u_0x, u_0y, u_1x, …]) of element
 /// `e`: Σ_gp w Bᵀ C B plus, for one-point quads, the hourglass stiffness γγᵀ ⊗ K_q.

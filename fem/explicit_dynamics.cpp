@@ -1,5 +1,7 @@
 #include "fem/explicit_dynamics.hpp"
 
+#include <algorithm>
+
 #include "fem/element_kernels.hpp"
 #include "fem/pore_fluid.hpp"
 
@@ -65,7 +67,12 @@ ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constrain
       models_(std::move(models)),
       updated_lagrangian_(model.kinematics == Kinematics::updated_lagrangian),
       fluid_step_(pore_fluid_time_step(model)),
-      element_force_(static_cast<std::size_t>(model.element_count() * model.nodes_per_element)) {}
+      element_force_(static_cast<std::size_t>(model.element_count() * model.nodes_per_element)) {
+  const bool multi_yield = std::ranges::any_of(models_, [](const ConstitutiveModel& m) {
+    return m.model() == MaterialModel::pressure_independent_multi_yield;
+  });
+  if (multi_yield) kept_components_.resize(static_cast<std::size_t>(model.gauss_count()));
+}
 
 std::size_t ExplicitSolver::return_to_yield_surface(FemState& state) const {
   std::size_t returned = 0;
@@ -261,7 +268,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
   element_forces(state);
   if (!updated_lagrangian_) {
     update_nodes(state, dt);
-    update_stresses(model_, model_.reference, models_, dt, false, state);
+    update_stresses(model_, model_.reference, models_, dt, false, state, kept_components_);
     advance_water(model_.reference, dt, state);
   } else {
     ul_.saved_displacement = state.displacement;
@@ -279,7 +286,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
       ul_.geometry_step = -1;
       return inverted;
     }
-    update_stresses(model_, ul_.current, models_, dt, true, state);
+    update_stresses(model_, ul_.current, models_, dt, true, state, kept_components_);
     advance_water(ul_.current, dt, state);
     ul_.geometry_step = state.step + 1;
   }

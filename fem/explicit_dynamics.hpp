@@ -144,6 +144,9 @@ class ExplicitSolver {
     std::vector<Vec2> next_velocity, trial;
   };
   NodalScratch scratch_;
+  /// The Gauss points' multi-yield components between steps (one per point when a model
+  /// is multi-yield, else none): computing them costs as much as the update.
+  std::vector<multi_yield::KeptComponents> kept_components_;
   std::vector<Vec2> element_force_;  ///< n_elements × nodes_per_element
   /// Updated Lagrangian: the current geometry, valid for state step `geometry_step`,
   /// and the nodal state saved before a step that might invert an element.

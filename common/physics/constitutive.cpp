@@ -386,16 +386,26 @@ double ConstitutiveModel::frozen_peak_strength(const Vec4& stress) const {
 }
 
 bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
-                               std::span<Vec4> surfaces) const {
+                               std::span<Vec4> surfaces, multi_yield::KeptComponents* kept) const {
   if (model_ == MaterialModel::pm4sand) {
     return pm4sand::update(pm4sand_, stress, state, strain_increment, surfaces);
   }
   if (model_ == MaterialModel::pressure_independent_multi_yield) {
-    const auto c =
-        multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
-    return multi_yield::update(c, lambda_ + 2.0 / 3.0 * shear_, shear_, stress, state,
-                               strain_increment,
-                               surfaces.first(static_cast<std::size_t>(surfaces_)));
+    auto components = [&] {
+      return multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+    };
+    // NaN ≠ NaN: a tag never matches a point whose strength is not frozen yet.
+    if (kept != nullptr && !(kept->peak_strength == state.peak_strength)) {
+      kept->components = components();
+      kept->peak_strength = state.peak_strength;
+    }
+    const auto own = surfaces.first(static_cast<std::size_t>(surfaces_));
+    const double bulk = lambda_ + 2.0 / 3.0 * shear_;
+    if (kept != nullptr) {
+      return multi_yield::update(kept->components, bulk, shear_, stress, state, strain_increment,
+                                 own);
+    }
+    return multi_yield::update(components(), bulk, shear_, stress, state, strain_increment, own);
   }
   stress += elastic_stress_increment(strain_increment);
   if (model_ == MaterialModel::linear_elastic) return false;
@@ -496,7 +506,7 @@ void ConstitutiveModel::rotate_records(std::span<Vec4> surfaces, double spin_inc
 
 bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
                    bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
-                   Vec4& strain) {
+                   Vec4& strain, multi_yield::KeptComponents* kept) {
   const Vec4& l = velocity_gradient;
   const Vec4 increment(dt * l[0], dt * l[3], 0.0, dt * (l[1] + l[2]));
   if (objective) {
@@ -504,7 +514,7 @@ bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient
     rotate_jaumann(stress, spin);
     if (!surfaces.empty()) model.rotate_records(surfaces, spin);
   }
-  const bool yielded = model.update(stress, state, increment, surfaces);
+  const bool yielded = model.update(stress, state, increment, surfaces, kept);
   strain += increment;
   return yielded;
 }

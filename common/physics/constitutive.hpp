@@ -35,6 +35,7 @@
 #include "common/base/types.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/material_state.hpp"
+#include "common/physics/multi_yield.hpp"
 #include "common/physics/pm4sand.hpp"
 
 namespace slide {
@@ -85,8 +86,10 @@ class ConstitutiveModel {
   /// map (Mohr–Coulomb), or the update of every yield surface (multi-yield, whose
   /// `surfaces` span holds surfaces() entries). Returns true when the point yielded:
   /// a plastic correction (Mohr–Coulomb), the peak strength reached (multi-yield).
+  /// `kept` (optional): the point's multi-yield components from its previous update,
+  /// reused when they are for its peak strength and refreshed otherwise.
   bool update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
-              std::span<Vec4> surfaces = {}) const;
+              std::span<Vec4> surfaces = {}, multi_yield::KeptComponents* kept = nullptr) const;
 
   /// The switch to this model from the elastic geostatic state, from the initial K0
   /// stresses of pure MPM or from the other phase's model (docs/method.md §3). Mohr–Coulomb
@@ -144,7 +147,7 @@ void rotate_jaumann(Vec4& stress, double spin_increment);
 /// point update of both solvers. Returns true when the point yielded.
 bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
                    bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
-                   Vec4& strain);
+                   Vec4& strain, multi_yield::KeptComponents* kept = nullptr);
 
 /// Updates a range of points that share one model; `yielded[i]` (optional, may be
 /// empty) receives 1 where point i yielded; `surfaces` holds model.surfaces() entries
