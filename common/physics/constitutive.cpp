@@ -385,27 +385,33 @@ double ConstitutiveModel::frozen_peak_strength(const Vec4& stress) const {
   return strength_slope_ * std::max(mean_stress(stress), 0.0) + strength_intercept_;
 }
 
+[[gnu::noinline]] bool ConstitutiveModel::update_multi_yield(
+    Vec4& stress, MaterialState& state, const Vec4& strain_increment, std::span<Vec4> surfaces,
+    multi_yield::KeptComponents* kept) const {
+  auto components = [&] {
+    return multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+  };
+  // NaN ≠ NaN: a tag never matches a point whose strength is not frozen yet.
+  if (kept != nullptr && !(kept->peak_strength == state.peak_strength)) {
+    kept->components = components();
+    kept->peak_strength = state.peak_strength;
+  }
+  const auto own = surfaces.first(static_cast<std::size_t>(surfaces_));
+  const double bulk = lambda_ + 2.0 / 3.0 * shear_;
+  if (kept != nullptr) {
+    return multi_yield::update(kept->components, bulk, shear_, stress, state, strain_increment,
+                               own);
+  }
+  return multi_yield::update(components(), bulk, shear_, stress, state, strain_increment, own);
+}
+
 bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
                                std::span<Vec4> surfaces, multi_yield::KeptComponents* kept) const {
   if (model_ == MaterialModel::pm4sand) {
     return pm4sand::update(pm4sand_, stress, state, strain_increment, surfaces);
   }
   if (model_ == MaterialModel::pressure_independent_multi_yield) {
-    auto components = [&] {
-      return multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
-    };
-    // NaN ≠ NaN: a tag never matches a point whose strength is not frozen yet.
-    if (kept != nullptr && !(kept->peak_strength == state.peak_strength)) {
-      kept->components = components();
-      kept->peak_strength = state.peak_strength;
-    }
-    const auto own = surfaces.first(static_cast<std::size_t>(surfaces_));
-    const double bulk = lambda_ + 2.0 / 3.0 * shear_;
-    if (kept != nullptr) {
-      return multi_yield::update(kept->components, bulk, shear_, stress, state, strain_increment,
-                                 own);
-    }
-    return multi_yield::update(components(), bulk, shear_, stress, state, strain_increment, own);
+    return update_multi_yield(stress, state, strain_increment, surfaces, kept);
   }
   stress += elastic_stress_increment(strain_increment);
   if (model_ == MaterialModel::linear_elastic) return false;

@@ -105,6 +105,10 @@ class ConstitutiveModel {
   double yield_function(const Vec4& stress, const MaterialState& state = {}) const;
 
  private:
+  /// update() of the multi-yield model, out of line: the Mohr–Coulomb path stays small.
+  bool update_multi_yield(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
+                          std::span<Vec4> surfaces, multi_yield::KeptComponents* kept) const;
+
   MaterialModel model_ = MaterialModel::linear_elastic;
   double lambda_ = 0.0;             // Lamé λ
   double shear_ = 0.0;              // G

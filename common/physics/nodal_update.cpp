@@ -7,10 +7,6 @@ namespace slide {
 
 namespace {
 
-double sign(double x) {
-  return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0);
-}
-
 int precedence(BoundaryCondition condition) {
   switch (condition) {
     case BoundaryCondition::fixed:
@@ -26,16 +22,6 @@ int precedence(BoundaryCondition condition) {
 }
 
 }  // namespace
-
-Vec2 damped_trial_velocity(double mass, const Vec2& velocity, const Vec2& force, double dt,
-                           const NodalDamping& damping) {
-  Vec2 f = force - damping.rayleigh_mass * mass * velocity;
-  if (damping.local > 0.0) {
-    f.x() -= damping.local * std::abs(f.x()) * sign(velocity.x());
-    f.y() -= damping.local * std::abs(f.y()) * sign(velocity.y());
-  }
-  return velocity + (dt / mass) * f;
-}
 
 Vec2 apply_constraint(const NodalConstraint& constraint, double friction_coefficient,
                       const Vec2& trial_velocity, const ContactGap& gap) {

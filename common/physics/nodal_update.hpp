@@ -27,6 +27,7 @@
 // node that has lifted off passes its gap so that it lands exactly on the base.
 #pragma once
 
+#include <cmath>
 #include <span>
 
 #include "common/base/types.hpp"
@@ -46,8 +47,17 @@ struct NodalDamping {
 };
 
 /// Steps 1–2: the damped trial velocity v* = v + dt (F − damping) / m.
-Vec2 damped_trial_velocity(double mass, const Vec2& velocity, const Vec2& force, double dt,
-                           const NodalDamping& damping);
+/// Inline: it runs once per node and step in both solvers.
+inline Vec2 damped_trial_velocity(double mass, const Vec2& velocity, const Vec2& force, double dt,
+                                  const NodalDamping& damping) {
+  Vec2 f = force - damping.rayleigh_mass * mass * velocity;
+  if (damping.local > 0.0) {
+    auto sign = [](double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); };
+    f.x() -= damping.local * std::abs(f.x()) * sign(velocity.x());
+    f.y() -= damping.local * std::abs(f.y()) * sign(velocity.y());
+  }
+  return velocity + (dt / mass) * f;
+}
 
 /// How far a node is from a frictional boundary and how long the step is: the node may
 /// close `gap` (m, ≥ 0) freely within the step of length `dt`.
