@@ -89,7 +89,11 @@ bool update(const Components& c, double bulk_modulus, double shear_modulus, Vec4
   for (int i = 0; i < c.count; ++i) {
     const auto k = static_cast<std::size_t>(i);
     Vec4 s = surfaces[k] + c.two_shear[k] * de;
-    const double q2 = 1.5 * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * s[3] * s[3]);
+    // q² = 3/2 s:s, the squares taken two at a time: (sxx², syy²) and (szz², 2 sxy²).
+    const Eigen::Array2d squares = s.head<2>().array().square();
+    const Eigen::Array2d rest =
+        s.tail<2>().array() * (s.tail<2>().array() * Eigen::Array2d(1.0, 2.0));
+    const double q2 = 1.5 * (squares[0] + squares[1] + rest[0] + rest[1]);
     const double limit = c.limit[k];
     if (q2 > limit * limit) {
       s *= limit / std::sqrt(q2);
