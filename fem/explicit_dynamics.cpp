@@ -66,12 +66,13 @@ ExplicitSolver::ExplicitSolver(const FemModel& model, NodalConstraints constrain
       damping_(damping),
       models_(std::move(models)),
       updated_lagrangian_(model.kinematics == Kinematics::updated_lagrangian),
-      fluid_step_(pore_fluid_time_step(model)),
-      element_force_(static_cast<std::size_t>(model.element_count() * model.nodes_per_element)) {
+      fluid_step_(pore_fluid_time_step(model)) {
+  kernels_.element_force.resize(
+      static_cast<std::size_t>(model.element_count() * model.nodes_per_element));
   const bool multi_yield = std::ranges::any_of(models_, [](const ConstitutiveModel& m) {
     return m.model() == MaterialModel::pressure_independent_multi_yield;
   });
-  if (multi_yield) kept_components_.resize(static_cast<std::size_t>(model.gauss_count()));
+  if (multi_yield) kernels_.kept_components.resize(static_cast<std::size_t>(model.gauss_count()));
 }
 
 std::size_t ExplicitSolver::return_to_yield_surface(FemState& state) const {
@@ -127,7 +128,7 @@ Vec2 ExplicitSolver::nodal_force(Index node) const {
   const auto begin = static_cast<std::size_t>(model_.adjacency.offsets[n]);
   const auto end = static_cast<std::size_t>(model_.adjacency.offsets[n + 1]);
   for (std::size_t i = begin; i < end; ++i) {
-    force += element_force_[static_cast<std::size_t>(model_.adjacency.slots[i])];
+    force += kernels_.element_force[static_cast<std::size_t>(model_.adjacency.slots[i])];
   }
   return force;
 }
@@ -249,8 +250,9 @@ void ExplicitSolver::update_nodes(FemState& state, double dt) {
 
 void ExplicitSolver::element_forces(const FemState& state) {
   const ElementGeometry& geometry = geometry_for(state);
-  compute_element_forces(model_, geometry, state, element_force_, damping_.rayleigh_stiffness);
-  add_pore_pressure_forces(model_, geometry, state.element_pore_pressure, element_force_);
+  compute_element_forces(model_, geometry, state, kernels_.element_force,
+                         damping_.rayleigh_stiffness);
+  add_pore_pressure_forces(model_, geometry, state.element_pore_pressure, kernels_.element_force);
 }
 
 void ExplicitSolver::advance_water(const ElementGeometry& geometry, double dt, FemState& state) {
@@ -272,7 +274,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
   element_forces(state);
   if (!updated_lagrangian_) {
     update_nodes(state, dt);
-    update_stresses(model_, model_.reference, models_, dt, false, state, kept_components_);
+    update_stresses(model_, model_.reference, models_, dt, false, state, kernels_.kept_components);
     advance_water(model_.reference, dt, state);
   } else {
     ul_.saved_displacement = state.displacement;
@@ -290,7 +292,7 @@ Index ExplicitSolver::step(FemState& state, double dt) {
       ul_.geometry_step = -1;
       return inverted;
     }
-    update_stresses(model_, ul_.current, models_, dt, true, state, kept_components_);
+    update_stresses(model_, ul_.current, models_, dt, true, state, kernels_.kept_components);
     advance_water(ul_.current, dt, state);
     ul_.geometry_step = state.step + 1;
   }

@@ -107,7 +107,7 @@ class ExplicitSolver {
 
  private:
   const ElementGeometry& geometry_for(const FemState& state);
-  /// The elements' nodal forces of `state` into element_force_: internal, hourglass and
+  /// The elements' nodal forces of `state` into kernels_.element_force: internal, hourglass and
   /// damping forces, and the pore pressure's.
   void element_forces(const FemState& state);
   /// The pore pressure's step (advance_pore_pressure), the tied side elements sharing it
@@ -123,7 +123,7 @@ class ExplicitSolver {
   Vec2 constrained_velocity(Index node, const FemState& state, const Vec2& trial, double dt,
                             const Vec2& frame_velocity, const Vec2& frame_displacement) const;
   /// The velocities after a step of length dt from state.velocity, with the element
-  /// forces in element_force_; adds the work of the boundaries to `boundary_work`.
+  /// forces in kernels_.element_force; adds the work of the boundaries to `boundary_work`.
   void nodal_velocities(const FemState& state, double dt, std::vector<Vec2>& velocity,
                         double* boundary_work);
 
@@ -144,10 +144,15 @@ class ExplicitSolver {
     std::vector<Vec2> next_velocity, trial;
   };
   NodalScratch scratch_;
-  /// The Gauss points' multi-yield components between steps (one per point when a model
-  /// is multi-yield, else none): computing them costs as much as the update.
-  std::vector<multi_yield::KeptComponents> kept_components_;
-  std::vector<Vec2> element_force_;  ///< n_elements × nodes_per_element
+  /// What the step's kernels hand on: the elements' nodal forces (n_elements ×
+  /// nodes_per_element) to the nodal update, and the Gauss points' multi-yield components
+  /// from one step to the next (one per point when a model is multi-yield, else none:
+  /// computing them costs as much as the update).
+  struct KernelScratch {
+    std::vector<Vec2> element_force;
+    std::vector<multi_yield::KeptComponents> kept_components;
+  };
+  KernelScratch kernels_;
   /// Updated Lagrangian: the current geometry, valid for state step `geometry_step`,
   /// and the nodal state saved before a step that might invert an element.
   struct CurrentGeometry {
