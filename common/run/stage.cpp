@@ -270,8 +270,11 @@ void check_checkpoint_times(std::vector<double> times, std::string_view prefix,
 }
 
 void remove_temporaries_of_killed_runs(const std::filesystem::path& output_dir, const Logger& log) {
-  const std::size_t removed =
-      remove_stale_temporaries(output_dir) + remove_stale_temporaries(output_dir / "vtk");
+  // Every folder a run writes atomically into: the outputs, the VTK frames and the copies
+  // of the inputs (record_provenance).
+  std::size_t removed = 0;
+  for (const char* sub : {"", "vtk", "inputs"})
+    removed += remove_stale_temporaries(output_dir / sub);
   if (removed > 0) {
     log.info("removed {} temporary file{} that killed runs left in {}", removed,
              removed == 1 ? "" : "s", output_dir.string());

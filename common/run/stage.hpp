@@ -153,8 +153,8 @@ void check_checkpoint_cadence(double every, std::string_view what);
 void check_checkpoint_times(std::vector<double> times, std::string_view prefix,
                             std::string_view what, std::vector<double> also = {});
 
-/// At the start of a run: removes the temporaries killed runs left in `output_dir` and
-/// its vtk/ folder (remove_stale_temporaries), with one line saying how many.
+/// At the start of a run: removes the temporaries killed runs left in `output_dir`, its
+/// vtk/ and its inputs/ folders (remove_stale_temporaries), with one line saying how many.
 void remove_temporaries_of_killed_runs(const std::filesystem::path& output_dir, const Logger& log);
 
 /// On restart the materials must be the case's own: Error naming `source` and the first

@@ -298,22 +298,27 @@ TEST(CheckpointNames, ACadenceOrListTheNamesCannotTellApartIsRefused) {
 }
 
 // fem-solve and mpm-solve call this at the start of a run: a killed run's temporaries in
-// OUT and OUT/vtk go, those of a live process and every other file stay.
+// OUT, OUT/vtk and OUT/inputs go (a restart killed while it copied the case into inputs/
+// left one there: the kill-restart fault test, seed 309328515), those of a live process
+// and every other file stay.
 TEST(RemoveTemporariesOfKilledRuns, OnlyThoseOfGoneProcesses) {
   namespace fs = std::filesystem;
   const fs::path out = fs::path(SLIDE_BINARY_DIR) / "test-scratch" / "stage" / "temporaries";
   fs::remove_all(out);
   fs::create_directories(out / "vtk");
+  fs::create_directories(out / "inputs");
   const std::string gone = ".tmp-999999999";  // above any pid the kernel hands out
   const std::string live = ".tmp-" + std::to_string(::getpid());
   for (const fs::path& f :
        {out / (".fem_t0.890.h5" + gone), out / "vtk" / (".fem_000018.vtu" + gone),
-        out / (".fem_history.csv" + live), out / "fem_t1.000.h5", out / "notes.tmp-999999999"}) {
+        out / "inputs" / (".case.toml" + gone), out / (".fem_history.csv" + live),
+        out / "fem_t1.000.h5", out / "notes.tmp-999999999"}) {
     std::ofstream(f) << "x";
   }
   remove_temporaries_of_killed_runs(out, Logger("test", true));
   EXPECT_FALSE(fs::exists(out / (".fem_t0.890.h5" + gone)));
   EXPECT_FALSE(fs::exists(out / "vtk" / (".fem_000018.vtu" + gone)));
+  EXPECT_FALSE(fs::exists(out / "inputs" / (".case.toml" + gone)));
   EXPECT_TRUE(fs::exists(out / (".fem_history.csv" + live)));
   EXPECT_TRUE(fs::exists(out / "fem_t1.000.h5"));
   EXPECT_TRUE(fs::exists(out / "notes.tmp-999999999"));  // not hidden: not ours
