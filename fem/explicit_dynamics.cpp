@@ -155,12 +155,8 @@ Vec2 ExplicitSolver::constrained_velocity(Index node, const FemState& state, con
   if (!base_plane_) return v;
   Vec2 x = model_.mesh.nodes[n] + state.displacement[n];
   if (MovingBase) x -= frame_displacement;
-  const Vec2 r = relative(v);
-  const ContactGap gap{base_plane_->gap(x), dt};
-  // A node that does not reach the base within the step keeps its velocity: the contact's
-  // first test (apply_constraint), here without the call, for the nodes above the base.
-  if (r.dot(base_plane_->contact.normal) <= gap.gap / gap.dt) return absolute(r);
-  return absolute(apply_constraint(base_plane_->contact, friction_coefficient_, r, gap));
+  return absolute(apply_constraint(base_plane_->contact, friction_coefficient_, relative(v),
+                                   {base_plane_->gap(x), dt}));
 }
 
 void ExplicitSolver::nodal_velocities(const FemState& state, double dt, std::vector<Vec2>& velocity,

@@ -23,9 +23,9 @@ constexpr std::size_t block_multiple = 24;
 constexpr std::size_t particles_per_block_target = 4096;
 
 /// Two doubles that load, compute and store together: the x and y of a node's or a
-/// particle's vector in one SSE2 register (every x86-64 has one). Each lane does the
-/// same IEEE operations as the scalar code it replaces, in the same order, so results do
-/// not change; the stencil loops' arithmetic and memory traffic take half the
+/// particle's vector in one SSE2 register (every x86-64 has one). Each lane does the IEEE
+/// operations a scalar line for x or for y would, in the same order, so a pair changes no
+/// result by itself; the stencil loops' arithmetic and memory traffic take half the
 /// instructions. (GCC's vector extension; a scalar operand is broadcast.)
 using Pair = double __attribute__((vector_size(16)));
 
@@ -233,8 +233,8 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
       NodeSums* column = window.data() + (w.column_start(rows, a) - offset);
       const double sa = w.x.value[a];
       const double mass_a = sa * m;
-      const Pair force_a = sa * mg - w.x.derivative[a] * stress_x;
-      const Pair force_b = sa * stress_y;
+      const Pair force_along = sa * mg - w.x.derivative[a] * stress_x;  // × S_b
+      const Pair force_across = sa * stress_y;                          // × S'_b
       Pair along = sa * mv, across{};
       if constexpr (apic) {
         along += c_x * affine.x.moment[a];
@@ -249,7 +249,7 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
         } else {
           add_pair(&node.momentum_x, sb * along);
         }
-        add_pair(&node.force_x, sb * force_a - w.y.derivative[b] * force_b);
+        add_pair(&node.force_x, sb * force_along - w.y.derivative[b] * force_across);
       }
     }
   }

@@ -166,8 +166,7 @@ Vec3 stiffness_times(double lambda, double shear, const Vec3& b) {
 /// The main plane's constants of a return, which depend on the elastic constants and
 /// Nφ, Nψ only: D b and 1/(aᵀ D b), as [D b, 1/(aᵀ D b)]. A model computes them once;
 /// return_to computes the same numbers for the other planes in every return.
-[[gnu::noinline]] Vec4 main_plane_constants(double lambda, double shear, double n_phi,
-                                            double n_psi) {
+Vec4 main_plane_constants(double lambda, double shear, double n_phi, double n_psi) {
   const Vec3 normal(n_phi, 0.0, -1.0);
   const Vec3 flow = stiffness_times(lambda, shear, Vec3(n_psi, 0.0, -1.0));
   return {flow[0], flow[1], flow[2], 1.0 / normal.dot(flow)};
@@ -388,21 +387,16 @@ double ConstitutiveModel::frozen_peak_strength(const Vec4& stress) const {
 [[gnu::noinline]] bool ConstitutiveModel::update_multi_yield(
     Vec4& stress, MaterialState& state, const Vec4& strain_increment, std::span<Vec4> surfaces,
     multi_yield::KeptComponents* kept) const {
-  auto components = [&] {
-    return multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
-  };
-  // NaN ≠ NaN: a tag never matches a point whose strength is not frozen yet.
-  if (kept != nullptr && !(kept->peak_strength == state.peak_strength)) {
-    kept->components = components();
-    kept->peak_strength = state.peak_strength;
+  // Without kept components, fresh ones: their NaN tag matches no strength.
+  multi_yield::KeptComponents fresh;
+  multi_yield::KeptComponents& own = kept != nullptr ? *kept : fresh;
+  if (!(own.peak_strength == state.peak_strength)) {
+    own.components =
+        multi_yield::components(shear_, state.peak_strength, peak_shear_strain_, surfaces_);
+    own.peak_strength = state.peak_strength;
   }
-  const auto own = surfaces.first(static_cast<std::size_t>(surfaces_));
-  const double bulk = lambda_ + 2.0 / 3.0 * shear_;
-  if (kept != nullptr) {
-    return multi_yield::update(kept->components, bulk, shear_, stress, state, strain_increment,
-                               own);
-  }
-  return multi_yield::update(components(), bulk, shear_, stress, state, strain_increment, own);
+  return multi_yield::update(own.components, lambda_ + 2.0 / 3.0 * shear_, shear_, stress, state,
+                             strain_increment, surfaces.first(static_cast<std::size_t>(surfaces_)));
 }
 
 bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& strain_increment,

@@ -67,8 +67,32 @@ struct ContactGap {
 };
 
 /// Step 3 for one constraint; `friction_coefficient` and `gap` are used by friction only.
-Vec2 apply_constraint(const NodalConstraint& constraint, double friction_coefficient,
-                      const Vec2& trial_velocity, const ContactGap& gap = {});
+/// Inline, like the trial velocity: a frictional base is tested at every node of a model
+/// above it, and most nodes leave at the first test.
+inline Vec2 apply_constraint(const NodalConstraint& constraint, double friction_coefficient,
+                             const Vec2& trial_velocity, const ContactGap& gap = {}) {
+  const Vec2& n = constraint.normal;
+  switch (constraint.condition) {
+    case BoundaryCondition::free:
+      return trial_velocity;
+    case BoundaryCondition::fixed:
+      return Vec2::Zero();
+    case BoundaryCondition::roller:
+      return trial_velocity - trial_velocity.dot(n) * n;
+    case BoundaryCondition::friction: {
+      const double normal_speed = trial_velocity.dot(n);
+      const double closing_speed = gap.gap / gap.dt;
+      if (normal_speed <= closing_speed) return trial_velocity;
+      const Vec2 tangential = trial_velocity - normal_speed * n;
+      const Vec2 landing = closing_speed * n;
+      const double slip_speed = tangential.norm();
+      const double friction_speed = friction_coefficient * (normal_speed - closing_speed);
+      if (slip_speed <= friction_speed) return landing;
+      return landing + tangential * (1.0 - friction_speed / slip_speed);
+    }
+  }
+  return trial_velocity;
+}
 
 /// Step 3 for all the constraints of a node (a corner belongs to two boundaries):
 /// fixed first, then rollers, then friction.
