@@ -37,26 +37,41 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 /// scale of the trial (so a stress that a return left on the surface is admissible).
 constexpr double yield_tolerance = 1e-12;
 
+/// The Mohr–Coulomb apex c cot φ in the form that makes f vanish there exactly,
+/// 2c sqrt(Nφ)/(Nφ − 1); +∞ for φ = 0 (Tresca has no apex).
+double apex_stress(double n_phi, double k) {
+  return n_phi > 1.0 ? k / (n_phi - 1.0) : infinity;
+}
+
 /// The Mohr–Coulomb constants one return needs, gathered once per call.
 struct MohrCoulomb {
-  double lambda;    // Lamé λ
-  double shear;     // G
-  double n_phi;     // Nφ
-  double n_psi;     // Nψ
-  double k;         // 2c sqrt(Nφ)
-  double tension;   // T ≤ apex
-  double apex;      // c cot φ = k/(Nφ − 1), +∞ for φ = 0
-  Vec4 main_plane;  // the main plane's D b and 1/(aᵀ D b) (main_plane_constants)
+  double lambda;                      // Lamé λ
+  double shear;                       // G
+  double n_phi;                       // Nφ
+  double n_psi;                       // Nψ
+  double k;                           // 2c sqrt(Nφ)
+  double tension;                     // T ≤ apex
+  const MohrCoulombReturns& returns;  // the model's return constants
 
+  /// c cot φ = k/(Nφ − 1), +∞ for φ = 0 (apex_stress).
+  double apex() const;
   /// The cut-off is a separate surface only below the apex; at the apex the
   /// Mohr–Coulomb pyramid already implies σ1 ≤ T.
-  bool has_tension_cutoff() const { return tension < apex; }
-  bool has_apex() const { return apex < infinity && !has_tension_cutoff(); }
+  bool has_tension_cutoff() const { return tension < apex(); }
+  bool has_apex() const { return apex() < infinity && !has_tension_cutoff(); }
 };
 
-/// σ1 and σ3 of a plane-strain stress: the in-plane eigenvalues c ± r of the 2×2 block
-/// and σzz.
+double MohrCoulomb::apex() const {
+  return apex_stress(n_phi, k);
+}
+
+/// A plane-strain stress's principal values as the elastic test finds them: the in-plane
+/// eigenvalues c ± r of the 2×2 block (with ½(σxx − σyy), which with σxy gives their
+/// direction), and σ1 = max(c + r, σzz), σ3 = min(c − r, σzz).
 struct PrincipalBounds {
+  double centre;
+  double half_difference;
+  double radius;
   double sigma_1;
   double sigma_3;
 };
@@ -65,7 +80,8 @@ inline PrincipalBounds principal_bounds(const Vec4& s) {
   const double centre = 0.5 * (s[0] + s[1]);
   const double half_difference = 0.5 * (s[0] - s[1]);
   const double radius = std::sqrt(half_difference * half_difference + s[3] * s[3]);
-  return {std::max(centre + radius, s[2]), std::min(centre - radius, s[2])};
+  return {centre, half_difference, radius, std::max(centre + radius, s[2]),
+          std::min(centre - radius, s[2])};
 }
 
 /// Largest of the Mohr–Coulomb and tension functions for given σ1, σ3.
@@ -80,8 +96,7 @@ inline double stress_scale(double n_phi, double k, double sigma_1, double sigma_
 
 /// The elastic test: f ≤ 0 for both functions, within round-off of the surface (so that a
 /// stress a return left on it stays put). A square root and a few comparisons.
-inline bool admissible(const Vec4& stress, double n_phi, double k, double tension) {
-  const PrincipalBounds p = principal_bounds(stress);
+inline bool admissible(const PrincipalBounds& p, double n_phi, double k, double tension) {
   return yield_value(n_phi, k, tension, p.sigma_1, p.sigma_3) <=
          yield_tolerance * stress_scale(n_phi, k, p.sigma_1, p.sigma_3);
 }
@@ -99,16 +114,14 @@ struct PrincipalStress {
   double sin_2theta;
 };
 
-PrincipalStress principal_stress(const Vec4& s) {
-  const double centre = 0.5 * (s[0] + s[1]);
-  const double half_difference = 0.5 * (s[0] - s[1]);
-  const double radius = std::sqrt(half_difference * half_difference + s[3] * s[3]);
-  const double major = centre + radius;
-  const double minor = centre - radius;
+/// The decomposition of a stress `s` whose bounds `b` the elastic test found.
+PrincipalStress principal_stress(const PrincipalBounds& b, const Vec4& s) {
+  const double major = b.centre + b.radius;
+  const double minor = b.centre - b.radius;
   PrincipalStress p{};
-  if (radius > 0.0) {
-    p.cos_2theta = half_difference / radius;
-    p.sin_2theta = s[3] / radius;
+  if (b.radius > 0.0) {
+    p.cos_2theta = b.half_difference / b.radius;
+    p.sin_2theta = s[3] / b.radius;
   } else {  // in-plane isotropic: every direction is principal, take x
     p.cos_2theta = 1.0;
     p.sin_2theta = 0.0;
@@ -146,16 +159,19 @@ struct Plane {
 
 using Planes = std::array<Plane, 6>;
 
-Planes yield_planes(const MohrCoulomb& m) {
-  const double t = m.tension;
+Planes yield_planes(double n_phi, double n_psi, double k, double t) {
   return {{
-      {{m.n_phi, 0.0, -1.0}, {m.n_psi, 0.0, -1.0}, m.k},
-      {{0.0, m.n_phi, -1.0}, {0.0, m.n_psi, -1.0}, m.k},
-      {{m.n_phi, -1.0, 0.0}, {m.n_psi, -1.0, 0.0}, m.k},
+      {{n_phi, 0.0, -1.0}, {n_psi, 0.0, -1.0}, k},
+      {{0.0, n_phi, -1.0}, {0.0, n_psi, -1.0}, k},
+      {{n_phi, -1.0, 0.0}, {n_psi, -1.0, 0.0}, k},
       {{1.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, t},
       {{0.0, 1.0, 0.0}, {0.0, 1.0, 0.0}, t},
       {{0.0, 0.0, 1.0}, {0.0, 0.0, 1.0}, t},
   }};
+}
+
+Planes yield_planes(const MohrCoulomb& m) {
+  return yield_planes(m.n_phi, m.n_psi, m.k, m.tension);
 }
 
 /// D b for D = λ 11ᵀ + 2G I: the stress a unit multiplier of flow b takes off.
@@ -163,13 +179,27 @@ Vec3 stiffness_times(double lambda, double shear, const Vec3& b) {
   return (lambda * b.sum()) * Vec3::Ones() + (2.0 * shear) * b;
 }
 
-/// The main plane's constants of a return, which depend on the elastic constants and
-/// Nφ, Nψ only: D b and 1/(aᵀ D b), as [D b, 1/(aᵀ D b)]. A model computes them once;
-/// return_to computes the same numbers for the other planes in every return.
-Vec4 main_plane_constants(double lambda, double shear, double n_phi, double n_psi) {
-  const Vec3 normal(n_phi, 0.0, -1.0);
-  const Vec3 flow = stiffness_times(lambda, shear, Vec3(n_psi, 0.0, -1.0));
-  return {flow[0], flow[1], flow[2], 1.0 / normal.dot(flow)};
+/// The edges of the main plane, in MohrCoulombReturns::edges, with their second plane.
+enum Edge : int { edge_2_3, edge_1_2 };
+constexpr std::array<Surface, 2> second_plane{mc_2_minor, mc_2_major};
+
+/// The constants of a return that depend on the elastic constants and Nφ, Nψ only
+/// (MohrCoulombReturns); a model computes them once, return_to the same numbers for the
+/// other sets of planes in every return.
+MohrCoulombReturns return_constants(double lambda, double shear, double n_phi, double n_psi) {
+  const Planes planes = yield_planes(n_phi, n_psi, 0.0, 0.0);
+  const Vec3 main_flow = stiffness_times(lambda, shear, planes[mc].flow);
+  MohrCoulombReturns r;
+  r.main_plane << main_flow, 1.0 / planes[mc].normal.dot(main_flow);
+  for (const Edge edge : {edge_2_3, edge_1_2}) {
+    const Plane& second = planes[second_plane[edge]];
+    const Vec3 flow = stiffness_times(lambda, shear, second.flow);
+    Eigen::Matrix2d a_d_b;
+    a_d_b << planes[mc].normal.dot(main_flow), planes[mc].normal.dot(flow),
+        second.normal.dot(main_flow), second.normal.dot(flow);
+    r.edges[edge] = {flow, a_d_b.inverse()};
+  }
+  return r;
 }
 
 /// One candidate return: the stress, the plastic strain (principal), and how well it
@@ -182,15 +212,16 @@ struct Candidate {
 };
 
 /// True yield functions at principal values in any order (re-sorted).
-double violation_of(const MohrCoulomb& m, const Vec3& sigma) {
+inline double violation_of(const MohrCoulomb& m, const Vec3& sigma) {
   return yield_value(m.n_phi, m.k, m.tension, sigma.maxCoeff(), sigma.minCoeff());
 }
 
 /// Solves the return onto the intersection of the planes in `set`: the exact
 /// backward-Euler step, since every function is linear in the principal stresses.
 template <std::size_t Count>
-Candidate return_to(const MohrCoulomb& m, const Planes& planes,
-                    const std::array<Surface, Count>& set, const Vec3& trial) {
+Candidate return_to(const MohrCoulomb& m, const std::array<Surface, Count>& set,
+                    const Vec3& trial) {
+  const Planes planes = yield_planes(m);
   constexpr int Size = static_cast<int>(Count);
   using Matrix = Eigen::Matrix<double, Size, Size>;
   using Vector = Eigen::Matrix<double, Size, 1>;
@@ -222,10 +253,34 @@ Candidate return_to(const MohrCoulomb& m, const Planes& planes,
 /// plane's constants computed once per model instead of in every return.
 Candidate return_to_main_plane(const MohrCoulomb& m, const Vec3& trial) {
   const Vec3 normal(m.n_phi, 0.0, -1.0);
-  const double multiplier = m.main_plane[3] * (normal.dot(trial) - m.k);
-  Candidate c{trial - multiplier * m.main_plane.head<3>(), multiplier * Vec3(m.n_psi, 0.0, -1.0),
-              0.0, 0.0};
+  const Vec4& main_plane = m.returns.main_plane;
+  const double multiplier = main_plane[3] * (normal.dot(trial) - m.k);
+  Candidate c{trial - multiplier * main_plane.head<3>(), multiplier * Vec3(m.n_psi, 0.0, -1.0), 0.0,
+              0.0};
   c.smallest_multiplier = std::abs(multiplier) > 0.0 ? multiplier / std::abs(multiplier) : 0.0;
+  c.violation = violation_of(m, c.sigma);
+  return c;
+}
+
+/// return_to for an edge of the main plane, with the model's constants: the same numbers,
+/// the system's inverse computed once per model instead of in every return. The two
+/// planes' normals and flows are yield_planes' rows mc and second_plane[edge], written
+/// out: building the six planes cost more than the rest of this return.
+Candidate return_to_edge(const MohrCoulomb& m, Edge edge, const Vec3& trial) {
+  const Vec3 main_normal(m.n_phi, 0.0, -1.0);
+  const Vec3 main_flow(m.n_psi, 0.0, -1.0);
+  const Vec3 normal = edge == edge_2_3 ? Vec3(m.n_phi, -1.0, 0.0) : Vec3(0.0, m.n_phi, -1.0);
+  const Vec3 flow = edge == edge_2_3 ? Vec3(m.n_psi, -1.0, 0.0) : Vec3(0.0, m.n_psi, -1.0);
+  const MohrCoulombReturns::Edge& constants = m.returns.edges[edge];
+  const Eigen::Vector2d residual(main_normal.dot(trial) - m.k, normal.dot(trial) - m.k);
+  const Eigen::Vector2d multiplier = constants.inverse * residual;
+  Candidate c{trial, Vec3::Zero(), 0.0, 0.0};
+  c.sigma -= multiplier[0] * m.returns.main_plane.head<3>();
+  c.sigma -= multiplier[1] * constants.flow;
+  c.plastic_strain += multiplier[0] * main_flow;
+  c.plastic_strain += multiplier[1] * flow;
+  const double total = multiplier.cwiseAbs().sum();
+  c.smallest_multiplier = total > 0.0 ? multiplier.minCoeff() / total : 0.0;
   c.violation = violation_of(m, c.sigma);
   return c;
 }
@@ -233,7 +288,7 @@ Candidate return_to_main_plane(const MohrCoulomb& m, const Vec3& trial) {
 /// The return to the Mohr–Coulomb apex σ1 = σ2 = σ3 = c cot φ. Its plastic strain is
 /// D⁻¹(σ_trial − σ_apex); it is admissible whatever the trial.
 Candidate return_to_apex(const MohrCoulomb& m, const Vec3& trial) {
-  const Vec3 sigma = Vec3::Constant(m.apex);
+  const Vec3 sigma = Vec3::Constant(m.apex());
   const Vec3 difference = trial - sigma;
   const double bulk_3 = 3.0 * m.lambda + 2.0 * m.shear;  // 3K
   const Vec3 plastic =
@@ -241,69 +296,80 @@ Candidate return_to_apex(const MohrCoulomb& m, const Vec3& trial) {
   return {sigma, plastic, 1.0, 0.0};
 }
 
-/// Backward-Euler return of a trial stress outside the surface (principal values
-/// sorted). Tries the candidates in order of increasing complexity and takes the first
-/// that satisfies the Kuhn–Tucker conditions (multipliers ≥ 0, admissible). Should
-/// round-off reject every one (a trial on a region boundary), it takes the admissible
-/// candidate that comes closest to them; the corners are always admissible.
-Candidate return_map(const MohrCoulomb& m, const Vec3& trial) {
-  const double tolerance = yield_tolerance * stress_scale(m.n_phi, m.k, trial[0], trial[2]);
-  auto kuhn_tucker = [tolerance](const Candidate& c) {
-    return c.violation <= tolerance && c.smallest_multiplier >= -yield_tolerance;
-  };
-  // The main plane first, from the model's constants: most returns end there.
-  Candidate result = return_to_main_plane(m, trial);
-  if (kuhn_tucker(result)) return result;
-  const Planes planes = yield_planes(m);
+/// The Kuhn–Tucker test of a candidate: multipliers ≥ 0 and admissible, within the
+/// tolerance `tolerance` (Pa) of the yield functions.
+bool meets_kuhn_tucker(const Candidate& c, double tolerance) {
+  return c.violation <= tolerance && c.smallest_multiplier >= -yield_tolerance;
+}
+
+/// return_map's search beyond the main plane, which `main_plane` (its candidate) failed:
+/// out of line, so that the common return stays small.
+[[gnu::noinline]] Candidate search_returns(const MohrCoulomb& m, const Vec3& trial,
+                                           double tolerance, const Candidate& main_plane) {
+  Candidate result = main_plane;
   auto closer = [tolerance](const Candidate& c, const Candidate& than) {
     const bool admissible = c.violation <= tolerance;
     if (admissible != (than.violation <= tolerance)) return admissible;
     return admissible ? c.smallest_multiplier > than.smallest_multiplier
                       : c.violation < than.violation;
   };
-  auto solves = [&](const auto& set) {
-    const Candidate c = return_to(m, planes, set, trial);
-    const bool found = kuhn_tucker(c);
+  auto solves = [&](const Candidate& c) {
+    const bool found = meets_kuhn_tucker(c, tolerance);
     if (found || closer(c, result)) result = c;
     return found;
   };
+  auto to = [&](const auto&... planes) { return return_to(m, std::array{planes...}, trial); };
   const bool cutoff = m.has_tension_cutoff();
   const bool found =
-      (cutoff && solves(std::array{tension_1})) ||                  // tension plane
-      solves(std::array{mc, mc_2_minor}) ||                         // edge σ2 = σ3
-      solves(std::array{mc, mc_2_major}) ||                         // edge σ1 = σ2
-      (cutoff && (solves(std::array{mc, tension_1}) ||              // edge f = 0, σ1 = T
-                  solves(std::array{tension_1, tension_2}) ||       // edge σ1 = σ2 = T
-                  solves(std::array{mc, mc_2_minor, tension_1}) ||  // corner (T, σ, σ)
-                  // corner (T, T, σ): four planes meet there, so the cone of their flow
-                  // directions is the union of the cones of its four 3-subsets
-                  solves(std::array{mc, mc_2_major, tension_1}) ||
-                  solves(std::array{mc, tension_1, tension_2}) ||
-                  solves(std::array{mc_2_major, tension_1, tension_2}) ||
-                  solves(std::array{mc, mc_2_major, tension_2}) ||
-                  solves(std::array{tension_1, tension_2, tension_3})));  // corner (T, T, T)
+      (cutoff && solves(to(tension_1))) ||           // tension plane
+      solves(return_to_edge(m, edge_2_3, trial)) ||  // edge σ2 = σ3
+      solves(return_to_edge(m, edge_1_2, trial)) ||  // edge σ1 = σ2
+      (cutoff &&
+       (solves(to(mc, tension_1)) ||              // edge f = 0, σ1 = T
+        solves(to(tension_1, tension_2)) ||       // edge σ1 = σ2 = T
+        solves(to(mc, mc_2_minor, tension_1)) ||  // corner (T, σ, σ)
+        // corner (T, T, σ): four planes meet there, so the cone of their flow
+        // directions is the union of the cones of its four 3-subsets
+        solves(to(mc, mc_2_major, tension_1)) || solves(to(mc, tension_1, tension_2)) ||
+        solves(to(mc_2_major, tension_1, tension_2)) || solves(to(mc, mc_2_major, tension_2)) ||
+        solves(to(tension_1, tension_2, tension_3))));  // corner (T, T, T)
   if (!found && m.has_apex()) return return_to_apex(m, trial);
   return result;
 }
 
-/// The Mohr–Coulomb apex c cot φ in the form that makes f vanish there exactly,
-/// 2c sqrt(Nφ)/(Nφ − 1); +∞ for φ = 0 (Tresca has no apex).
-double apex_stress(double n_phi, double k) {
-  return n_phi > 1.0 ? k / (n_phi - 1.0) : infinity;
+/// Backward-Euler return of a trial stress outside the surface (principal values
+/// sorted). Tries the candidates in order of increasing complexity and takes the first
+/// that satisfies the Kuhn–Tucker conditions (multipliers ≥ 0, admissible): the main
+/// plane, then its edges from the model's constants (where the cut-off is a plane of its
+/// own, it is tried before the edges), then the cut-off's edges and corners. Should
+/// round-off reject every one (a trial on a region boundary), it takes the admissible
+/// candidate that comes closest to them; the corners are always admissible.
+Candidate return_map(const MohrCoulomb& m, const Vec3& trial) {
+  const double tolerance = yield_tolerance * stress_scale(m.n_phi, m.k, trial[0], trial[2]);
+  const Candidate main_plane = return_to_main_plane(m, trial);
+  if (meets_kuhn_tucker(main_plane, tolerance)) return main_plane;
+  return search_returns(m, trial, tolerance, main_plane);
 }
 
-/// Returns an inadmissible stress to the surface and advances the state. Kept out of
-/// line so that the elastic path stays small enough to inline into the update loops.
-[[gnu::noinline]] void return_to_surface(const MohrCoulomb& m, Vec4& stress, MaterialState& state) {
-  const PrincipalStress principal = principal_stress(stress);
-  const Candidate c = return_map(m, principal.sigma);
-  stress = rebuild(principal, c.sigma);
-  // Principal directions are kept, so the principal components of Δεᵖ are those of the
-  // tensor: tr Δεᵖ, and Δeᵖ:Δeᵖ summed over the three principal values.
-  const double volumetric = c.plastic_strain.sum();
-  const Vec3 deviatoric = c.plastic_strain - (volumetric / 3.0) * Vec3::Ones();
+/// The plastic strain increment's share of the state: its trace, and its deviatoric
+/// invariant sqrt(2/3 Δeᵖ:Δeᵖ) from the principal components (principal directions are
+/// kept, so they are the tensor's).
+void add_plastic_strain(MaterialState& state, const Vec3& plastic_strain) {
+  const double volumetric = plastic_strain.sum();
+  const Vec3 deviatoric = plastic_strain - (volumetric / 3.0) * Vec3::Ones();
   state.plastic_volumetric_strain += volumetric;
   state.plastic_shear_strain += std::sqrt(2.0 / 3.0 * deviatoric.squaredNorm());
+}
+
+/// Returns an inadmissible stress (principal bounds `trial`) to the surface and advances
+/// the state. Kept out of line so that the elastic path stays small enough to inline
+/// into the update loops.
+[[gnu::noinline]] void return_to_surface(const MohrCoulomb& m, const PrincipalBounds& trial,
+                                         Vec4& stress, MaterialState& state) {
+  const PrincipalStress principal = principal_stress(trial, stress);
+  const Candidate c = return_map(m, principal.sigma);
+  stress = rebuild(principal, c.sigma);
+  add_plastic_strain(state, c.plastic_strain);
 }
 
 }  // namespace
@@ -355,7 +421,7 @@ ConstitutiveModel ConstitutiveModel::from(const Material& material, Phase phase)
   const double apex = apex_stress(model.n_phi_, model.two_c_sqrt_n_phi_);
   model.tension_cutoff_ =
       material.tension_cutoff >= apex * (1.0 - 1e-12) ? apex : material.tension_cutoff;
-  model.main_plane_ = main_plane_constants(model.lambda_, model.shear_, model.n_phi_, model.n_psi_);
+  model.returns_ = return_constants(model.lambda_, model.shear_, model.n_phi_, model.n_psi_);
   return model;
 }
 
@@ -368,7 +434,7 @@ ConstitutiveModel ConstitutiveModel::liquefied(const Material& material) {
   model.surfaces_ = 1;
   model.softening_strain_ = rule.softening_strain;
   model.tension_cutoff_ = 0.0;
-  model.main_plane_ = main_plane_constants(model.lambda_, model.shear_, 1.0, 1.0);
+  model.returns_ = return_constants(model.lambda_, model.shear_, 1.0, 1.0);
   return model;
 }
 
@@ -414,16 +480,16 @@ bool ConstitutiveModel::update(Vec4& stress, MaterialState& state, const Vec4& s
     // (σ1 ≤ T = 0: the grains of a liquefied sand hold none).
     const double k =
         2.0 * liquefaction::cohesion(surfaces[0], state.plastic_shear_strain, softening_strain_);
-    if (admissible(stress, 1.0, k, tension_cutoff_)) return false;
-    return_to_surface({lambda_, shear_, 1.0, 1.0, k, tension_cutoff_, infinity, main_plane_},
-                      stress, state);
+    const PrincipalBounds trial = principal_bounds(stress);
+    if (admissible(trial, 1.0, k, tension_cutoff_)) return false;
+    return_to_surface({lambda_, shear_, 1.0, 1.0, k, tension_cutoff_, returns_}, trial, stress,
+                      state);
     return true;
   }
-  if (admissible(stress, n_phi_, two_c_sqrt_n_phi_, tension_cutoff_)) return false;
-  const double apex = apex_stress(n_phi_, two_c_sqrt_n_phi_);
-  const MohrCoulomb m{lambda_,           shear_,          n_phi_, n_psi_,
-                      two_c_sqrt_n_phi_, tension_cutoff_, apex,   main_plane_};
-  return_to_surface(m, stress, state);
+  const PrincipalBounds trial = principal_bounds(stress);
+  if (admissible(trial, n_phi_, two_c_sqrt_n_phi_, tension_cutoff_)) return false;
+  return_to_surface({lambda_, shear_, n_phi_, n_psi_, two_c_sqrt_n_phi_, tension_cutoff_, returns_},
+                    trial, stress, state);
   return true;
 }
 

@@ -27,6 +27,7 @@
 // record: peak and residual undrained strength, softening from the transfer).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -48,6 +49,19 @@ inline bool has_residual_strength(const Material& m) {
 
 /// The largest number of surfaces any model of `materials` needs in `phase`.
 std::size_t surfaces_needed(const MaterialTable& materials, Phase phase);
+
+/// The constants of a Mohr–Coulomb return that depend on the elastic constants and Nφ, Nψ
+/// only (constitutive.cpp), computed once per model: the main plane's D b and 1/(aᵀ D b),
+/// and for each of its edges (σ2 = σ3, σ1 = σ2) the second plane's D b and the inverse of
+/// the 2 × 2 system aᵢᵀ D bⱼ of a return to both planes.
+struct MohrCoulombReturns {
+  struct Edge {
+    Eigen::Vector3d flow = Eigen::Vector3d::Zero();  // D b of the second plane
+    Eigen::Matrix2d inverse = Eigen::Matrix2d::Zero();
+  };
+  Vec4 main_plane = Vec4::Zero();
+  std::array<Edge, 2> edges{};  // σ2 = σ3, σ1 = σ2
+};
 
 /// A model with its constants precomputed: a small value type that kernels copy.
 class ConstitutiveModel {
@@ -110,14 +124,13 @@ class ConstitutiveModel {
                           std::span<Vec4> surfaces, multi_yield::KeptComponents* kept) const;
 
   MaterialModel model_ = MaterialModel::linear_elastic;
-  double lambda_ = 0.0;             // Lamé λ
-  double shear_ = 0.0;              // G
-  double n_phi_ = 1.0;              // Nφ
-  double n_psi_ = 1.0;              // Nψ
-  double two_c_sqrt_n_phi_ = 0;     // 2c sqrt(Nφ)
-  double tension_cutoff_ = 0.0;     // T (already limited to the apex)
-  Vec4 main_plane_ = Vec4::Zero();  // Mohr–Coulomb, residual strength: the main plane's
-                                    // return constants D b, 1/(aᵀ D b)
+  double lambda_ = 0.0;           // Lamé λ
+  double shear_ = 0.0;            // G
+  double n_phi_ = 1.0;            // Nφ
+  double n_psi_ = 1.0;            // Nψ
+  double two_c_sqrt_n_phi_ = 0;   // 2c sqrt(Nφ)
+  double tension_cutoff_ = 0.0;   // T (already limited to the apex)
+  MohrCoulombReturns returns_{};  // Mohr–Coulomb, residual strength
   // Multi-yield: q_f = strength_slope_ · p′₀ + strength_intercept_, the backbone's γ_peak.
   int surfaces_ = 0;
   double strength_slope_ = 0.0;
