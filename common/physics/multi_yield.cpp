@@ -64,6 +64,8 @@ Components components(double shear_modulus, double peak_strength, double peak_sh
     std::fill_n(c.limit.begin(), last, 0.0);
     c.two_shear[last] = 2.0 * shear_modulus;
     c.limit[last] = std::max(peak_strength, 0.0);
+    std::fill_n(c.limit_squared.begin(), last, 0.0);
+    c.limit_squared[last] = c.limit[last] * c.limit[last];
     return c;
   }
   std::array<double, max_yield_surfaces> modulus, limit;  // the first `count` are set
@@ -72,6 +74,7 @@ Components components(double shear_modulus, double peak_strength, double peak_sh
   for (std::size_t k = 0; k <= last; ++k) {
     c.two_shear[k] = 2.0 * shear_modulus * modulus[k];
     c.limit[k] = peak_strength * limit[k];
+    c.limit_squared[k] = c.limit[k] * c.limit[k];
   }
   return c;
 }
@@ -86,7 +89,8 @@ bool update(const Components& c, double bulk_modulus, double shear_modulus, Vec4
   const Vec4 previous = deviator(stress, mean);
   Vec4 sum = Vec4::Zero();
   bool at_peak = false;
-  for (int i = 0; i < c.count; ++i) {
+  const int count = c.count;  // a local: the stores to `surfaces` could otherwise alias it
+  for (int i = 0; i < count; ++i) {
     const auto k = static_cast<std::size_t>(i);
     Vec4 s = surfaces[k] + c.two_shear[k] * de;
     // q² = 3/2 s:s, the squares taken two at a time: (sxx², syy²) and (szz², 2 sxy²).
@@ -94,10 +98,9 @@ bool update(const Components& c, double bulk_modulus, double shear_modulus, Vec4
     const Eigen::Array2d rest =
         s.tail<2>().array() * (s.tail<2>().array() * Eigen::Array2d(1.0, 2.0));
     const double q2 = 1.5 * (squares[0] + squares[1] + rest[0] + rest[1]);
-    const double limit = c.limit[k];
-    if (q2 > limit * limit) {
-      s *= limit / std::sqrt(q2);
-      at_peak = i == c.count - 1;
+    if (q2 > c.limit_squared[k]) {
+      s *= c.limit[k] / std::sqrt(q2);
+      at_peak = i == count - 1;
     }
     surfaces[k] = s;
     sum += s;

@@ -47,6 +47,7 @@ struct Components {
   int count = 0;
   std::array<double, max_yield_surfaces> two_shear;  ///< the first `count` are set
   std::array<double, max_yield_surfaces> limit;
+  std::array<double, max_yield_surfaces> limit_squared;  ///< k_i², the update's yield test
 };
 
 /// A point's components kept between its updates (FE Gauss points: ExplicitSolver keeps
