@@ -133,10 +133,12 @@ Vec2 ExplicitSolver::nodal_force(Index node) const {
   return force;
 }
 
+// Always inline: called out of line, the node loops kept their running values in memory
+// around the call (37 of Mohr–Coulomb's 715 instructions per element-step on column-short).
 template <bool MovingBase>
-Vec2 ExplicitSolver::constrained_velocity(Index node, const FemState& state, const Vec2& trial,
-                                          double dt, const Vec2& frame_velocity,
-                                          const Vec2& frame_displacement) const {
+[[gnu::always_inline]] inline Vec2 ExplicitSolver::constrained_velocity(
+    Index node, const FemState& state, const Vec2& trial, double dt, const Vec2& frame_velocity,
+    const Vec2& frame_displacement) const {
   // The static base skips the frame's arithmetic (a tenth of the nodal update's work).
   const auto relative = [&](const Vec2& v) { return MovingBase ? Vec2(v - frame_velocity) : v; };
   const auto absolute = [&](const Vec2& v) { return MovingBase ? Vec2(v + frame_velocity) : v; };
