@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/base/error.hpp"
+#include "mpm/shape_functions.hpp"
 
 namespace slide::mpm {
 
@@ -45,10 +46,11 @@ Vec2 GridGeometry::node_position(std::size_t index) const {
 }
 
 std::size_t GridGeometry::cell_of(const Vec2& x) const {
+  // floor_cells: std::floor's value in a third of its instructions on the baseline ISA.
   const int cx =
-      std::clamp(static_cast<int>(std::floor((x.x() - origin.x()) / cell_size)), 0, cells_x - 1);
+      std::clamp(static_cast<int>(floor_cells((x.x() - origin.x()) / cell_size)), 0, cells_x - 1);
   const int cy =
-      std::clamp(static_cast<int>(std::floor((x.y() - origin.y()) / cell_size)), 0, cells_y - 1);
+      std::clamp(static_cast<int>(floor_cells((x.y() - origin.y()) / cell_size)), 0, cells_y - 1);
   return static_cast<std::size_t>(cx) * static_cast<std::size_t>(cells_y) +
          static_cast<std::size_t>(cy);
 }
