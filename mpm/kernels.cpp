@@ -75,6 +75,14 @@ struct ParticleWeights {
   std::size_t column_start(std::size_t rows, int a) const {
     return first_node + static_cast<std::size_t>(a) * rows;
   }
+  /// Where the cell averages of the particle are kept: the storage index of the node at
+  /// the lower-left corner of its cell (⌊ξ⌋, ⌊η⌋). That node is in the stencil (linear:
+  /// nodes ⌊ξ⌋, ⌊ξ⌋ + 1; uGIMP: the nearest node ± 1), hence in its block's window. A
+  /// particle in the grid's half-cell margin has a cell of its own there. The particle
+  /// has not moved since P2G computed the weights.
+  std::size_t cell_slot(std::size_t rows) const {
+    return column_start(rows, x.cell) + static_cast<std::size_t>(y.cell);
+  }
 };
 
 /// The weights P2G computed for the step (ParticleBlocks::shape_weights): an array of
@@ -357,16 +365,6 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   particles.volume[p] *= jacobian;
 }
 
-/// Where the cell averages of a particle are kept: the storage index of the node at the
-/// lower-left corner of its cell (⌊ξ⌋, ⌊η⌋). That node is in the particle's stencil
-/// (linear: nodes ⌊ξ⌋, ⌊ξ⌋ + 1; uGIMP: the nearest node ± 1), hence in its block's
-/// window. A particle in the grid's half-cell margin has a cell of its own there.
-std::size_t cell_slot(const GridGeometry& grid, const Vec2& position) {
-  const double inv_h = 1.0 / grid.cell_size;
-  return grid.node_index(static_cast<int>(floor_cells((position.x() - grid.origin.x()) * inv_h)),
-                         static_cast<int>(floor_cells((position.y() - grid.origin.y()) * inv_h)));
-}
-
 /// The final pass's gather over one block (kernels.hpp, grid_to_particles). Without
 /// smoothing it moves the particles and updates their stresses; with it, it keeps L_p and
 /// the displacement and adds the particle's V_p, V_p tr L_p and V_p p_p to its cell in the
@@ -447,7 +445,7 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
       blocks.step_displacement[p] = dx;
       blocks.velocity_gradient[p] = l;
       const double volume = particles.volume[p];
-      CellSums& cell = window[cell_slot(grid, particles.coordinates[p]) - offset];
+      CellSums& cell = window[w.cell_slot(rows) - offset];
       cell.volume += volume;
       cell.volumetric_rate += volume * (l[0] + l[3]);
       cell.mean_stress += volume * mean_stress(particles.stress[p]);
@@ -459,11 +457,14 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
 /// The second half of a smoothed final pass over one block: the particle takes its cell's
 /// mean stress and, in L_p, its cell's volumetric rate; then the stress and volume update
 /// and the move.
+template <class Shape>
 void smooth_block(Particles& particles, const GridGeometry& grid, const GridState& state, double dt,
-                  std::span<const ConstitutiveModel> models, const ParticleBlocks& blocks,
+                  std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
                   std::size_t begin, std::size_t end) {
+  const ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
+  const auto rows = static_cast<std::size_t>(grid.node_rows());
   for (std::size_t p = begin; p < end; ++p) {
-    const CellAverages& cell = state.cell_averages[cell_slot(grid, particles.coordinates[p])];
+    const CellAverages& cell = state.cell_averages[weights[p].cell_slot(rows)];
     Vec4& stress = particles.stress[p];
     // σ_ii += p_p − p̄ (p compression positive): the cell's mean stress, the deviator kept.
     const double pressure_shift = mean_stress(stress) - cell.mean_stress;
@@ -814,6 +815,7 @@ LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, S
   const Gather gather = gimp ? gather_for<GimpShape>(scheme, transfer, smoothing)
                              : gather_for<LinearShape>(scheme, transfer, smoothing);
   auto locate = gimp ? locate_block<GimpShape> : locate_block<LinearShape>;
+  auto smooth = gimp ? smooth_block<GimpShape> : smooth_block<LinearShape>;
   std::vector<std::int64_t> non_finite(blocks.count(), -1);
   std::vector<std::vector<std::size_t>> outside(blocks.count());
   const bool smoothed = smoothing != VolumetricSmoothing::none;
@@ -846,7 +848,7 @@ LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, S
     for (int b = 0; b < nblocks; ++b) {
       const auto k = static_cast<std::size_t>(b);
       const std::size_t begin = blocks.offsets[k], end = blocks.offsets[k + 1];
-      smooth_block(particles, grid, state, step.dt, models, blocks, begin, end);
+      smooth(particles, grid, state, step.dt, models, blocks, begin, end);
       locate(particles, grid, begin, end, blocks.column_begin[k], blocks.column_end[k],
              non_finite[k], outside[k]);
     }

@@ -60,6 +60,7 @@ inline double floor_cells(double x) {
 template <int Support>
 struct Weights1d {
   int base = 0;
+  int cell = 0;  ///< ⌊ξ⌋ − base: the particle's cell starts at node base + cell
   double value[Support];
   double derivative[Support];  ///< dS/dξ (divide by h for dS/dx)
 };
@@ -135,6 +136,9 @@ struct GimpShape {
     const double slope_plus = (a + c_plus) * (2.0 * inv_4a);
     const double slope_minus = (a + c_minus) * (2.0 * inv_4a);
     w.base = static_cast<int>(nearest) - 1;
+    // ⌊ξ⌋ is the nearest node or the one before it (ξ + ½ rounds up at most to the next
+    // integer), and the sign of f is exact: this is ⌊ξ⌋ − base with no second floor.
+    w.cell = f >= 0.0 ? 1 : 0;
     w.value[0] = ramp_minus;
     w.value[1] = 1.0 - ramp_plus - ramp_minus;
     w.value[2] = ramp_plus;

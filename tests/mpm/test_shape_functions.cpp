@@ -112,6 +112,29 @@ TEST(ShapeFunctions, ApicInertiaAndAffineWeights) {
   EXPECT_NEAR(GimpShape::inertia(3.5, 0.125), 0.25, 1e-15);    // ¼ at a cell centre
 }
 
+TEST(ShapeFunctions, TheCellOfTheWeightsIsTheFloorOfThePosition) {
+  // The kernels find a particle's cell (volumetric smoothing) from its weights instead of
+  // flooring ξ again: base + cell must be ⌊ξ⌋ exactly, also where ξ + ½ rounds up to an
+  // integer and on the node and cell-centre lines themselves.
+  for (int node = -1; node <= 12; ++node) {
+    for (double centre : {node - 0.5, node + 0.0, node + 0.5}) {
+      double xi = centre;
+      for (int ulp = 0; ulp < 4; ++ulp) xi = std::nextafter(xi, -1e9);
+      for (int ulp = 0; ulp < 9; ++ulp, xi = std::nextafter(xi, 1e9)) {
+        const auto gimp = GimpShape::weights(xi, 0.125);
+        const auto linear = LinearShape::weights(xi, 0.125);
+        EXPECT_EQ(gimp.base + gimp.cell, std::floor(xi)) << xi;
+        EXPECT_EQ(linear.base + linear.cell, std::floor(xi)) << xi;
+      }
+    }
+  }
+  for (double xi = -0.5; xi < 10.5; xi += 0.0137) {
+    EXPECT_EQ(GimpShape::weights(xi, 0.25).base + GimpShape::weights(xi, 0.25).cell,
+              std::floor(xi))
+        << xi;
+  }
+}
+
 TEST(ShapeFunctions, AParticleInsideTheGridNeverTouchesAGhostNode) {
   // The basal artefact's cause: a uGIMP domain reaching through the base put a sliver of
   // mass, and a tenth of the gradient, on the ghost node below it. With the half-length
