@@ -129,9 +129,8 @@ TEST(ShapeFunctions, TheCellOfTheWeightsIsTheFloorOfThePosition) {
     }
   }
   for (double xi = -0.5; xi < 10.5; xi += 0.0137) {
-    EXPECT_EQ(GimpShape::weights(xi, 0.25).base + GimpShape::weights(xi, 0.25).cell,
-              std::floor(xi))
-        << xi;
+    const auto w = GimpShape::weights(xi, 0.25);
+    EXPECT_EQ(w.base + w.cell, std::floor(xi)) << xi;
   }
 }
 
