@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <new>
 
 #include "common/base/error.hpp"
+#include "mpm/pair.hpp"
 #include "mpm/shape_functions.hpp"
 
 namespace slide::mpm {
@@ -21,26 +21,6 @@ namespace {
 constexpr std::size_t smallest_block = 256;
 constexpr std::size_t block_multiple = 24;
 constexpr std::size_t particles_per_block_target = 4096;
-
-/// Two doubles that load, compute and store together: the x and y of a node's or a
-/// particle's vector in one SSE2 register (every x86-64 has one). Each lane does the IEEE
-/// operations a scalar line for x or for y would, in the same order, so a pair changes no
-/// result by itself; the stencil loops' arithmetic and memory traffic take half the
-/// instructions. (GCC's vector extension; a scalar operand is broadcast.)
-using Pair = double __attribute__((vector_size(16)));
-
-inline Pair load_pair(const double* from) {
-  Pair v;
-  std::memcpy(&v, from, sizeof v);
-  return v;
-}
-inline void store_pair(double* to, Pair v) {
-  std::memcpy(to, &v, sizeof v);
-}
-/// *to += v for the pair at `to`.
-inline void add_pair(double* to, Pair v) {
-  store_pair(to, load_pair(to) + v);
-}
 
 // The nodal x/y fields the kernels load and store as pairs sit side by side.
 static_assert(offsetof(NodeSums, momentum_y) == offsetof(NodeSums, momentum_x) + sizeof(double));
@@ -60,15 +40,20 @@ struct ParticleWeights {
   double ax, ay;   ///< uGIMP half-lengths in cell units
 
   ParticleWeights(const GridGeometry& grid, const Vec2& position, const Vec2& size) {
+    // Both axes at once (pair.hpp): the bits of the axis-by-axis arithmetic.
     inv_h = 1.0 / grid.cell_size;
-    xi = (position.x() - grid.origin.x()) * inv_h;
-    eta = (position.y() - grid.origin.y()) * inv_h;
+    const Pair cell_units =
+        (Pair{position.x(), position.y()} - Pair{grid.origin.x(), grid.origin.y()}) * inv_h;
     // At most ½: a domain never spans more than a cell; and no further than the grid's
     // edge (clipped_half_size).
-    ax = clipped_half_size(xi, grid.cells_x, std::min(0.5 * size.x() * inv_h, 0.5));
-    ay = clipped_half_size(eta, grid.cells_y, std::min(0.5 * size.y() * inv_h, 0.5));
-    x = Shape::weights(xi, ax);
-    y = Shape::weights(eta, ay);
+    const Pair half_size =
+        clipped_half_size(cell_units, Pair{double(grid.cells_x), double(grid.cells_y)},
+                          lanes::min(0.5 * Pair{size.x(), size.y()} * inv_h, Pair{} + 0.5));
+    xi = cell_units[0];
+    eta = cell_units[1];
+    ax = half_size[0];
+    ay = half_size[1];
+    Shape::weights(cell_units, half_size, x, y);
     first_node = grid.node_index(x.base, y.base);
   }
   /// Storage index of the first node of stencil column a (node columns hold `rows`).
@@ -98,8 +83,9 @@ template <class Shape>
 struct ParticleAffine {
   AffineWeights1d<Shape::support> x, y;
 
-  explicit ParticleAffine(const ParticleWeights<Shape>& w)
-      : x(Shape::affine(w.x, w.xi)), y(Shape::affine(w.y, w.eta)) {}
+  explicit ParticleAffine(const ParticleWeights<Shape>& w) {
+    Shape::affine(w.x, w.y, Pair{w.xi, w.eta}, x, y);
+  }
 };
 
 /// What a FLIP/PIC kernel computes in place of ParticleAffine: nothing.

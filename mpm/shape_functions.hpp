@@ -39,6 +39,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "mpm/pair.hpp"
+
 namespace slide::mpm {
 
 /// ⌊x⌋ of a position in cell units. x86-64's baseline instruction set (SSE2) has no
@@ -54,6 +56,14 @@ inline double floor_cells(double x) {
 #else
   return std::floor(x);
 #endif
+}
+
+/// floor_cells of both lanes, for positions of particles on the grid (|x| < 2³¹: the
+/// grid's node indices are ints): a truncation to 32-bit integers corrected by one.
+inline Pair floor_cells(Pair x) {
+  using Int2 = std::int32_t __attribute__((vector_size(8)));
+  const Pair truncated = __builtin_convertvector(__builtin_convertvector(x, Int2), Pair);
+  return truncated > x ? truncated - 1.0 : truncated;
 }
 
 /// Weights and ξ-derivatives of the `support` nodes starting at `base`.
@@ -86,6 +96,11 @@ struct LinearShape {
     w.derivative[1] = 1.0;
     return w;
   }
+  /// Both axes (the uGIMP interface; linear hats are cheap enough one axis at a time).
+  static void weights(Pair xi, Pair half_size, Weights1d<2>& x, Weights1d<2>& y) {
+    x = weights(xi[0], half_size[0]);
+    y = weights(xi[1], half_size[1]);
+  }
   /// D = Σ_k S_k (k − ξ)² = f(1 − f).
   static double inertia(double xi, double /*half_size*/) {
     const double f = xi - floor_cells(xi);
@@ -102,6 +117,11 @@ struct LinearShape {
     m.value[1] = w.derivative[1];
     return m;
   }
+  static void affine(const Weights1d<2>& wx, const Weights1d<2>& wy, Pair xi, AffineWeights1d<2>& x,
+                     AffineWeights1d<2>& y) {
+    x = affine(wx, xi[0]);
+    y = affine(wy, xi[1]);
+  }
 };
 
 /// The uGIMP half-length a particle at ξ (cell units) may use on a grid of `cells`
@@ -114,38 +134,75 @@ struct LinearShape {
 /// 40 % more than the overburden.) The domain shrinks symmetrically to the distance from
 /// the edge, down to a floor that keeps 1/(4a) and APIC's D ≥ a/2 well conditioned; a
 /// particle pressed through the edge (ξ < 0) keeps that floor.
+template <class Real>
+Real clipped_half_size(Real xi, Real cells, Real half_size) {
+  const Real floor = Real{} + 1e-3;
+  const Real to_edge = lanes::min(xi, cells - xi);
+  return lanes::min(half_size, lanes::max(to_edge, floor));
+}
 inline double clipped_half_size(double xi, int cells, double half_size) {
-  constexpr double floor = 1e-3;
-  const double to_edge = std::min(xi, cells - xi);
-  return std::min(half_size, std::max(to_edge, floor));
+  return clipped_half_size<double>(xi, cells, half_size);
 }
 
 struct GimpShape {
   static constexpr int support = 3;
+
+  /// The weights' arithmetic for one axis (Real = double) or for both axes at once
+  /// (Real = Pair: each lane does the double's operations in the same order).
+  template <class Real>
+  struct Terms {
+    Real nearest;  ///< m = ⌊ξ + ½⌋
+    Real f;        ///< ξ − m
+    Real value[3], derivative[3];
+  };
+  template <class Real>
+  static Terms<Real> terms(Real xi, Real a) {
+    Terms<Real> t;
+    const Real zero{};
+    t.nearest = floor_cells(xi + 0.5);
+    t.f = xi - t.nearest;
+    const Real inv_4a = 0.25 / a;
+    const Real c_plus = lanes::clamp(t.f, -a, a);
+    const Real c_minus = -c_plus;  // clamp(−f, −a, a)
+    const Real ramp_plus = (a + c_plus) * (a + c_plus) * inv_4a + lanes::max(t.f - a, zero);
+    const Real ramp_minus = (a + c_minus) * (a + c_minus) * inv_4a + lanes::max(-t.f - a, zero);
+    const Real slope_plus = (a + c_plus) * (2.0 * inv_4a);
+    const Real slope_minus = (a + c_minus) * (2.0 * inv_4a);
+    t.value[0] = ramp_minus;
+    t.value[1] = 1.0 - ramp_plus - ramp_minus;
+    t.value[2] = ramp_plus;
+    t.derivative[0] = -slope_minus;
+    t.derivative[1] = slope_minus - slope_plus;
+    t.derivative[2] = slope_plus;
+    return t;
+  }
+
   /// `half_size` a = l_p/(2h) in cell units, 0 < a ≤ ½.
   static Weights1d<3> weights(double xi, double half_size) {
+    const Terms<double> t = terms(xi, half_size);
     Weights1d<3> w;
-    const double nearest = floor_cells(xi + 0.5);
-    const double f = xi - nearest;
-    const double a = half_size;
-    const double inv_4a = 0.25 / a;
-    const double c_plus = std::clamp(f, -a, a);
-    const double c_minus = -c_plus;  // clamp(−f, −a, a)
-    const double ramp_plus = (a + c_plus) * (a + c_plus) * inv_4a + std::max(f - a, 0.0);
-    const double ramp_minus = (a + c_minus) * (a + c_minus) * inv_4a + std::max(-f - a, 0.0);
-    const double slope_plus = (a + c_plus) * (2.0 * inv_4a);
-    const double slope_minus = (a + c_minus) * (2.0 * inv_4a);
-    w.base = static_cast<int>(nearest) - 1;
+    w.base = static_cast<int>(t.nearest) - 1;
     // ⌊ξ⌋ is the nearest node or the one before it (ξ + ½ rounds up at most to the next
     // integer), and the sign of f is exact: this is ⌊ξ⌋ − base with no second floor.
-    w.cell = f >= 0.0 ? 1 : 0;
-    w.value[0] = ramp_minus;
-    w.value[1] = 1.0 - ramp_plus - ramp_minus;
-    w.value[2] = ramp_plus;
-    w.derivative[0] = -slope_minus;
-    w.derivative[1] = slope_minus - slope_plus;
-    w.derivative[2] = slope_plus;
+    w.cell = t.f >= 0.0 ? 1 : 0;
+    std::copy_n(t.value, 3, w.value);
+    std::copy_n(t.derivative, 3, w.derivative);
     return w;
+  }
+  /// The weights of both axes, ξ = (ξ, η) and a = (a_x, a_y), of a particle on the grid
+  /// (floor_cells of a pair): lane by lane the bits of `weights`.
+  static void weights(Pair xi, Pair half_size, Weights1d<3>& x, Weights1d<3>& y) {
+    const Terms<Pair> t = terms(xi, half_size);
+    x.base = static_cast<int>(t.nearest[0]) - 1;
+    y.base = static_cast<int>(t.nearest[1]) - 1;
+    x.cell = t.f[0] >= 0.0 ? 1 : 0;
+    y.cell = t.f[1] >= 0.0 ? 1 : 0;
+    for (int k = 0; k < 3; ++k) {
+      x.value[k] = t.value[k][0];
+      y.value[k] = t.value[k][1];
+      x.derivative[k] = t.derivative[k][0];
+      y.derivative[k] = t.derivative[k][1];
+    }
   }
   /// D = Σ_k S_k (k − f)² over the nodes k = −1, 0, 1 (f from the nearest node). The
   /// partition of unity and Σ_k S_k (k − f) = 0 (S_{+1} − S_{−1} = f) reduce it to
@@ -155,17 +212,38 @@ struct GimpShape {
     return w.value[0] + w.value[2] - f * f;
   }
   static double inertia(double xi, double half_size) { return inertia(weights(xi, half_size), xi); }
-  /// D and e_k = S_k (k − f)/D: a plain division, D ≥ a/2.
+  /// D, the moments S_k (k − f) and e_k = S_k (k − f)/D (a plain division, D ≥ a/2) from
+  /// the weights and f, for one axis or both at once (as `terms`).
+  template <class Real>
+  static void affine_terms(const Real (&value)[3], Real f, Real& inertia, Real (&moment)[3],
+                           Real (&affine_value)[3]) {
+    inertia = value[0] + value[2] - f * f;
+    const Real inv_inertia = 1.0 / inertia;
+    for (int k = 0; k < 3; ++k) {
+      moment[k] = value[k] * (double(k - 1) - f);
+      affine_value[k] = moment[k] * inv_inertia;
+    }
+  }
   static AffineWeights1d<3> affine(const Weights1d<3>& w, double xi) {
     AffineWeights1d<3> m;
-    const double f = xi - (w.base + 1);
-    m.inertia = inertia(w, xi);
-    const double inv_inertia = 1.0 / m.inertia;
-    for (int k = 0; k < 3; ++k) {
-      m.moment[k] = w.value[k] * ((k - 1) - f);
-      m.value[k] = m.moment[k] * inv_inertia;
-    }
+    affine_terms(w.value, xi - (w.base + 1), m.inertia, m.moment, m.value);
     return m;
+  }
+  /// Both axes, (ξ, η) = xi: lane by lane the bits of `affine`.
+  static void affine(const Weights1d<3>& wx, const Weights1d<3>& wy, Pair xi, AffineWeights1d<3>& x,
+                     AffineWeights1d<3>& y) {
+    Pair value[3], inertia, moment[3], affine_value[3];
+    for (int k = 0; k < 3; ++k) value[k] = Pair{wx.value[k], wy.value[k]};
+    affine_terms(value, xi - Pair{double(wx.base + 1), double(wy.base + 1)}, inertia, moment,
+                 affine_value);
+    x.inertia = inertia[0];
+    y.inertia = inertia[1];
+    for (int k = 0; k < 3; ++k) {
+      x.moment[k] = moment[k][0];
+      y.moment[k] = moment[k][1];
+      x.value[k] = affine_value[k][0];
+      y.value[k] = affine_value[k][1];
+    }
   }
 };
 
