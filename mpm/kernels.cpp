@@ -39,9 +39,12 @@ struct ParticleWeights {
   double xi, eta;  ///< the position in cell units
   double ax, ay;   ///< uGIMP half-lengths in cell units
 
-  ParticleWeights(const GridGeometry& grid, const Vec2& position, const Vec2& size) {
+  /// `inv_cell_size` is 1/h, divided once by the caller (a loop's stores to the weights
+  /// might alias grid.cell_size, so the compiler would divide for every particle).
+  ParticleWeights(const GridGeometry& grid, double inv_cell_size, const Vec2& position,
+                  const Vec2& size) {
     // Both axes at once (pair.hpp): the bits of the axis-by-axis arithmetic.
-    inv_h = 1.0 / grid.cell_size;
+    inv_h = inv_cell_size;
     const Pair cell_units =
         (Pair{position.x(), position.y()} - Pair{grid.origin.x(), grid.origin.y()}) * inv_h;
     // At most ½: a domain never spans more than a cell; and no further than the grid's
@@ -104,7 +107,7 @@ auto affine_moments(const ParticleWeights<Shape>& w) {
 /// The diagonal of D_p, m², of a particle at `position`.
 template <class Shape>
 Vec2 inertia_at(const GridGeometry& grid, const Vec2& position, const Vec2& size) {
-  const ParticleWeights<Shape> w(grid, position, size);
+  const ParticleWeights<Shape> w(grid, 1.0 / grid.cell_size, position, size);
   const double h2 = grid.cell_size * grid.cell_size;
   return Vec2(Shape::inertia(w.xi, w.ax) * h2, Shape::inertia(w.eta, w.ay) * h2);
 }
@@ -188,9 +191,10 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
   constexpr int n = Shape::support;
   constexpr bool apic = Transfer == VelocityTransfer::apic;
+  const double inv_h = 1.0 / grid.cell_size;
   for (std::size_t p = begin; p < end; ++p) {
     const ParticleWeights<Shape>& w = *new (weights + p) ParticleWeights<Shape>(
-        grid, particles.coordinates[p], particles.size[p]);
+        grid, inv_h, particles.coordinates[p], particles.size[p]);
     const double m = particles.mass[p];
     const Vec2& v = particles.velocity[p];
     const Vec4& s = particles.stress[p];
