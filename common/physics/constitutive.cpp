@@ -556,9 +556,10 @@ void rotate_jaumann(Vec4& stress, double spin_increment) {
   const double sxx = stress[0];
   const double syy = stress[1];
   const double sxy = stress[3];
-  stress[0] = sxx + 2.0 * spin_increment * sxy;
-  stress[1] = syy - 2.0 * spin_increment * sxy;
-  stress[3] = sxy + spin_increment * (syy - sxx);
+  // One store of the whole tensor: the update that follows loads it whole, and a load
+  // that spans several narrower stores waits for them to retire (no store forwarding).
+  stress = Vec4(sxx + 2.0 * spin_increment * sxy, syy - 2.0 * spin_increment * sxy, stress[2],
+                sxy + spin_increment * (syy - sxx));
 }
 
 void ConstitutiveModel::rotate_records(std::span<Vec4> surfaces, double spin_increment) const {
