@@ -130,9 +130,11 @@ PrincipalStress principal_stress(const PrincipalBounds& b, const Vec4& s) {
   p.z_slot = s[2] >= major ? 0 : (s[2] >= minor ? 1 : 2);
   p.major_slot = p.z_slot == 0 ? 1 : 0;
   p.minor_slot = p.z_slot == 2 ? 1 : 2;
-  p.sigma[p.major_slot] = major;
-  p.sigma[p.minor_slot] = minor;
-  p.sigma[p.z_slot] = s[2];
+  // By value, not by slot: three stores at computed slots, then the return's loads of
+  // them as pairs, stalled (no store forwarding across two stores).
+  p.sigma =
+      Vec3(p.z_slot == 0 ? s[2] : major, p.z_slot == 1 ? s[2] : (p.z_slot == 0 ? major : minor),
+           p.z_slot == 2 ? s[2] : minor);
   return p;
 }
 
@@ -191,6 +193,8 @@ MohrCoulombReturns return_constants(double lambda, double shear, double n_phi, d
   const Vec3 main_flow = stiffness_times(lambda, shear, planes[mc].flow);
   MohrCoulombReturns r;
   r.main_plane << main_flow, 1.0 / planes[mc].normal.dot(main_flow);
+  r.main_normal = planes[mc].normal;
+  r.main_flow = planes[mc].flow;
   for (const Edge edge : {edge_2_3, edge_1_2}) {
     const Plane& second = planes[second_plane[edge]];
     const Vec3 flow = stiffness_times(lambda, shear, second.flow);
@@ -252,10 +256,9 @@ Candidate return_to(const MohrCoulomb& m, const std::array<Surface, Count>& set,
 /// return_to for the main plane alone, with the model's constants: the same numbers, the
 /// plane's constants computed once per model instead of in every return.
 Candidate return_to_main_plane(const MohrCoulomb& m, const Vec3& trial) {
-  const Vec3 normal(m.n_phi, 0.0, -1.0);
   const Vec4& main_plane = m.returns.main_plane;
-  const double multiplier = main_plane[3] * (normal.dot(trial) - m.k);
-  Candidate c{trial - multiplier * main_plane.head<3>(), multiplier * Vec3(m.n_psi, 0.0, -1.0), 0.0,
+  const double multiplier = main_plane[3] * (m.returns.main_normal.dot(trial) - m.k);
+  Candidate c{trial - multiplier * main_plane.head<3>(), multiplier * m.returns.main_flow, 0.0,
               0.0};
   c.smallest_multiplier = std::abs(multiplier) > 0.0 ? multiplier / std::abs(multiplier) : 0.0;
   c.violation = violation_of(m, c.sigma);

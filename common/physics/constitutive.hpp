@@ -61,6 +61,11 @@ struct MohrCoulombReturns {
   };
   Vec4 main_plane = Vec4::Zero();
   std::array<Edge, 2> edges{};  // σ2 = σ3, σ1 = σ2
+  // The main plane's a = (Nφ, 0, −1) and b = (Nψ, 0, −1) themselves: read from here, not
+  // built in each return (GCC built (Nφ, 0) on the stack with two stores and loaded it
+  // as a pair, which the store buffer cannot forward: a stall per return).
+  Eigen::Vector3d main_normal = Eigen::Vector3d::Zero();
+  Eigen::Vector3d main_flow = Eigen::Vector3d::Zero();
 };
 
 /// A model with its constants precomputed: a small value type that kernels copy.
