@@ -79,6 +79,10 @@ template <class Shape>
 ParticleWeights<Shape>* step_weights(ParticleBlocks& blocks) {
   return std::launder(reinterpret_cast<ParticleWeights<Shape>*>(blocks.shape_weights.data()));
 }
+template <class Shape>
+const ParticleWeights<Shape>* step_weights(const ParticleBlocks& blocks) {
+  return std::launder(reinterpret_cast<const ParticleWeights<Shape>*>(blocks.shape_weights.data()));
+}
 
 /// APIC's moments of one particle's weights (shape_functions.hpp): D_p = h² diag(x.inertia,
 /// y.inertia) and N_ip D_p⁻¹ (x_i − x_p) = (x.value[a] S_b, S_a y.value[b])/h.
@@ -449,7 +453,7 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
 /// and the move.
 template <class Shape>
 void smooth_block(Particles& particles, const GridGeometry& grid, const GridState& state, double dt,
-                  std::span<const ConstitutiveModel> models, ParticleBlocks& blocks,
+                  std::span<const ConstitutiveModel> models, const ParticleBlocks& blocks,
                   std::size_t begin, std::size_t end) {
   const ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
   const auto rows = static_cast<std::size_t>(grid.node_rows());

@@ -201,7 +201,7 @@ MohrCoulombReturns return_constants(double lambda, double shear, double n_phi, d
     Eigen::Matrix2d a_d_b;
     a_d_b << planes[mc].normal.dot(main_flow), planes[mc].normal.dot(flow),
         second.normal.dot(main_flow), second.normal.dot(flow);
-    r.edges[edge] = {flow, a_d_b.inverse()};
+    r.edges[edge] = {flow, a_d_b.inverse(), second.normal, second.flow};
   }
   return r;
 }
@@ -266,22 +266,19 @@ Candidate return_to_main_plane(const MohrCoulomb& m, const Vec3& trial) {
 }
 
 /// return_to for an edge of the main plane, with the model's constants: the same numbers,
-/// the system's inverse computed once per model instead of in every return. The two
-/// planes' normals and flows are yield_planes' rows mc and second_plane[edge], written
-/// out: building the six planes cost more than the rest of this return.
+/// the system's inverse computed once per model instead of in every return, and the two
+/// planes' normals and flows (yield_planes' rows mc and second_plane[edge]) read from
+/// the model: building the six planes cost more than the rest of this return.
 Candidate return_to_edge(const MohrCoulomb& m, Edge edge, const Vec3& trial) {
-  const Vec3 main_normal(m.n_phi, 0.0, -1.0);
-  const Vec3 main_flow(m.n_psi, 0.0, -1.0);
-  const Vec3 normal = edge == edge_2_3 ? Vec3(m.n_phi, -1.0, 0.0) : Vec3(0.0, m.n_phi, -1.0);
-  const Vec3 flow = edge == edge_2_3 ? Vec3(m.n_psi, -1.0, 0.0) : Vec3(0.0, m.n_psi, -1.0);
   const MohrCoulombReturns::Edge& constants = m.returns.edges[edge];
-  const Eigen::Vector2d residual(main_normal.dot(trial) - m.k, normal.dot(trial) - m.k);
+  const Eigen::Vector2d residual(m.returns.main_normal.dot(trial) - m.k,
+                                 constants.normal.dot(trial) - m.k);
   const Eigen::Vector2d multiplier = constants.inverse * residual;
   Candidate c{trial, Vec3::Zero(), 0.0, 0.0};
   c.sigma -= multiplier[0] * m.returns.main_plane.head<3>();
-  c.sigma -= multiplier[1] * constants.flow;
-  c.plastic_strain += multiplier[0] * main_flow;
-  c.plastic_strain += multiplier[1] * flow;
+  c.sigma -= multiplier[1] * constants.stiffness_flow;
+  c.plastic_strain += multiplier[0] * m.returns.main_flow;
+  c.plastic_strain += multiplier[1] * constants.flow;
   const double total = multiplier.cwiseAbs().sum();
   c.smallest_multiplier = total > 0.0 ? multiplier.minCoeff() / total : 0.0;
   c.violation = violation_of(m, c.sigma);
@@ -560,7 +557,7 @@ void rotate_jaumann(Vec4& stress, double spin_increment) {
   const double syy = stress[1];
   const double sxy = stress[3];
   // One store of the whole tensor: the update that follows loads it whole, and a load
-  // that spans several narrower stores waits for them to retire (no store forwarding).
+  // that spans several narrower stores waits until they are written (no store forwarding).
   stress = Vec4(sxx + 2.0 * spin_increment * sxy, syy - 2.0 * spin_increment * sxy, stress[2],
                 sxy + spin_increment * (syy - sxx));
 }

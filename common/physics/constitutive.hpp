@@ -53,19 +53,21 @@ std::size_t surfaces_needed(const MaterialTable& materials, Phase phase);
 /// The constants of a Mohr–Coulomb return that depend on the elastic constants and Nφ, Nψ
 /// only (constitutive.cpp), computed once per model: the main plane's D b and 1/(aᵀ D b),
 /// and for each of its edges (σ2 = σ3, σ1 = σ2) the second plane's D b and the inverse of
-/// the 2 × 2 system aᵢᵀ D bⱼ of a return to both planes.
+/// the 2 × 2 system aᵢᵀ D bⱼ of a return to both planes. The planes' a and b themselves
+/// are kept too: read from here, not built in each return (GCC built (Nφ, 0) on the
+/// stack with two stores and loaded it as a pair, which the store buffer cannot forward:
+/// a stall per return).
 struct MohrCoulombReturns {
   struct Edge {
-    Eigen::Vector3d flow = Eigen::Vector3d::Zero();  // D b of the second plane
+    Eigen::Vector3d stiffness_flow = Eigen::Vector3d::Zero();  // D b of the second plane
     Eigen::Matrix2d inverse = Eigen::Matrix2d::Zero();
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // the second plane's a
+    Eigen::Vector3d flow = Eigen::Vector3d::Zero();    // and b
   };
   Vec4 main_plane = Vec4::Zero();
-  std::array<Edge, 2> edges{};  // σ2 = σ3, σ1 = σ2
-  // The main plane's a = (Nφ, 0, −1) and b = (Nψ, 0, −1) themselves: read from here, not
-  // built in each return (GCC built (Nφ, 0) on the stack with two stores and loaded it
-  // as a pair, which the store buffer cannot forward: a stall per return).
-  Eigen::Vector3d main_normal = Eigen::Vector3d::Zero();
-  Eigen::Vector3d main_flow = Eigen::Vector3d::Zero();
+  std::array<Edge, 2> edges{};                            // σ2 = σ3, σ1 = σ2
+  Eigen::Vector3d main_normal = Eigen::Vector3d::Zero();  // a = (Nφ, 0, −1)
+  Eigen::Vector3d main_flow = Eigen::Vector3d::Zero();    // b = (Nψ, 0, −1)
 };
 
 /// A model with its constants precomputed: a small value type that kernels copy.
