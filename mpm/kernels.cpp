@@ -76,12 +76,14 @@ struct ParticleWeights {
 /// The weights P2G computed for the step (ParticleBlocks::shape_weights): an array of
 /// ParticleWeights<Shape>, which P2G constructs in place and the later passes read.
 template <class Shape>
-ParticleWeights<Shape>* step_weights(ParticleBlocks& blocks) {
-  return std::launder(reinterpret_cast<ParticleWeights<Shape>*>(blocks.shape_weights.data()));
-}
-template <class Shape>
 const ParticleWeights<Shape>* step_weights(const ParticleBlocks& blocks) {
   return std::launder(reinterpret_cast<const ParticleWeights<Shape>*>(blocks.shape_weights.data()));
+}
+/// The same array to construct the weights in (P2G).
+template <class Shape>
+ParticleWeights<Shape>* step_weights(ParticleBlocks& blocks) {
+  return const_cast<ParticleWeights<Shape>*>(
+      step_weights<Shape>(static_cast<const ParticleBlocks&>(blocks)));
 }
 
 /// APIC's moments of one particle's weights (shape_functions.hpp): D_p = h² diag(x.inertia,

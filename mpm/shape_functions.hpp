@@ -206,11 +206,9 @@ struct GimpShape {
   }
   /// D = Σ_k S_k (k − f)² over the nodes k = −1, 0, 1 (f from the nearest node). The
   /// partition of unity and Σ_k S_k (k − f) = 0 (S_{+1} − S_{−1} = f) reduce it to
-  /// D = S_{−1} + S_{+1} − f², which is never below a/2 (a particle centred on a node).
-  static double inertia(const Weights1d<3>& w, double xi) {
-    const double f = xi - (w.base + 1);  // from the nearest node, as in `weights`
-    return w.value[0] + w.value[2] - f * f;
-  }
+  /// D = S_{−1} + S_{+1} − f², which is never below a/2 (a particle centred on a node);
+  /// affine_terms computes it (f from the nearest node, as in `weights`).
+  static double inertia(const Weights1d<3>& w, double xi) { return affine(w, xi).inertia; }
   static double inertia(double xi, double half_size) { return inertia(weights(xi, half_size), xi); }
   /// D, the moments S_k (k − f) and e_k = S_k (k − f)/D (a plain division, D ≥ a/2) from
   /// the weights and f, for one axis or both at once (as `terms`).
