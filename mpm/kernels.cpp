@@ -485,27 +485,11 @@ void move_particle(Particles& p, std::size_t to, std::size_t from) {
 namespace {
 
 /// Particle k takes the place of old particle order[k] (`order` is a permutation of
-/// [0, n)), in place: each cycle of the permutation is followed once with a one-particle
-/// buffer, and `order` marks the places done (order[k] = k). No second copy of any field;
-/// the sort of a nearly sorted body has short, local cycles, so it is cache-friendly too.
+/// [0, n)), in place, field by field along the permutation's cycles (RowCycles): no second
+/// copy of any field; the sort of a nearly sorted body has short, local cycles, so it is
+/// cache-friendly too.
 void permute_in_place(Particles& particles, std::vector<std::uint32_t>& order) {
-  const std::size_t n = order.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    if (order[k] == k) continue;
-    RowBuffer<ParticleFieldTable> first;
-    first.load(particle_fields, particles, k);
-    std::size_t to = k;
-    for (;;) {
-      const std::size_t from = order[to];
-      order[to] = static_cast<std::uint32_t>(to);
-      if (from == k) {
-        first.store(particle_fields, particles, to);
-        break;
-      }
-      move_particle(particles, to, from);
-      to = from;
-    }
-  }
+  permute_rows(particle_fields, particles, order);
 }
 
 }  // namespace

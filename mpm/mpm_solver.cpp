@@ -399,9 +399,10 @@ MpmSolver::Memory MpmSolver::memory() const {
   Memory m;
   const Particles& p = particles_;
   m.particle_arrays = p.bytes();
-  // The sort (in place): the permutation, 4 B per particle, and the bucket table.
-  m.sort_peak =
-      p.count() * sizeof(std::uint32_t) + (settings_.grid.cell_count() + 2) * sizeof(std::uint32_t);
+  // The sort (in place): the permutation and its cycles (RowCycles), at most 8 B per
+  // particle, and the bucket table.
+  m.sort_peak = 2 * p.count() * sizeof(std::uint32_t) +
+                (settings_.grid.cell_count() + 2) * sizeof(std::uint32_t);
   m.grid = grid_state_.bytes() + blocks_.bytes();
   return m;
 }

@@ -18,12 +18,14 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "common/base/error.hpp"
 #include "common/base/types.hpp"
 #include "common/physics/material_state.hpp"
 
@@ -195,32 +197,6 @@ inline void move(SurfaceStresses& c, std::size_t to, std::size_t from) {
   std::copy(source.begin(), source.end(), c.of(to).begin());
 }
 
-/// One row of a column by value: the buffer of an in-place permutation.
-template <class Column>
-struct Entry;
-template <class T>
-struct Entry<std::vector<T>> {
-  T value;
-  void load(const std::vector<T>& c, std::size_t k) {
-    if (!c.empty()) value = c[k];
-  }
-  void store(std::vector<T>& c, std::size_t k) const {
-    if (!c.empty()) c[k] = value;
-  }
-};
-template <>
-struct Entry<SurfaceStresses> {
-  std::array<Vec4, max_yield_surfaces> value;
-  void load(const SurfaceStresses& c, std::size_t k) {
-    const auto own = c.of(k);
-    std::copy(own.begin(), own.end(), value.begin());
-  }
-  void store(SurfaceStresses& c, std::size_t k) const {
-    const auto own = c.of(k);
-    std::copy(value.begin(), value.begin() + static_cast<std::ptrdiff_t>(own.size()), own.begin());
-  }
-};
-
 }  // namespace column
 
 // ----------------------------------------------------------------------------- rows
@@ -275,39 +251,87 @@ void move_row(const Table& table, Owner& owner, std::size_t to, std::size_t from
   for_each_field(table, [&](const auto& field) { column::move(field.of(owner), to, from); });
 }
 
-/// One row of every field of a table, by value.
-template <class Table>
-struct RowBuffer;
-template <class... Fields>
-struct RowBuffer<std::tuple<Fields...>> {
-  std::tuple<column::Entry<typename Fields::column_type>...> entries;
-
-  template <class Owner>
-  void load(const std::tuple<Fields...>& table, const Owner& owner, std::size_t k) {
-    apply(table, [&](const auto& field, auto& entry) { entry.load(field.of(owner), k); });
+/// A permutation of rows, row k taking old row order[k], as its cycles: each cycle of two
+/// or more rows is listed as r0, r1, …, rm with r(j+1) = order[rj] (row rj takes row
+/// r(j+1)'s value, rm takes r0's), its last row flagged; rows that stay are left out.
+/// Each column then follows the cycles on its own (`apply`), one tight loop per column
+/// type: a row-by-row walk over every field per move cost ten times the instructions
+/// (mpm/README.md, "Where a step's instructions go"). 4 B per moving row, beside `order`.
+class RowCycles {
+ public:
+  /// From `order`, a permutation of [0, n) with n < 2³¹; marks it (order[k] = k after).
+  explicit RowCycles(std::vector<std::uint32_t>& order) {
+    if (order.size() >= last) throw Error("RowCycles: {} rows (at most 2^31 - 1)", order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      if (order[k] == k) continue;
+      std::size_t row = k;
+      for (;;) {
+        const std::size_t next = order[row];
+        order[row] = static_cast<std::uint32_t>(row);
+        if (next == k) {
+          path_.back() |= last;
+          break;
+        }
+        if (row == k) path_.push_back(static_cast<std::uint32_t>(k));
+        path_.push_back(static_cast<std::uint32_t>(next));
+        row = next;
+      }
+    }
   }
-  template <class Owner>
-  void store(const std::tuple<Fields...>& table, Owner& owner, std::size_t k) const {
-    apply(table, [&](const auto& field, const auto& entry) { entry.store(field.of(owner), k); });
+
+  template <class T>
+  void apply(std::vector<T>& column) const {
+    if (column.empty()) return;
+    follow([&](std::size_t to, std::size_t from) { column[to] = column[from]; },
+           [&](std::size_t row) { return column[row]; },
+           [&](std::size_t row, const T& value) { column[row] = value; });
+  }
+  void apply(SurfaceStresses& column) const {
+    if (column.per_point == 0) return;
+    const auto copy = [](std::span<const Vec4> from, std::span<Vec4> to) {
+      std::copy(from.begin(), from.end(), to.begin());
+    };
+    follow([&](std::size_t to, std::size_t from) { copy(column.of(from), column.of(to)); },
+           [&](std::size_t row) {
+             std::array<Vec4, max_yield_surfaces> saved;
+             copy(column.of(row), std::span<Vec4>(saved).first(column.per_point));
+             return saved;
+           },
+           [&](std::size_t row, const std::array<Vec4, max_yield_surfaces>& saved) {
+             copy(std::span<const Vec4>(saved).first(column.per_point), column.of(row));
+           });
   }
 
  private:
-  template <class F>
-  void apply(const std::tuple<Fields...>& table, F&& f) {
-    each(table, f, std::index_sequence_for<Fields...>{});
+  static constexpr std::uint32_t last = std::uint32_t{1} << 31;
+
+  /// move(to, from) along each cycle, its first row saved by save(row) and put back into
+  /// the cycle's last row by restore(row, saved).
+  template <class Move, class Save, class Restore>
+  void follow(Move&& move, Save&& save, Restore&& restore) const {
+    for (std::size_t i = 0; i < path_.size(); ++i) {
+      std::size_t to = path_[i];
+      const auto saved = save(to);
+      for (;;) {
+        const std::uint32_t entry = path_[++i];
+        const std::size_t from = entry & ~last;
+        move(to, from);
+        to = from;
+        if (entry & last) break;
+      }
+      restore(to, saved);
+    }
   }
-  template <class F>
-  void apply(const std::tuple<Fields...>& table, F&& f) const {
-    each(table, f, std::index_sequence_for<Fields...>{});
-  }
-  template <class F, std::size_t... I>
-  void each(const std::tuple<Fields...>& table, F& f, std::index_sequence<I...>) {
-    (f(std::get<I>(table), std::get<I>(entries)), ...);
-  }
-  template <class F, std::size_t... I>
-  void each(const std::tuple<Fields...>& table, F& f, std::index_sequence<I...>) const {
-    (f(std::get<I>(table), std::get<I>(entries)), ...);
-  }
+
+  std::vector<std::uint32_t> path_;
 };
+
+/// Row k of every field takes old row order[k] (`order`: a permutation of the rows, n <
+/// 2³¹; marked as RowCycles leaves it), in place: no second copy of any field.
+template <class Table, class Owner>
+void permute_rows(const Table& table, Owner& owner, std::vector<std::uint32_t>& order) {
+  const RowCycles cycles(order);
+  for_each_field(table, [&](const auto& field) { cycles.apply(field.of(owner)); });
+}
 
 }  // namespace slide

@@ -7,11 +7,13 @@
 // particle_fields (and a member left out of it fails to compile: the static_assert
 // beside the table); a path that named fields by hand would lose the new one here.
 // The schema page (common/io/checkpoint-schema.md) is checked against both tables.
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <random>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -136,6 +138,37 @@ TEST(ParticleFieldTable, EveryFieldFollowsItsParticleThroughTheSort) {
   EXPECT_NE(p.id, original.id);  // the sort did reorder
   EXPECT_EQ(misplaced(p, original), std::vector<std::string>{});
   p.check_consistent_sizes();
+}
+
+TEST(RowCycles, MovesEveryRowToWhereThePermutationSays) {
+  // Row k takes old row order[k]: the identity, one swap, one cycle through every row,
+  // and shuffles (short and long cycles, fixed rows among them), against a plain gather.
+  std::mt19937 random(7);
+  std::vector<std::vector<std::uint32_t>> orders = {{0, 1, 2, 3}, {1, 0, 2, 3}, {1, 2, 3, 0}};
+  for (const std::size_t n : {2u, 17u, 1000u}) {
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::shuffle(order.begin(), order.end(), random);
+    orders.push_back(order);
+  }
+  for (std::vector<std::uint32_t> order : orders) {
+    const std::size_t n = order.size();
+    std::vector<double> column(n);
+    for (std::size_t k = 0; k < n; ++k) column[k] = 0.5 + static_cast<double>(k);
+    SurfaceStresses surfaces{2, std::vector<Vec4>(2 * n)};
+    for (std::size_t k = 0; k < 2 * n; ++k) surfaces.values[k] = Vec4::Constant(double(k));
+    std::vector<double> expected(n);
+    for (std::size_t k = 0; k < n; ++k) expected[k] = column[order[k]];
+    std::vector<Vec4> expected_surfaces(2 * n);
+    for (std::size_t k = 0; k < 2 * n; ++k)
+      expected_surfaces[k] = surfaces.values[2 * order[k / 2] + k % 2];
+    const RowCycles cycles(order);
+    cycles.apply(column);
+    cycles.apply(surfaces);
+    EXPECT_EQ(column, expected);
+    EXPECT_EQ(surfaces.values, expected_surfaces);
+    for (std::size_t k = 0; k < n; ++k) ASSERT_EQ(order[k], k);  // marked done
+  }
 }
 
 TEST(ParticleFieldTable, ResizeKeepsEveryFieldAndFillsNewRows) {
