@@ -195,6 +195,9 @@ MohrCoulombReturns return_constants(double lambda, double shear, double n_phi, d
   r.main_plane << main_flow, 1.0 / planes[mc].normal.dot(main_flow);
   r.main_normal = planes[mc].normal;
   r.main_flow = planes[mc].flow;
+  r.main_flow_trace = r.main_flow.sum();
+  const Vec3 deviatoric_flow = r.main_flow - (r.main_flow_trace / 3.0) * Vec3::Ones();
+  r.main_flow_shear = std::sqrt(2.0 / 3.0 * deviatoric_flow.squaredNorm());
   for (const Edge edge : {edge_2_3, edge_1_2}) {
     const Plane& second = planes[second_plane[edge]];
     const Vec3 flow = stiffness_times(lambda, shear, second.flow);
@@ -253,11 +256,15 @@ Candidate return_to(const MohrCoulomb& m, const std::array<Surface, Count>& set,
   return c;
 }
 
+/// The main plane's multiplier Δλ = (aᵀσ − k) / (aᵀ D b), from the model's constants.
+double main_plane_multiplier(const MohrCoulomb& m, const Vec3& trial) {
+  return m.returns.main_plane[3] * (m.returns.main_normal.dot(trial) - m.k);
+}
+
 /// return_to for the main plane alone, with the model's constants: the same numbers, the
 /// plane's constants computed once per model instead of in every return.
-Candidate return_to_main_plane(const MohrCoulomb& m, const Vec3& trial) {
+Candidate return_to_main_plane(const MohrCoulomb& m, const Vec3& trial, double multiplier) {
   const Vec4& main_plane = m.returns.main_plane;
-  const double multiplier = main_plane[3] * (m.returns.main_normal.dot(trial) - m.k);
   Candidate c{trial - multiplier * main_plane.head<3>(), multiplier * m.returns.main_flow, 0.0,
               0.0};
   c.smallest_multiplier = std::abs(multiplier) > 0.0 ? multiplier / std::abs(multiplier) : 0.0;
@@ -302,7 +309,7 @@ bool meets_kuhn_tucker(const Candidate& c, double tolerance) {
   return c.violation <= tolerance && c.smallest_multiplier >= -yield_tolerance;
 }
 
-/// return_map's search beyond the main plane, which `main_plane` (its candidate) failed:
+/// return_to_surface's search beyond the main plane, which `main_plane` (its candidate) failed:
 /// out of line, so that the common return stays small.
 [[gnu::noinline]] Candidate search_returns(const MohrCoulomb& m, const Vec3& trial,
                                            double tolerance, const Candidate& main_plane) {
@@ -337,20 +344,6 @@ bool meets_kuhn_tucker(const Candidate& c, double tolerance) {
   return result;
 }
 
-/// Backward-Euler return of a trial stress outside the surface (principal values
-/// sorted). Tries the candidates in order of increasing complexity and takes the first
-/// that satisfies the Kuhn–Tucker conditions (multipliers ≥ 0, admissible): the main
-/// plane, then its edges from the model's constants (where the cut-off is a plane of its
-/// own, it is tried before the edges), then the cut-off's edges and corners. Should
-/// round-off reject every one (a trial on a region boundary), it takes the admissible
-/// candidate that comes closest to them; the corners are always admissible.
-Candidate return_map(const MohrCoulomb& m, const Vec3& trial) {
-  const double tolerance = yield_tolerance * stress_scale(m.n_phi, m.k, trial[0], trial[2]);
-  const Candidate main_plane = return_to_main_plane(m, trial);
-  if (meets_kuhn_tucker(main_plane, tolerance)) return main_plane;
-  return search_returns(m, trial, tolerance, main_plane);
-}
-
 /// The plastic strain increment's share of the state: its trace, and its deviatoric
 /// invariant sqrt(2/3 Δeᵖ:Δeᵖ) from the principal components (principal directions are
 /// kept, so they are the tensor's).
@@ -361,13 +354,31 @@ void add_plastic_strain(MaterialState& state, const Vec3& plastic_strain) {
   state.plastic_shear_strain += std::sqrt(2.0 / 3.0 * deviatoric.squaredNorm());
 }
 
-/// Returns an inadmissible stress (principal bounds `trial`) to the surface and advances
-/// the state. Kept out of line so that the elastic path stays small enough to inline
-/// into the update loops.
+/// Backward-Euler return of an inadmissible stress (principal bounds `trial`) to the
+/// surface, advancing the state. Tries the candidates in order of increasing complexity
+/// and takes the first that satisfies the Kuhn–Tucker conditions (multipliers ≥ 0,
+/// admissible): the main plane, then (search_returns) its edges from the model's
+/// constants (where the cut-off is a plane of its own, it is tried before the edges),
+/// then the cut-off's edges and corners. Should round-off reject every one (a trial on a
+/// region boundary), it takes the admissible candidate that comes closest to them; the
+/// corners are always admissible. Kept out of line so that the elastic path stays small
+/// enough to inline into the update loops.
 [[gnu::noinline]] void return_to_surface(const MohrCoulomb& m, const PrincipalBounds& trial,
                                          Vec4& stress, MaterialState& state) {
   const PrincipalStress principal = principal_stress(trial, stress);
-  const Candidate c = return_map(m, principal.sigma);
+  const Vec3& sigma = principal.sigma;
+  const double tolerance = yield_tolerance * stress_scale(m.n_phi, m.k, sigma[0], sigma[2]);
+  const double multiplier = main_plane_multiplier(m, sigma);
+  const Candidate main_plane = return_to_main_plane(m, sigma, multiplier);
+  if (meets_kuhn_tucker(main_plane, tolerance)) {
+    stress = rebuild(principal, main_plane.sigma);
+    // Δεᵖ = Δλ b with Δλ ≥ 0 and b the plane's: its invariants are Δλ times b's (no
+    // square root on the common path).
+    state.plastic_volumetric_strain += multiplier * m.returns.main_flow_trace;
+    state.plastic_shear_strain += multiplier * m.returns.main_flow_shear;
+    return;
+  }
+  const Candidate c = search_returns(m, sigma, tolerance, main_plane);
   stress = rebuild(principal, c.sigma);
   add_plastic_strain(state, c.plastic_strain);
 }

@@ -68,6 +68,8 @@ struct MohrCoulombReturns {
   std::array<Edge, 2> edges{};                            // σ2 = σ3, σ1 = σ2
   Eigen::Vector3d main_normal = Eigen::Vector3d::Zero();  // a = (Nφ, 0, −1)
   Eigen::Vector3d main_flow = Eigen::Vector3d::Zero();    // b = (Nψ, 0, −1)
+  double main_flow_trace = 0.0;  // Σ b_i, and sqrt(2/3 dev b : dev b): a main-plane return's
+  double main_flow_shear = 0.0;  // Δεᵖ = Δλ b has Δλ times these as its invariants
 };
 
 /// A model with its constants precomputed: a small value type that kernels copy.
