@@ -3,14 +3,50 @@
 // common/physics/constitutive.md).
 #include "common/physics/multi_yield.hpp"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
 namespace slide::multi_yield {
 
 namespace {
+
+/// Two doubles in one SSE2 register (GCC's vector extension).
+using Lanes = double __attribute__((vector_size(16)));
+
+Lanes square_root(Lanes v) {
+#ifdef __SSE2__
+  return _mm_sqrt_pd(v);  // one instruction, the IEEE square root of each lane
+#else
+  return Lanes{std::sqrt(v[0]), std::sqrt(v[1])};
+#endif
+}
+
+/// q² = 3/2 s:s of two deviators, a's in lane 0 and b's in lane 1: per lane
+/// 1.5 (((sxx² + syy²) + szz²) + sxy (2 sxy)), the squares two at a time and the sums
+/// lane by lane after a shuffle (no product feeds a sum directly, so no build contracts
+/// them into FMAs).
+Lanes von_mises_squared(const Vec4& a, const Vec4& b) {
+  Lanes a_head, a_tail, b_head, b_tail;
+  std::memcpy(&a_head, a.data(), sizeof a_head);
+  std::memcpy(&a_tail, a.data() + 2, sizeof a_tail);
+  std::memcpy(&b_head, b.data(), sizeof b_head);
+  std::memcpy(&b_tail, b.data() + 2, sizeof b_tail);
+  const Lanes weight{1.0, 2.0};
+  const Lanes head_a = a_head * a_head, head_b = b_head * b_head;
+  const Lanes tail_a = a_tail * (a_tail * weight), tail_b = b_tail * (b_tail * weight);
+  const Lanes xx = __builtin_shufflevector(head_a, head_b, 0, 2);
+  const Lanes yy = __builtin_shufflevector(head_a, head_b, 1, 3);
+  const Lanes zz = __builtin_shufflevector(tail_a, tail_b, 0, 2);
+  const Lanes xy = __builtin_shufflevector(tail_a, tail_b, 1, 3);
+  return 1.5 * (((xx + yy) + zz) + xy);
+}
 
 /// The deviatoric part [sxx, syy, szz, sxy] of a stress, and its mean σm = tr σ / 3.
 Vec4 deviator(const Vec4& stress, double& mean) {
@@ -87,24 +123,45 @@ bool update(const Components& c, double bulk_modulus, double shear_modulus, Vec4
                 strain_increment[2] - volumetric / 3.0, 0.5 * strain_increment[3]);
   double mean = 0.0;
   const Vec4 previous = deviator(stress, mean);
-  Vec4 sum = Vec4::Zero();
-  bool at_peak = false;
+  // The components two at a time: their q² computed side by side in the two lanes of a
+  // register, and where both return to their limits (at a point loading at its peak,
+  // most updates) one square root and one division for the two. Each component gets the
+  // operations the one-at-a-time loop gave it, and the sum keeps its order.
   const int count = c.count;  // a local: the stores to `surfaces` could otherwise alias it
-  for (int i = 0; i < count; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    Vec4 s = surfaces[k] + c.two_shear[k] * de;
-    // q² = 3/2 s:s, the squares taken two at a time: (sxx², syy²) and (szz², 2 sxy²).
-    const Eigen::Array2d squares = s.head<2>().array().square();
-    const Eigen::Array2d rest =
-        s.tail<2>().array() * (s.tail<2>().array() * Eigen::Array2d(1.0, 2.0));
-    const double q2 = 1.5 * (squares[0] + squares[1] + rest[0] + rest[1]);
-    if (q2 > c.limit_squared[k]) {
-      s *= c.limit[k] / std::sqrt(q2);
-      at_peak = i == count - 1;
+  Vec4 sum = Vec4::Zero();
+  bool beyond = false;  // the component updated last returned to its limit
+  int i = 0;
+  for (; i + 1 < count; i += 2) {
+    const auto a = static_cast<std::size_t>(i);
+    const auto b = a + 1;
+    Vec4 sa = surfaces[a] + c.two_shear[a] * de;
+    Vec4 sb = surfaces[b] + c.two_shear[b] * de;
+    const Lanes q2 = von_mises_squared(sa, sb);
+    const bool beyond_a = q2[0] > c.limit_squared[a];
+    beyond = q2[1] > c.limit_squared[b];
+    if (beyond_a && beyond) {
+      const Lanes factor = Lanes{c.limit[a], c.limit[b]} / square_root(q2);
+      sa *= factor[0];
+      sb *= factor[1];
+    } else {
+      if (beyond_a) sa *= c.limit[a] / std::sqrt(q2[0]);
+      if (beyond) sb *= c.limit[b] / std::sqrt(q2[1]);
     }
-    surfaces[k] = s;
+    surfaces[a] = sa;
+    surfaces[b] = sb;
+    sum += sa;
+    sum += sb;
+  }
+  if (i < count) {
+    const auto a = static_cast<std::size_t>(i);
+    Vec4 s = surfaces[a] + c.two_shear[a] * de;
+    const double q2 = von_mises_squared(s, s)[0];
+    beyond = q2 > c.limit_squared[a];
+    if (beyond) s *= c.limit[a] / std::sqrt(q2);
+    surfaces[a] = s;
     sum += s;
   }
+  const bool at_peak = beyond;  // the last component is at its limit
   stress = with_mean(sum, mean + bulk_modulus * volumetric);
   // Δeᵖ = Δe − Δs/(2G), εq-type measure sqrt(2/3 Δeᵖ:Δeᵖ).
   const Vec4 plastic = de - (sum - previous) / (2.0 * shear_modulus);

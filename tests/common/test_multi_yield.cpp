@@ -97,8 +97,9 @@ TEST(MultiYield, TheFrozenStrengthIsOpenSeesCalibrationToMohrCoulomb) {
 
 /// Drives a monotonic isochoric path in `direction` (a deviatoric strain increment per
 /// step) and compares q with the backbone at every step.
-void expect_backbone(const Vec4& direction, double eps_q_per_step, const char* path) {
-  const Material m = soil(20);
+void expect_backbone(const Vec4& direction, double eps_q_per_step, const char* path,
+                     int surfaces = 20) {
+  const Material m = soil(surfaces);
   Point point(m, isotropic);
   ASSERT_FALSE(point.start());
   const double q_f = point.state.peak_strength;
@@ -137,6 +138,12 @@ TEST(MultiYield, SimpleShearFollowsTheBackboneThroughItsVerticesToThePeak) {
 TEST(MultiYield, TriaxialCompressionFollowsTheSameBackbone) {
   // Isochoric axial compression in y with equal lateral strains in x and z.
   expect_backbone(Vec4(0.5, -1.0, 0.5, 0.0), 2.5e-5, "triaxial");
+}
+
+TEST(MultiYield, AnOddNumberOfSurfacesFollowsItsBackbone) {
+  // The update takes the components two at a time; an odd count leaves one on its own.
+  expect_backbone(Vec4(0.0, 0.0, 0.0, 1.0), 2.5e-5, "simple shear, 7 surfaces", 7);
+  expect_backbone(Vec4(0.5, -1.0, 0.5, 0.0), 2.5e-5, "triaxial, 3 surfaces", 3);
 }
 
 TEST(MultiYield, UnloadingIsElasticWithGAndLoopsFollowMasingsRule) {
