@@ -48,6 +48,32 @@ Lanes von_mises_squared(const Vec4& a, const Vec4& b) {
   return 1.5 * (((xx + yy) + zz) + xy);
 }
 
+/// Components a and a + 1 of an update: their elastic trials and radial returns, each
+/// with the operations of a one-at-a-time loop, added to `sum` in order. Returns whether
+/// component a + 1 returned to its limit.
+inline bool update_two(const Components& c, const Vec4& de, std::size_t a, std::span<Vec4> surfaces,
+                       Vec4& sum) {
+  const std::size_t b = a + 1;
+  Vec4 sa = surfaces[a] + c.two_shear[a] * de;
+  Vec4 sb = surfaces[b] + c.two_shear[b] * de;
+  const Lanes q2 = von_mises_squared(sa, sb);
+  const bool beyond_a = q2[0] > c.limit_squared[a];
+  const bool beyond_b = q2[1] > c.limit_squared[b];
+  if (beyond_a && beyond_b) {
+    const Lanes factor = Lanes{c.limit[a], c.limit[b]} / square_root(q2);
+    sa *= factor[0];
+    sb *= factor[1];
+  } else {
+    if (beyond_a) sa *= c.limit[a] / std::sqrt(q2[0]);
+    if (beyond_b) sb *= c.limit[b] / std::sqrt(q2[1]);
+  }
+  surfaces[a] = sa;
+  surfaces[b] = sb;
+  sum += sa;
+  sum += sb;
+  return beyond_b;
+}
+
 /// The deviatoric part [sxx, syy, szz, sxy] of a stress, and its mean σm = tr σ / 3.
 Vec4 deviator(const Vec4& stress, double& mean) {
   mean = (stress[0] + stress[1] + stress[2]) / 3.0;
@@ -132,25 +158,7 @@ bool update(const Components& c, double bulk_modulus, double shear_modulus, Vec4
   bool beyond = false;  // the component updated last returned to its limit
   int i = 0;
   for (; i + 1 < count; i += 2) {
-    const auto a = static_cast<std::size_t>(i);
-    const auto b = a + 1;
-    Vec4 sa = surfaces[a] + c.two_shear[a] * de;
-    Vec4 sb = surfaces[b] + c.two_shear[b] * de;
-    const Lanes q2 = von_mises_squared(sa, sb);
-    const bool beyond_a = q2[0] > c.limit_squared[a];
-    beyond = q2[1] > c.limit_squared[b];
-    if (beyond_a && beyond) {
-      const Lanes factor = Lanes{c.limit[a], c.limit[b]} / square_root(q2);
-      sa *= factor[0];
-      sb *= factor[1];
-    } else {
-      if (beyond_a) sa *= c.limit[a] / std::sqrt(q2[0]);
-      if (beyond) sb *= c.limit[b] / std::sqrt(q2[1]);
-    }
-    surfaces[a] = sa;
-    surfaces[b] = sb;
-    sum += sa;
-    sum += sb;
+    beyond = update_two(c, de, static_cast<std::size_t>(i), surfaces, sum);
   }
   if (i < count) {
     const auto a = static_cast<std::size_t>(i);
