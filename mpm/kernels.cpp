@@ -847,15 +847,20 @@ void sort_particles_by_cell(Particles& particles, std::size_t active_count,
   if (n > std::numeric_limits<std::uint32_t>::max())
     throw Error("mpm: {} particles, more than the sort's 32-bit indices hold", n);
   const std::size_t frozen_bucket = grid.cell_count();
-  auto key = [&](std::size_t p) {
-    return p < active_count ? grid.cell_of(particles.coordinates[p]) : frozen_bucket;
-  };
-  // Counting sort: bucket sizes, exclusive prefix sums, then a stable placement.
-  std::vector<std::uint32_t> start(frozen_bucket + 2, 0);
-  for (std::size_t p = 0; p < n; ++p) ++start[key(p) + 1];
-  for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  // Counting sort: each particle's cell once, bucket sizes, exclusive prefix sums, then a
+  // stable placement.
   std::vector<std::uint32_t> order(n);
-  for (std::size_t p = 0; p < n; ++p) order[start[key(p)]++] = static_cast<std::uint32_t>(p);
+  {
+    std::vector<std::uint32_t> key(n);
+    for (std::size_t p = 0; p < n; ++p) {
+      key[p] = static_cast<std::uint32_t>(p < active_count ? grid.cell_of(particles.coordinates[p])
+                                                           : frozen_bucket);
+    }
+    std::vector<std::uint32_t> start(frozen_bucket + 2, 0);
+    for (std::size_t p = 0; p < n; ++p) ++start[key[p] + 1];
+    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    for (std::size_t p = 0; p < n; ++p) order[start[key[p]]++] = static_cast<std::uint32_t>(p);
+  }
   permute_in_place(particles, order);
 }
 
