@@ -7,7 +7,7 @@
 #include <new>
 
 #include "common/base/error.hpp"
-#include "mpm/pair.hpp"
+#include "common/base/pair.hpp"
 #include "mpm/shape_functions.hpp"
 
 namespace slide::mpm {
@@ -844,8 +844,10 @@ LocateResult grid_to_particles(Particles& particles, const GridGeometry& grid, S
 void sort_particles_by_cell(Particles& particles, std::size_t active_count,
                             const GridGeometry& grid) {
   const std::size_t n = particles.count();
-  if (n > std::numeric_limits<std::uint32_t>::max())
-    throw Error("mpm: {} particles, more than the sort's 32-bit indices hold", n);
+  if (n > RowCycles::max_rows) {
+    throw Error("mpm: {} particles, more than the sort's {} (its 31-bit indices)", n,
+                RowCycles::max_rows);
+  }
   const std::size_t frozen_bucket = grid.cell_count();
   // Counting sort: each particle's cell once, bucket sizes, exclusive prefix sums, then a
   // stable placement.

@@ -39,7 +39,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "mpm/pair.hpp"
+#include "common/base/pair.hpp"
 
 namespace slide::mpm {
 

@@ -259,9 +259,14 @@ void move_row(const Table& table, Owner& owner, std::size_t to, std::size_t from
 /// (mpm/README.md, "Where a step's instructions go"). 4 B per moving row, beside `order`.
 class RowCycles {
  public:
-  /// From `order`, a permutation of [0, n) with n < 2³¹; marks it (order[k] = k after).
+  /// The most rows a permutation may have (a row index's top bit flags a cycle's end).
+  static constexpr std::size_t max_rows = (std::size_t{1} << 31) - 1;
+
+  /// From `order`, a permutation of [0, n) with n ≤ max_rows; marks it (order[k] = k after).
   explicit RowCycles(std::vector<std::uint32_t>& order) {
-    if (order.size() >= last) throw Error("RowCycles: {} rows (at most 2^31 - 1)", order.size());
+    if (order.size() > max_rows) {
+      throw Error("RowCycles: {} rows, more than {}", order.size(), max_rows);
+    }
     for (std::size_t k = 0; k < order.size(); ++k) {
       if (order[k] == k) continue;
       std::size_t row = k;

@@ -3,48 +3,31 @@
 // common/physics/constitutive.md).
 #include "common/physics/multi_yield.hpp"
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
-
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <numbers>
+
+#include "common/base/pair.hpp"
 
 namespace slide::multi_yield {
 
 namespace {
 
-/// Two doubles in one SSE2 register (GCC's vector extension).
-using Lanes = double __attribute__((vector_size(16)));
-
-Lanes square_root(Lanes v) {
-#ifdef __SSE2__
-  return _mm_sqrt_pd(v);  // one instruction, the IEEE square root of each lane
-#else
-  return Lanes{std::sqrt(v[0]), std::sqrt(v[1])};
-#endif
-}
-
 /// q² = 3/2 s:s of two deviators, a's in lane 0 and b's in lane 1: per lane
 /// 1.5 (((sxx² + syy²) + szz²) + sxy (2 sxy)), the squares two at a time and the sums
 /// lane by lane after a shuffle (no product feeds a sum directly, so no build contracts
 /// them into FMAs).
-Lanes von_mises_squared(const Vec4& a, const Vec4& b) {
-  Lanes a_head, a_tail, b_head, b_tail;
-  std::memcpy(&a_head, a.data(), sizeof a_head);
-  std::memcpy(&a_tail, a.data() + 2, sizeof a_tail);
-  std::memcpy(&b_head, b.data(), sizeof b_head);
-  std::memcpy(&b_tail, b.data() + 2, sizeof b_tail);
-  const Lanes weight{1.0, 2.0};
-  const Lanes head_a = a_head * a_head, head_b = b_head * b_head;
-  const Lanes tail_a = a_tail * (a_tail * weight), tail_b = b_tail * (b_tail * weight);
-  const Lanes xx = __builtin_shufflevector(head_a, head_b, 0, 2);
-  const Lanes yy = __builtin_shufflevector(head_a, head_b, 1, 3);
-  const Lanes zz = __builtin_shufflevector(tail_a, tail_b, 0, 2);
-  const Lanes xy = __builtin_shufflevector(tail_a, tail_b, 1, 3);
+Pair von_mises_squared(const Vec4& a, const Vec4& b) {
+  const Pair a_head = load_pair(a.data()), a_tail = load_pair(a.data() + 2);
+  const Pair b_head = load_pair(b.data()), b_tail = load_pair(b.data() + 2);
+  const Pair weight{1.0, 2.0};
+  const Pair head_a = a_head * a_head, head_b = b_head * b_head;
+  const Pair tail_a = a_tail * (a_tail * weight), tail_b = b_tail * (b_tail * weight);
+  const Pair xx = __builtin_shufflevector(head_a, head_b, 0, 2);
+  const Pair yy = __builtin_shufflevector(head_a, head_b, 1, 3);
+  const Pair zz = __builtin_shufflevector(tail_a, tail_b, 0, 2);
+  const Pair xy = __builtin_shufflevector(tail_a, tail_b, 1, 3);
   return 1.5 * (((xx + yy) + zz) + xy);
 }
 
@@ -56,11 +39,11 @@ inline bool update_two(const Components& c, const Vec4& de, std::size_t a, std::
   const std::size_t b = a + 1;
   Vec4 sa = surfaces[a] + c.two_shear[a] * de;
   Vec4 sb = surfaces[b] + c.two_shear[b] * de;
-  const Lanes q2 = von_mises_squared(sa, sb);
+  const Pair q2 = von_mises_squared(sa, sb);
   const bool beyond_a = q2[0] > c.limit_squared[a];
   const bool beyond_b = q2[1] > c.limit_squared[b];
   if (beyond_a && beyond_b) {
-    const Lanes factor = Lanes{c.limit[a], c.limit[b]} / square_root(q2);
+    const Pair factor = Pair{c.limit[a], c.limit[b]} / sqrt_pair(q2);
     sa *= factor[0];
     sb *= factor[1];
   } else {

@@ -1,5 +1,6 @@
 // Two doubles that load, compute and store together: the x and y of a node's or a
-// particle's vector, or of the particle's two axes, in one SSE2 register (every x86-64 has
+// particle's vector, or of the particle's two axes (the MPM kernels), two multi-yield
+// components (common/physics/multi_yield.cpp), in one SSE2 register (every x86-64 has
 // one; GCC's vector extension, a scalar operand is broadcast). Each lane does the IEEE
 // operations a scalar line for x or for y would, in the same order, so a pair changes no
 // result by itself; the kernels' arithmetic and memory traffic take half the instructions.
@@ -12,11 +13,16 @@
 // comparisons, so that code templated on the number type gives the same bits either way.
 #pragma once
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
-namespace slide::mpm {
+namespace slide {
 
 using Pair = double __attribute__((vector_size(16)));
 
@@ -31,6 +37,14 @@ inline void store_pair(double* to, Pair v) {
 /// *to += v for the pair at `to`.
 inline void add_pair(double* to, Pair v) {
   store_pair(to, load_pair(to) + v);
+}
+/// The IEEE square root of each lane, as std::sqrt gives it (one instruction with SSE2).
+inline Pair sqrt_pair(Pair v) {
+#ifdef __SSE2__
+  return _mm_sqrt_pd(v);
+#else
+  return Pair{std::sqrt(v[0]), std::sqrt(v[1])};
+#endif
 }
 
 namespace lanes {
@@ -58,4 +72,4 @@ inline Pair clamp(Pair v, Pair lo, Pair hi) {
 }
 
 }  // namespace lanes
-}  // namespace slide::mpm
+}  // namespace slide
