@@ -375,6 +375,21 @@ double MpmSolver::courant_time_step(double courant) const {
           clock_.time, clock_.step, p, particles_.id[p], particles_.coordinates[p].x(),
           particles_.coordinates[p].y(), particles_.volume[p]);
     }
+    // ρ_material / ρ_p = V_p ρ / m_p: a soil dilates by tens of per cent, an isolated
+    // particle at the apex of its yield surface by tens of times (mpm/README.md, "Time
+    // step": 35 in a run that then came to rest). Ten thousand times is a blow-up, whose
+    // step would crawl toward zero for minutes before the volume overflows.
+    const auto material = static_cast<std::size_t>(particles_.material_id[p]);
+    if (particles_.volume[p] * materials_[material].density > max_expansion * particles_.mass[p]) {
+      throw InstabilityError(
+          "instability at t = {:.6g} s (step {}): particle {} (id {}) at ({:.3f}, {:.3f}) m has "
+          "expanded to {:.3g} times its material's volume at rest (more than {:g}), so the "
+          "Courant step would fall below 1/{:g} of the material's",
+          clock_.time, clock_.step, p, particles_.id[p], particles_.coordinates[p].x(),
+          particles_.coordinates[p].y(),
+          particles_.volume[p] * materials_[material].density / particles_.mass[p], max_expansion,
+          std::sqrt(max_expansion));
+    }
     fastest_squared = std::max(fastest_squared, c2);
   }
   if (subdomain_) {

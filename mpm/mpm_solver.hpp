@@ -172,7 +172,10 @@ class MpmSolver {
 
   /// Stable Courant step C h / max_p c_p over the active particles, with c_p² = M V_p / m_p
   /// at each particle's current density (the materials' own speeds when none is active).
+  /// Throws InstabilityError for a particle whose volume is not finite and positive or
+  /// exceeds max_expansion times its mass over its material's density.
   double courant_time_step(double courant) const;
+  static constexpr double max_expansion = 1e4;
 
   /// Moves the particle arrays out of the solver and back (no copy), for a writer that
   /// takes a Particles value (the checkpoint); the solver must not step in between, and

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -402,6 +403,33 @@ TEST(CourantStep, FollowsTheFastestParticleAtItsCurrentDensity) {
               1e-12);
   EXPECT_NEAR(MpmSolver(s, materials, std::move(compacted)).courant_time_step(0.5) / nominal, 1.0,
               1e-12);
+}
+
+// A particle expanded beyond MpmSolver::max_expansion times its volume at rest is a
+// blow-up, not a fast oscillator: the step it would ask for (1/100 of the material's and
+// falling) would only make the run crawl. Just below the bound the step still follows it
+// (c_p ∝ sqrt(V_p)); just above, the error names the particle.
+TEST(CourantStep, AParticleExpandedTenThousandTimesIsAnInstability) {
+  MpmSettings s = settings_on(Vec2(0, 0), Vec2(10, 10), 1.0);
+  const Material soil = elastic_soil();
+  const MaterialTable materials{soil};
+  Particles p = generate_box_particles(s.grid, Vec2(2, 2), Vec2(6, 6), 2, 2, materials, 0);
+  const double nominal = 0.5 * 1.0 / soil.p_wave_speed();
+  const double at_rest = p.mass[5] / soil.density;
+  Particles below = p;
+  below.volume[5] = 0.99 * MpmSolver::max_expansion * at_rest;
+  Particles above = std::move(p);
+  above.volume[5] = 1.01 * MpmSolver::max_expansion * at_rest;
+  EXPECT_NEAR(MpmSolver(s, materials, std::move(below)).courant_time_step(0.5) / nominal,
+              1.0 / std::sqrt(0.99 * MpmSolver::max_expansion), 1e-9);
+  try {
+    MpmSolver(s, materials, std::move(above)).courant_time_step(0.5);
+    ADD_FAILURE() << "no instability reported";
+  } catch (const InstabilityError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("(id 5)"), std::string::npos) << message;
+    EXPECT_NE(message.find("expanded to 1.01e+04 times"), std::string::npos) << message;
+  }
 }
 
 // Mass: particle masses never change, and the grid receives all of it (partition of
