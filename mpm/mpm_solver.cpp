@@ -347,6 +347,32 @@ double MpmSolver::grid_mass() const {
   return total;
 }
 
+void MpmSolver::check_volume(std::size_t p, double wave_speed_squared) const {
+  if (!std::isfinite(wave_speed_squared) || !(wave_speed_squared > 0.0)) {
+    // A volume gone to zero, below it, to infinity or NaN: the run has blown up (the
+    // linear shape's cell crossing in a stiff sliding block did so); name the particle.
+    throw InstabilityError(
+        "instability at t = {:.6g} s (step {}): particle {} (id {}) at ({:.3f}, {:.3f}) m has "
+        "volume {} m^3/m, so no Courant step exists",
+        clock_.time, clock_.step, p, particles_.id[p], particles_.coordinates[p].x(),
+        particles_.coordinates[p].y(), particles_.volume[p]);
+  }
+  // ρ_material / ρ_p = V_p ρ / m_p: a soil dilates by tens of per cent, an isolated
+  // particle at the apex of its yield surface by tens of times (mpm/README.md, "Time
+  // step": 35 in a run that then came to rest). Ten thousand times is a blow-up, whose
+  // step would crawl toward zero for minutes before the volume overflows.
+  const double density = materials_[static_cast<std::size_t>(particles_.material_id[p])].density;
+  if (particles_.volume[p] * density > max_expansion * particles_.mass[p]) {
+    throw InstabilityError(
+        "instability at t = {:.6g} s (step {}): particle {} (id {}) at ({:.3f}, {:.3f}) m has "
+        "expanded to {:.3g} times its material's volume at rest (more than {:g}), so the "
+        "Courant step would fall below 1/{:g} of the material's",
+        clock_.time, clock_.step, p, particles_.id[p], particles_.coordinates[p].x(),
+        particles_.coordinates[p].y(), particles_.volume[p] * density / particles_.mass[p],
+        max_expansion, std::sqrt(max_expansion));
+  }
+}
+
 double MpmSolver::courant_time_step(double courant) const {
   // c_p² = M V_p / m_p: the P-wave speed at the particle's current density. A particle
   // that has expanded (a lone particle at the front, at the Mohr–Coulomb apex) is a faster
@@ -366,30 +392,7 @@ double MpmSolver::courant_time_step(double courant) const {
     const double stiffness =
         modulus[m] + (water[m] > 0.0 && holds_water(particles_, p) ? water[m] : 0.0);
     const double c2 = stiffness * particles_.volume[p] / particles_.mass[p];
-    if (!std::isfinite(c2) || !(c2 > 0.0)) {
-      // A volume gone to zero, below it, to infinity or NaN: the run has blown up (the
-      // linear shape's cell crossing in a stiff sliding block did so); name the particle.
-      throw InstabilityError(
-          "instability at t = {:.6g} s (step {}): particle {} (id {}) at ({:.3f}, {:.3f}) m has "
-          "volume {} m^3/m, so no Courant step exists",
-          clock_.time, clock_.step, p, particles_.id[p], particles_.coordinates[p].x(),
-          particles_.coordinates[p].y(), particles_.volume[p]);
-    }
-    // ρ_material / ρ_p = V_p ρ / m_p: a soil dilates by tens of per cent, an isolated
-    // particle at the apex of its yield surface by tens of times (mpm/README.md, "Time
-    // step": 35 in a run that then came to rest). Ten thousand times is a blow-up, whose
-    // step would crawl toward zero for minutes before the volume overflows.
-    const auto material = static_cast<std::size_t>(particles_.material_id[p]);
-    if (particles_.volume[p] * materials_[material].density > max_expansion * particles_.mass[p]) {
-      throw InstabilityError(
-          "instability at t = {:.6g} s (step {}): particle {} (id {}) at ({:.3f}, {:.3f}) m has "
-          "expanded to {:.3g} times its material's volume at rest (more than {:g}), so the "
-          "Courant step would fall below 1/{:g} of the material's",
-          clock_.time, clock_.step, p, particles_.id[p], particles_.coordinates[p].x(),
-          particles_.coordinates[p].y(),
-          particles_.volume[p] * materials_[material].density / particles_.mass[p], max_expansion,
-          std::sqrt(max_expansion));
-    }
+    check_volume(p, c2);
     fastest_squared = std::max(fastest_squared, c2);
   }
   if (subdomain_) {

@@ -196,6 +196,8 @@ class MpmSolver {
   void sort();
   /// APIC: one affine velocity per particle (zeros for those that came without).
   void size_affine_velocity();
+  /// courant_time_step's test of particle p, whose c_p² is `wave_speed_squared`.
+  void check_volume(std::size_t p, double wave_speed_squared) const;
 
   MpmSettings settings_;
   MaterialTable materials_;
