@@ -39,6 +39,14 @@ void log_settings(const Logger& log, const MpmSettings& settings, const MpmSpec&
            grid.cells_x, grid.cells_y, grid.cell_size, to_string(settings.shape_function),
            to_string(settings.update_scheme), transfer, smoothing, dt,
            spec.time_step > 0.0 ? " (case)" : fmt::format(" (Courant C = {})", spec.courant));
+  if (settings.shape_function == ShapeFunction::linear &&
+      settings.velocity_transfer == VelocityTransfer::apic) {
+    log.warning(
+        "linear shape functions with APIC: particles running out alone drive nodes that carry "
+        "a sliver of their mass, and APIC's affine velocity takes those nodes' velocities "
+        "unweighted; column-short blows up within 1 s this way (mpm/README.md, \"Velocity "
+        "transfer\"); gimp, or flip-pic, does not");
+  }
 }
 
 /// The base motion the run continues (docs/method.md §8): the one its file records, or for
