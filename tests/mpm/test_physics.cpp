@@ -388,21 +388,30 @@ using namespace testing;
 // The Courant step follows the particles' current density, c_p² = M V_p / m_p: one particle
 // expanded to four times its volume (a lone particle at the Mohr–Coulomb apex) doubles the
 // fastest wave speed and halves the step; a compacted one changes nothing.
+/// An elastic block of 2 × 2 particles per cell and the Courant step (C = 0.5) of its
+/// material at rest.
+struct CourantBlock {
+  MpmSettings settings = settings_on(Vec2(0, 0), Vec2(10, 10), 1.0);
+  Material soil = elastic_soil();
+  MaterialTable materials{soil};
+  Particles particles =
+      generate_box_particles(settings.grid, Vec2(2, 2), Vec2(6, 6), 2, 2, materials, 0);
+  double nominal = 0.5 * 1.0 / soil.p_wave_speed();
+};
+
 TEST(CourantStep, FollowsTheFastestParticleAtItsCurrentDensity) {
-  MpmSettings s = settings_on(Vec2(0, 0), Vec2(10, 10), 1.0);
-  const Material soil = elastic_soil();
-  const MaterialTable materials{soil};
-  Particles p = generate_box_particles(s.grid, Vec2(2, 2), Vec2(6, 6), 2, 2, materials, 0);
-  const double nominal = 0.5 * 1.0 / soil.p_wave_speed();
-  Particles expanded = p;
+  CourantBlock block;
+  const auto step_ratio = [&](Particles particles) {
+    return MpmSolver(block.settings, block.materials, std::move(particles)).courant_time_step(0.5) /
+           block.nominal;
+  };
+  Particles expanded = block.particles;
   expanded.volume[7] *= 4.0;
-  Particles compacted = p;
+  Particles compacted = block.particles;
   compacted.volume[3] *= 0.5;
-  EXPECT_NEAR(MpmSolver(s, materials, std::move(p)).courant_time_step(0.5) / nominal, 1.0, 1e-12);
-  EXPECT_NEAR(MpmSolver(s, materials, std::move(expanded)).courant_time_step(0.5) / nominal, 0.5,
-              1e-12);
-  EXPECT_NEAR(MpmSolver(s, materials, std::move(compacted)).courant_time_step(0.5) / nominal, 1.0,
-              1e-12);
+  EXPECT_NEAR(step_ratio(block.particles), 1.0, 1e-12);
+  EXPECT_NEAR(step_ratio(std::move(expanded)), 0.5, 1e-12);
+  EXPECT_NEAR(step_ratio(std::move(compacted)), 1.0, 1e-12);
 }
 
 // A particle expanded beyond MpmSolver::max_expansion times its volume at rest is a
@@ -410,20 +419,17 @@ TEST(CourantStep, FollowsTheFastestParticleAtItsCurrentDensity) {
 // falling) would only make the run crawl. Just below the bound the step still follows it
 // (c_p ∝ sqrt(V_p)); just above, the error names the particle.
 TEST(CourantStep, AParticleExpandedTenThousandTimesIsAnInstability) {
-  MpmSettings s = settings_on(Vec2(0, 0), Vec2(10, 10), 1.0);
-  const Material soil = elastic_soil();
-  const MaterialTable materials{soil};
-  Particles p = generate_box_particles(s.grid, Vec2(2, 2), Vec2(6, 6), 2, 2, materials, 0);
-  const double nominal = 0.5 * 1.0 / soil.p_wave_speed();
-  const double at_rest = p.mass[5] / soil.density;
-  Particles below = p;
+  CourantBlock block;
+  const double at_rest = block.particles.mass[5] / block.soil.density;
+  Particles below = block.particles;
   below.volume[5] = 0.99 * MpmSolver::max_expansion * at_rest;
-  Particles above = std::move(p);
-  above.volume[5] = 1.01 * MpmSolver::max_expansion * at_rest;
-  EXPECT_NEAR(MpmSolver(s, materials, std::move(below)).courant_time_step(0.5) / nominal,
+  EXPECT_NEAR(MpmSolver(block.settings, block.materials, std::move(below)).courant_time_step(0.5) /
+                  block.nominal,
               1.0 / std::sqrt(0.99 * MpmSolver::max_expansion), 1e-9);
+  Particles above = block.particles;
+  above.volume[5] = 1.01 * MpmSolver::max_expansion * at_rest;
   try {
-    MpmSolver(s, materials, std::move(above)).courant_time_step(0.5);
+    MpmSolver(block.settings, block.materials, std::move(above)).courant_time_step(0.5);
     ADD_FAILURE() << "no instability reported";
   } catch (const InstabilityError& e) {
     const std::string message = e.what();
