@@ -141,43 +141,82 @@ void dispatch_element_forces(const FemModel& model, const ElementGeometry& geome
   }
 }
 
+/// Element e's velocity gradient L_ij = Σ_k v_ki ∂N_k/∂x_j at each of its Gauss points,
+/// its hourglass force advanced first (Q ← Q + K_q Δq, Δq = Δt Σ_k γ_k v_k: then the
+/// velocities need not be kept across the point update's call, 13 instructions an
+/// element-step).
+template <int NPE, int NGP, bool HOURGLASS>
+[[gnu::always_inline]] inline std::array<Vec4, NGP> velocity_gradients(
+    const FemModel& model, const ElementGeometry& geometry, double dt, FemState& state, Index e) {
+  const auto v = gather<NPE>(model.mesh.connectivity.data() + e * NPE, state.velocity);
+  if constexpr (HOURGLASS) {
+    const Vec4& gamma = geometry.hourglass_vector[static_cast<std::size_t>(e)];
+    Vec2 dq = Vec2::Zero();
+    for (int k = 0; k < NPE; ++k) dq += gamma[k] * v[static_cast<std::size_t>(k)];
+    state.hourglass_force[static_cast<std::size_t>(e)] +=
+        geometry.hourglass_stiffness[static_cast<std::size_t>(e)] * (dt * dq);
+  }
+  std::array<Vec4, NGP> l;
+  for (int p = 0; p < NGP; ++p) {
+    const ShapeGradients& b = geometry.gradients[static_cast<std::size_t>(e * NGP + p)];
+    double lxx = 0.0, lxy = 0.0, lyx = 0.0, lyy = 0.0;
+    for (int k = 0; k < NPE; ++k) {
+      const Vec2& vk = v[static_cast<std::size_t>(k)];
+      lxx += vk.x() * b(k, 0);
+      lxy += vk.x() * b(k, 1);
+      lyx += vk.y() * b(k, 0);
+      lyy += vk.y() * b(k, 1);
+    }
+    l[static_cast<std::size_t>(p)] = Vec4(lxx, lxy, lyx, lyy);
+  }
+  return l;
+}
+
 template <int NPE, int NGP, bool HOURGLASS, bool JAUMANN>
 void stress_update_kernel(const FemModel& model, const ElementGeometry& geometry,
                           std::span<const ConstitutiveModel> models, double dt, FemState& state,
                           std::span<multi_yield::KeptComponents> kept) {
   const Index n_elements = model.element_count();
-  const Index* connectivity = model.mesh.connectivity.data();
-  for (Index e = 0; e < n_elements; ++e) {
-    const auto v = gather<NPE>(connectivity + e * NPE, state.velocity);
-    const ConstitutiveModel& material =
-        models[static_cast<std::size_t>(model.mesh.material_id[static_cast<std::size_t>(e)])];
-    if constexpr (HOURGLASS) {
-      // Q ← Q + K_q Δq, Δq = Δt Σ_k γ_k v_k. First: the velocities then need not be kept
-      // across the point update's call (13 instructions an element-step).
-      const Vec4& gamma = geometry.hourglass_vector[static_cast<std::size_t>(e)];
-      Vec2 dq = Vec2::Zero();
-      for (int k = 0; k < NPE; ++k) dq += gamma[k] * v[static_cast<std::size_t>(k)];
-      state.hourglass_force[static_cast<std::size_t>(e)] +=
-          geometry.hourglass_stiffness[static_cast<std::size_t>(e)] * (dt * dq);
-    }
-    for (int p = 0; p < NGP; ++p) {
-      const auto gp = static_cast<std::size_t>(e * NGP + p);
-      const ShapeGradients& b = geometry.gradients[gp];
-      // Velocity gradient L_ij = Σ_k v_ki ∂N_k/∂x_j.
-      double lxx = 0.0, lxy = 0.0, lyx = 0.0, lyy = 0.0;
-      for (int k = 0; k < NPE; ++k) {
-        const Vec2& vk = v[static_cast<std::size_t>(k)];
-        lxx += vk.x() * b(k, 0);
-        lxy += vk.x() * b(k, 1);
-        lyx += vk.y() * b(k, 0);
-        lyy += vk.y() * b(k, 1);
+  const auto material_of = [&](Index e) -> const ConstitutiveModel& {
+    return models[static_cast<std::size_t>(model.mesh.material_id[static_cast<std::size_t>(e)])];
+  };
+  const auto velocity_gradients_of = [&](Index e) {
+    return velocity_gradients<NPE, NGP, HOURGLASS>(model, geometry, dt, state, e);
+  };
+  // The point update MPM's particles share (objective in updated Lagrangian).
+  const auto advance = [&](const ConstitutiveModel& material, const Vec4& l, std::size_t gp) {
+    const bool yielded = advance_point(material, l, dt, JAUMANN, state.stress[gp],
+                                       state.material_state[gp], state.surface_stress.of(gp),
+                                       state.strain[gp], kept.empty() ? nullptr : &kept[gp]);
+    state.yielded[gp] = yielded ? 1 : 0;
+  };
+  Index e = 0;
+  if constexpr (NGP == 1) {
+    // One-point elements two at a time: two of one Mohr–Coulomb model, without records,
+    // side by side (advance_mohr_coulomb_pair, the bits of two advance_point calls).
+    for (; e + 1 < n_elements; e += 2) {
+      const auto g = static_cast<std::size_t>(e), h = g + 1;
+      const Vec4 l_e = velocity_gradients_of(e)[0], l_f = velocity_gradients_of(e + 1)[0];
+      const ConstitutiveModel& material = material_of(e);
+      if (&material != &material_of(e + 1) || material.model() != MaterialModel::mohr_coulomb ||
+          !state.surface_stress.of(g).empty()) {
+        advance(material, l_e, g);
+        advance(material_of(e + 1), l_f, h);
+        continue;
       }
-      // The point update MPM's particles share (objective in updated Lagrangian).
-      const bool yielded =
-          advance_point(material, Vec4(lxx, lxy, lyx, lyy), dt, JAUMANN, state.stress[gp],
-                        state.material_state[gp], state.surface_stress.of(gp), state.strain[gp],
-                        kept.empty() ? nullptr : &kept[gp]);
-      state.yielded[gp] = yielded ? 1 : 0;
+      const auto yielded = advance_mohr_coulomb_pair(
+          material, dt, JAUMANN,
+          {{{l_e, &state.stress[g], &state.material_state[g], &state.strain[g]},
+            {l_f, &state.stress[h], &state.material_state[h], &state.strain[h]}}});
+      state.yielded[g] = yielded[0] ? 1 : 0;
+      state.yielded[h] = yielded[1] ? 1 : 0;
+    }
+  }
+  for (; e < n_elements; ++e) {
+    const auto l = velocity_gradients_of(e);
+    for (int p = 0; p < NGP; ++p) {
+      advance(material_of(e), l[static_cast<std::size_t>(p)],
+              static_cast<std::size_t>(e * NGP + p));
     }
   }
 }

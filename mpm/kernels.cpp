@@ -339,6 +339,29 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
 /// rate). Not inlined into the gather: it then compiles to the arithmetic of the former
 /// separate stress pass (inlined, -march=native contracts some products into FMAs
 /// differently), so results stay bit-identical to that pass's.
+/// What follows the constitutive update of particle p (update_stress): its εq, its pore
+/// water, its volume.
+/// Undrained pore water: ṗ = −(K_f/n) tr ε̇, no suction (cavitation at p = 0).
+inline void update_pore_water(Particles& particles, const ConstitutiveModel& model, double dt,
+                              const Vec4& l, std::size_t p) {
+  if (const double stiffness = model.pore_fluid_stiffness();
+      stiffness > 0.0 && holds_water(particles, p)) {
+    double& pressure = particles.pore_pressure[p];
+    const double change = std::max(-stiffness * dt * (l[0] + l[3]), -pressure);
+    pressure += change;
+    if (!particles.excess_pore_pressure.empty()) particles.excess_pore_pressure[p] += change;
+  }
+}
+
+inline void finish_point_update(Particles& particles, const ConstitutiveModel& model, double dt,
+                                const Vec4& l, std::size_t p) {
+  particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
+  update_pore_water(particles, model, dt, l, p);
+  // det(I + Δt L): the particle's own volume ratio over the step.
+  const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];
+  particles.volume[p] *= jacobian;
+}
+
 [[gnu::noinline]] void update_stress(Particles& particles,
                                      std::span<const ConstitutiveModel> models, double dt,
                                      const Vec4& l, std::size_t p) {
@@ -347,18 +370,45 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
     return advance_point(models[model], l, dt, true, stress, particles.state[p],
                          particles.surface_stress.of(p), particles.strain[p]);
   });
-  particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
-  // Undrained pore water: ṗ = −(K_f/n) tr ε̇, no suction (cavitation at p = 0).
-  if (const double stiffness = models[model].pore_fluid_stiffness();
-      stiffness > 0.0 && holds_water(particles, p)) {
-    double& pressure = particles.pore_pressure[p];
-    const double change = std::max(-stiffness * dt * (l[0] + l[3]), -pressure);
-    pressure += change;
-    if (!particles.excess_pore_pressure.empty()) particles.excess_pore_pressure[p] += change;
+  finish_point_update(particles, models[model], dt, l, p);
+}
+
+/// Whether particles p and p + 1 can take update_stress_pair: one Mohr–Coulomb model,
+/// no per-point records.
+inline bool pairs_with_next(const Particles& particles, std::span<const ConstitutiveModel> models,
+                            std::size_t p) {
+  const std::size_t model = particle_model(particles, p, models.size() / 2);
+  return model == particle_model(particles, p + 1, models.size() / 2) &&
+         models[model].model() == MaterialModel::mohr_coulomb &&
+         particles.surface_stress.of(p).empty();
+}
+
+/// update_stress of particles p and p + 1 (pairs_with_next; velocity gradients l_p and
+/// l_q) at once: advance_mohr_coulomb_pair, the bits of two update_stress calls.
+[[gnu::noinline]] void update_stress_pair(Particles& particles,
+                                          std::span<const ConstitutiveModel> models, double dt,
+                                          const Vec4& l_p, const Vec4& l_q, std::size_t p) {
+  const std::size_t q = p + 1;
+  const ConstitutiveModel& model = models[particle_model(particles, p, models.size() / 2)];
+  advance_mohr_coulomb_pair(
+      model, dt, true,
+      {{{l_p, &particles.stress[p], &particles.state[p], &particles.strain[p]},
+        {l_q, &particles.stress[q], &particles.state[q], &particles.strain[q]}}});
+  // finish_point_update of both: εq and the volume side by side, the pore water one by one.
+  const Vec4& e_p = particles.strain[p];
+  const Vec4& e_q = particles.strain[q];
+  const Pair eps_q = deviatoric_strain(Pair{e_p[0], e_q[0]}, Pair{e_p[1], e_q[1]},
+                                       Pair{e_p[2], e_q[2]}, Pair{e_p[3], e_q[3]});
+  particles.eps_q[p] = eps_q[0];
+  particles.eps_q[q] = eps_q[1];
+  if (model.pore_fluid_stiffness() > 0.0) {
+    update_pore_water(particles, model, dt, l_p, p);
+    update_pore_water(particles, model, dt, l_q, q);
   }
-  // det(I + Δt L): the particle's own volume ratio over the step.
-  const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];
-  particles.volume[p] *= jacobian;
+  const Pair l0{l_p[0], l_q[0]}, l1{l_p[1], l_q[1]}, l2{l_p[2], l_q[2]}, l3{l_p[3], l_q[3]};
+  const Pair jacobian = (1.0 + dt * l0) * (1.0 + dt * l3) - dt * dt * l1 * l2;
+  particles.volume[p] *= jacobian[0];
+  particles.volume[q] *= jacobian[1];
 }
 
 /// The final pass's gather over one block (kernels.hpp, grid_to_particles). Without
@@ -459,20 +509,41 @@ void smooth_block(Particles& particles, const GridGeometry& grid, const GridStat
                   std::size_t begin, std::size_t end) {
   const ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
   const auto rows = static_cast<std::size_t>(grid.node_rows());
-  for (std::size_t p = begin; p < end; ++p) {
+  // Each particle's stress shifted to its cell's mean, σ_ii += p_p − p̄ (p compression
+  // positive: the deviator kept), and its velocity gradient with the cell's volumetric
+  // rate in place of its own.
+  const auto smooth = [&](std::size_t p) {
     const CellAverages& cell = state.cell_averages[weights[p].cell_slot(rows)];
     Vec4& stress = particles.stress[p];
-    // σ_ii += p_p − p̄ (p compression positive): the cell's mean stress, the deviator kept.
     const double pressure_shift = mean_stress(stress) - cell.mean_stress;
     stress[0] += pressure_shift;
     stress[1] += pressure_shift;
     stress[2] += pressure_shift;
     const Vec4& l = blocks.velocity_gradient[p];
     const double rate_shift = 0.5 * (cell.volumetric_rate - (l[0] + l[3]));
-    update_stress(particles, models, dt, Vec4(l[0] + rate_shift, l[1], l[2], l[3] + rate_shift), p);
+    return Vec4(l[0] + rate_shift, l[1], l[2], l[3] + rate_shift);
+  };
+  const auto move = [&](std::size_t p) {
     const Vec2& dx = blocks.step_displacement[p];
     particles.coordinates[p] += dx;
     particles.displacement[p] += dx;
+  };
+  // Two particles at a time: their stress updates side by side (update_stress_pair).
+  std::size_t p = begin;
+  for (; p + 1 < end; p += 2) {
+    const Vec4 l_p = smooth(p), l_q = smooth(p + 1);
+    if (pairs_with_next(particles, models, p)) {
+      update_stress_pair(particles, models, dt, l_p, l_q, p);
+    } else {
+      update_stress(particles, models, dt, l_p, p);
+      update_stress(particles, models, dt, l_q, p + 1);
+    }
+    move(p);
+    move(p + 1);
+  }
+  if (p < end) {
+    update_stress(particles, models, dt, smooth(p), p);
+    move(p);
   }
 }
 

@@ -66,6 +66,10 @@ inline Pair min(Pair a, Pair b) {
 inline Pair max(Pair a, Pair b) {
   return a < b ? b : a;
 }
+/// std::abs per lane (the sign bit cleared).
+inline Pair abs(Pair v) {
+  return Pair{std::abs(v[0]), std::abs(v[1])};
+}
 /// std::clamp's (libstdc++): min(max(v, lo), hi).
 inline Pair clamp(Pair v, Pair lo, Pair hi) {
   return min(max(v, lo), hi);

@@ -23,6 +23,7 @@
 #include <numbers>
 
 #include "common/base/error.hpp"
+#include "common/base/pair.hpp"
 #include "common/physics/liquefaction.hpp"
 #include "common/physics/multi_yield.hpp"
 
@@ -594,6 +595,83 @@ bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient
   }
   const bool yielded = model.update(stress, state, increment, surfaces, kept);
   strain += increment;
+  return yielded;
+}
+
+namespace {
+
+/// advance_mohr_coulomb_pair's predictor, both points lane by lane (advance_point's
+/// operations in its order): the strain increments Δε = (Δt l0, Δt l3, 0, Δt (l1 + l2)),
+/// the Jaumann rotations (rotate_jaumann), the elastic trial stresses
+/// (elastic_stress_increment with Δεzz = 0) and their principal bounds.
+struct PairTrial {
+  Pair e0, e1, e3;                                         ///< Δεxx, Δεyy, Δγxy
+  Pair s0, s1, s2, s3;                                     ///< the trial stresses
+  Pair centre, half_difference, radius, sigma_1, sigma_3;  ///< principal_bounds'
+};
+
+PairTrial predict_pair(double lambda, double shear, double dt, bool objective,
+                       const std::array<PointRefs, 2>& points) {
+  const auto component = [&](auto field, int i) {
+    return Pair{field(points[0])[i], field(points[1])[i]};
+  };
+  const auto gradient = [](const PointRefs& r) -> const Vec4& { return r.velocity_gradient; };
+  const auto stress = [](const PointRefs& r) -> const Vec4& { return *r.stress; };
+  const Pair l0 = component(gradient, 0), l1 = component(gradient, 1), l2 = component(gradient, 2),
+             l3 = component(gradient, 3);
+  const Pair zero{};
+  PairTrial t;
+  t.e0 = dt * l0;
+  t.e1 = dt * l3;
+  t.e3 = dt * (l1 + l2);
+  const Pair spin = 0.5 * dt * (l1 - l2);
+  const Pair sxx = component(stress, 0), syy = component(stress, 1), szz = component(stress, 2),
+             sxy = component(stress, 3);
+  Pair rxx = sxx, ryy = syy, rxy = sxy;
+  if (objective) {
+    rxx = sxx + 2.0 * spin * sxy;
+    ryy = syy - 2.0 * spin * sxy;
+    rxy = sxy + spin * (syy - sxx);
+  }
+  const Pair volumetric = lambda * (t.e0 + t.e1 + zero);
+  const double two_g = 2.0 * shear;
+  t.s0 = rxx + (volumetric + two_g * t.e0);
+  t.s1 = ryy + (volumetric + two_g * t.e1);
+  t.s2 = szz + (volumetric + two_g * zero);
+  t.s3 = rxy + shear * t.e3;
+  t.centre = 0.5 * (t.s0 + t.s1);
+  t.half_difference = 0.5 * (t.s0 - t.s1);
+  t.radius = sqrt_pair(t.half_difference * t.half_difference + t.s3 * t.s3);
+  t.sigma_1 = lanes::max(t.centre + t.radius, t.s2);
+  t.sigma_3 = lanes::min(t.centre - t.radius, t.s2);
+  return t;
+}
+
+}  // namespace
+
+std::array<bool, 2> advance_mohr_coulomb_pair(const ConstitutiveModel& model, double dt,
+                                              bool objective,
+                                              const std::array<PointRefs, 2>& points) {
+  const PairTrial t = predict_pair(model.lambda_, model.shear_, dt, objective, points);
+  // admissible, lane by lane.
+  const double n_phi = model.n_phi_, k = model.two_c_sqrt_n_phi_;
+  const Pair value =
+      lanes::max(n_phi * t.sigma_1 - t.sigma_3 - k, t.sigma_1 - model.tension_cutoff_);
+  const Pair scale = (n_phi + 1.0) * lanes::max(lanes::abs(t.sigma_1), lanes::abs(t.sigma_3)) + k;
+  std::array<bool, 2> yielded{};
+  for (std::size_t i = 0; i < 2; ++i) {
+    const PointRefs& point = points[i];
+    *point.stress = Vec4(t.s0[i], t.s1[i], t.s2[i], t.s3[i]);
+    yielded[i] = !(value[i] <= yield_tolerance * scale[i]);
+    if (yielded[i]) {
+      return_to_surface(
+          {model.lambda_, model.shear_, n_phi, model.n_psi_, k, model.tension_cutoff_,
+           model.returns_},
+          {t.centre[i], t.half_difference[i], t.radius[i], t.sigma_1[i], t.sigma_3[i]},
+          *point.stress, *point.state);
+    }
+    *point.strain += Vec4(t.e0[i], t.e1[i], 0.0, t.e3[i]);
+  }
   return yielded;
 }
 

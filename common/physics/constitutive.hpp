@@ -31,8 +31,10 @@
 #include <cmath>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
+#include "common/base/pair.hpp"
 #include "common/base/types.hpp"
 #include "common/physics/material.hpp"
 #include "common/physics/material_state.hpp"
@@ -73,6 +75,15 @@ struct MohrCoulombReturns {
 };
 
 /// A model with its constants precomputed: a small value type that kernels copy.
+/// One point of advance_mohr_coulomb_pair: its velocity gradient and where its stress,
+/// state and accumulated strain live.
+struct PointRefs {
+  Vec4 velocity_gradient;
+  Vec4* stress;
+  MaterialState* state;
+  Vec4* strain;
+};
+
 class ConstitutiveModel {
  public:
   /// Linear elastic with the material's E and ν (the FE geostatic stage).
@@ -128,6 +139,9 @@ class ConstitutiveModel {
   double yield_function(const Vec4& stress, const MaterialState& state = {}) const;
 
  private:
+  friend std::array<bool, 2> advance_mohr_coulomb_pair(const ConstitutiveModel& model, double dt,
+                                                       bool objective,
+                                                       const std::array<PointRefs, 2>& points);
   /// update() of the multi-yield model, out of line: the Mohr–Coulomb path stays small.
   bool update_multi_yield(Vec4& stress, MaterialState& state, const Vec4& strain_increment,
                           std::span<Vec4> surfaces, multi_yield::KeptComponents* kept) const;
@@ -171,6 +185,18 @@ void rotate_jaumann(Vec4& stress, double spin_increment);
 /// Lagrangian FE, MPM) the Jaumann rotation of the stress and of the multi-yield surfaces
 /// by ω = ½ Δt (∂vx/∂y − ∂vy/∂x); the constitutive update; Δε added to `strain`. The one
 /// point update of both solvers. Returns true when the point yielded.
+/// advance_point (no per-point records) of two points of one Mohr–Coulomb model at
+/// once: the strain increments, the Jaumann rotations (when `objective`), the elastic predictors
+/// and the elastic tests side by side in the two lanes of a register pair
+/// (common/base/pair.hpp), each lane the scalar operations in their order, so the bits
+/// of two calls (where the compiler does not fuse products into FMAs); a point the test
+/// rejects returns to the surface alone. Requires `model.model()` Mohr–Coulomb. Returns
+/// whether each yielded. (The common case of the MPM kernels and of one-point FE elements:
+/// half the predictor's instructions.)
+std::array<bool, 2> advance_mohr_coulomb_pair(const ConstitutiveModel& model, double dt,
+                                              bool objective,
+                                              const std::array<PointRefs, 2>& points);
+
 bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
                    bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
                    Vec4& strain, multi_yield::KeptComponents* kept = nullptr);
@@ -190,15 +216,25 @@ inline double mean_stress(const Vec4& stress) {
 /// Von Mises equivalent stress q = sqrt(3/2 s:s) = sqrt(3 J2), a scalar invariant of the
 /// deviator s (not the deviator itself); q = |σ| in uniaxial stress.
 double von_mises_stress(const Vec4& stress);
-/// Deviatoric strain invariant εq = sqrt(2/3 e:e) of a strain vector with γxy = 2εxy.
+/// Deviatoric strain invariant εq = sqrt(2/3 e:e) of the strain (εxx, εyy, εzz, γxy = 2εxy),
+/// for one point (Real = double) or two side by side (Real = Pair: lane by lane the same
+/// bits, common/base/pair.hpp).
+template <class Real>
+Real deviatoric_strain(Real xx, Real yy, Real zz, Real gamma_xy) {
+  const Real mean = (xx + yy + zz) / 3.0;
+  const Real exx = xx - mean;
+  const Real eyy = yy - mean;
+  const Real ezz = zz - mean;
+  const Real exy = 0.5 * gamma_xy;
+  const Real e_e = exx * exx + eyy * eyy + ezz * ezz + 2.0 * exy * exy;
+  if constexpr (std::is_same_v<Real, double>) {
+    return std::sqrt(2.0 / 3.0 * e_e);
+  } else {
+    return sqrt_pair(2.0 / 3.0 * e_e);
+  }
+}
 inline double deviatoric_strain(const Vec4& strain) {
-  const double mean = (strain[0] + strain[1] + strain[2]) / 3.0;
-  const double exx = strain[0] - mean;
-  const double eyy = strain[1] - mean;
-  const double ezz = strain[2] - mean;
-  const double exy = 0.5 * strain[3];
-  const double e_e = exx * exx + eyy * eyy + ezz * ezz + 2.0 * exy * exy;
-  return std::sqrt(2.0 / 3.0 * e_e);
+  return deviatoric_strain(strain[0], strain[1], strain[2], strain[3]);
 }
 
 }  // namespace slide

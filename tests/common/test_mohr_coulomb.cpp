@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include "common/physics/constitutive.hpp"
+#include "tests/support/same_bits.hpp"
 #include "tools/synthetic/soil.hpp"
 
 namespace slide {
@@ -186,8 +187,8 @@ TEST(MohrCoulomb, BiaxialCompressionFailsAtClosedFormStrength) {
       BiaxialCase{30.0, 10e3, 0.0, 100e3}, BiaxialCase{30.0, 10e3, 10.0, 100e3},
       BiaxialCase{22.2, 1e3, 0.0, 50e3}, BiaxialCase{40.0, 0.0, 20.0, 300e3}};
   for (const BiaxialCase& test : cases) {
-    SCOPED_TRACE(testing::Message() << "phi " << test.phi << " c " << test.cohesion << " psi "
-                                    << test.psi << " sigma_c " << test.confining);
+    SCOPED_TRACE(::testing::Message() << "phi " << test.phi << " c " << test.cohesion << " psi "
+                                      << test.psi << " sigma_c " << test.confining);
     const Material m = soil(test.phi, test.cohesion, test.psi, infinity);
     const Surface surface(m);
     const ConstitutiveModel model = ConstitutiveModel::from(m);
@@ -623,6 +624,66 @@ TEST(MohrCoulomb, GeostaticK0StateReturnsToTheCompressionEdge) {
 
 // ---------------------------------------------------------------------------------------
 // Jaumann rotation and invariants.
+
+/// Equal bits, or where products are fused into FMAs within a few ulps of `scale`.
+void expect_same(double from_pair, double from_scalar, double scale) {
+  testing::expect_same_bits(from_pair, from_scalar, 4e-15 * scale);
+}
+
+// advance_mohr_coulomb_pair, the MPM kernels' two particles and the FE kernels' two
+// one-point elements at once, against two calls of advance_point, objective or not: the same
+// stresses, states, strains and yield flags, for random velocity gradients and random stresses,
+// half of them first brought onto the surface so that elastic steps and returns both occur, in
+// either lane.
+TEST(MohrCoulomb, TwoPointsAtOnceGiveTheBitsOfOneAtATime) {
+  const Material material = soil(30.0, 10e3, 5.0, 5e3);
+  const ConstitutiveModel model = ConstitutiveModel::from(material);
+  std::mt19937_64 random(31);
+  std::uniform_real_distribution<double> value(-150e3, 20e3);
+  std::uniform_real_distribution<double> angle(0.0, std::numbers::pi);
+  std::uniform_real_distribution<double> rate(-0.02, 0.02);
+  const double dt = 0.01;
+  int yielded_points = 0, elastic_points = 0;
+  for (int n = 0; n < 5000; ++n) {
+    const bool objective = n % 3 != 0;  // MPM and updated-Lagrangian FE; small-strain FE
+    std::array<Vec4, 2> stress, strain, gradient;
+    std::array<MaterialState, 2> state;
+    for (std::size_t i = 0; i < 2; ++i) {
+      stress[i] = stress_from_principal(value(random), value(random), value(random), angle(random));
+      // The same admissible start for about half the points: elastic steps too.
+      if (n % 2 == 0) model.start(stress[i], state[i]);
+      gradient[i] = Vec4(rate(random), rate(random), rate(random), rate(random));
+      strain[i] = Vec4(rate(random), rate(random), 0.0, rate(random));
+      state[i].plastic_shear_strain = 0.01 * static_cast<double>(i + 1);
+    }
+    auto scalar_stress = stress, scalar_strain = strain;
+    auto scalar_state = state;
+    std::array<bool, 2> scalar_yielded{};
+    for (std::size_t i = 0; i < 2; ++i) {
+      scalar_yielded[i] = advance_point(model, gradient[i], dt, objective, scalar_stress[i],
+                                        scalar_state[i], {}, scalar_strain[i]);
+    }
+    const std::array<bool, 2> yielded =
+        advance_mohr_coulomb_pair(model, dt, objective,
+                                  {{{gradient[0], &stress[0], &state[0], &strain[0]},
+                                    {gradient[1], &stress[1], &state[1], &strain[1]}}});
+    for (std::size_t i = 0; i < 2; ++i) {
+      SCOPED_TRACE(::testing::Message() << "pair " << n << ", point " << i);
+      ASSERT_EQ(yielded[i], scalar_yielded[i]);
+      (yielded[i] ? yielded_points : elastic_points) += 1;
+      const double scale = scalar_stress[i].cwiseAbs().maxCoeff() + material.cohesion;
+      for (int c = 0; c < 4; ++c) {
+        expect_same(stress[i][c], scalar_stress[i][c], scale);
+        expect_same(strain[i][c], scalar_strain[i][c], 1.0);
+      }
+      expect_same(state[i].plastic_shear_strain, scalar_state[i].plastic_shear_strain, 1.0);
+      expect_same(state[i].plastic_volumetric_strain, scalar_state[i].plastic_volumetric_strain,
+                  1.0);
+    }
+  }
+  EXPECT_GT(yielded_points, 2000);
+  EXPECT_GT(elastic_points, 1000);
+}
 
 TEST(Constitutive, JaumannRotationOfHydrostaticStressIsZero) {
   Vec4 stress{-3e5, -3e5, -3e5, 0.0};

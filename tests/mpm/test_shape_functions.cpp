@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "mpm/shape_functions.hpp"
+#include "tests/support/same_bits.hpp"
 
 namespace slide::mpm {
 namespace {
@@ -140,12 +141,7 @@ TEST(ShapeFunctions, TheCellOfTheWeightsIsTheFloorOfThePosition) {
 // a fused one rounds once instead of twice. There they agree within 2 ulp of 1 (every
 // value and moment is at most 1, e_k at most 1/D ≤ 2/a).
 void expect_same(double from_pair, double from_scalar, double scale) {
-#ifdef __FMA__
-  EXPECT_NEAR(from_pair, from_scalar, 4.5e-16 * scale);
-#else
-  (void)scale;
-  EXPECT_EQ(from_pair, from_scalar);
-#endif
+  slide::testing::expect_same_bits(from_pair, from_scalar, 4.5e-16 * scale);
 }
 
 TEST(ShapeFunctions, BothAxesAtOnceGiveTheBitsOfOneAxisAtATime) {
@@ -168,7 +164,7 @@ TEST(ShapeFunctions, BothAxesAtOnceGiveTheBitsOfOneAxisAtATime) {
             std::tuple{y, my, GimpShape::weights(eta, ay), GimpShape::affine(y, eta)}}) {
         ASSERT_EQ(pair.base, scalar.base);
         ASSERT_EQ(pair.cell, scalar.cell);
-        SCOPED_TRACE(testing::Message() << "ξ = " << xi << ", a = " << a);
+        SCOPED_TRACE(::testing::Message() << "ξ = " << xi << ", a = " << a);
         expect_same(moments.inertia, scalar_moments.inertia, 1.0);
         for (int k = 0; k < 3; ++k) {
           expect_same(pair.value[k], scalar.value[k], 1.0);

@@ -89,7 +89,7 @@ phases = [("locate (particle check, block bands)", r"^slide::mpm::locate_particl
           ("MUSL velocity pass and re-projection", r"^slide::mpm::remap_momenta\("),
           ("MUSL re-projected velocities", r"^slide::mpm::finish_remapped_velocities\("),
           ("final pass G2P (gather, move, smoothing)", r"^slide::mpm::grid_to_particles\("),
-          ("  of which the point update (constitutive)", r"update_stress\(")]
+          ("  of which the point update (constitutive)", r"update_stress(_pair)?\(")]
 def phase(functions, pattern):
     return sum(v for k, v in functions.items() if re.search(pattern, k))
 print(f"instructions per particle-step: {(t60 - t20) / per:.0f} "
