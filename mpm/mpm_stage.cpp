@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 #include "mpm/particle_generation.hpp"
 
 namespace slide::mpm {
@@ -215,7 +217,8 @@ MpmStage::MpmStage(const MpmPlan& plan, MpmSolver& solver, Start& start, const L
       solver_(solver),
       start_(start),
       log_(log),
-      exits_(log, plan.settings.particle_exit) {}
+      exits_(log, plan.settings.particle_exit),
+      threads_(omp_get_max_threads(), omp_get_num_procs()) {}
 
 void MpmStage::open_outputs(bool resume) {
   history_.emplace(plan_.run.output.folder / "mpm_history.csv", plan_.source.metrics);
@@ -270,7 +273,9 @@ bool MpmStage::advance_to(double stop) {
     const double step = time_step(spec, solver_);
     const bool landing = time + step >= stop;
     particle_steps_ += static_cast<double>(solver_.active_count());
+    if (threads_.threads() != omp_get_max_threads()) omp_set_num_threads(threads_.threads());
     const StepReport report = solver_.step(landing ? stop - time : step);
+    threads_.record_step();
     if (landing) solver_.land_on(stop);  // exactly, so restarts line up
     ++steps_;
     if (recorders_) recorders_->record(solver_);
@@ -310,6 +315,14 @@ void MpmStage::write_output(const run::OutputStep& step) {
 
 void MpmStage::finish() {
   if (progress_) progress_->finish();
+  if (threads_.steps_fewer() > 0) {
+    const auto steps = static_cast<double>(threads_.steps_requested() + threads_.steps_fewer());
+    log_.info(
+        "threads: {} for {:.0f} % of the steps, fewer for {:.0f} % while other processes "
+        "held the cores (the results do not depend on it)",
+        threads_.requested(), 100.0 * static_cast<double>(threads_.steps_requested()) / steps,
+        100.0 * static_cast<double>(threads_.steps_fewer()) / steps);
+  }
   exits_.finish(time());
   if (recorders_) recorders_->write(solver_.ranks());
   write_mpm_checkpoint(plan_.run.output.folder / "mpm_final.h5", solver_, start_.references,

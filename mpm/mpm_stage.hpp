@@ -15,6 +15,7 @@
 #include "common/base/log.hpp"
 #include "common/base/ranks.hpp"
 #include "common/run/stage.hpp"
+#include "common/run/thread_tuner.hpp"
 #include "mpm/mpm_output.hpp"
 #include "mpm/mpm_plan.hpp"
 #include "mpm/mpm_solver.hpp"
@@ -141,6 +142,7 @@ class MpmStage final : public run::Stage {
   ExitLog exits_;
   std::int64_t steps_ = 0;
   double particle_steps_ = 0.0;
+  run::ThreadTuner threads_;  ///< the OpenMP threads of each step
 };
 
 }  // namespace slide::mpm
