@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include <omp.h>
 
@@ -218,7 +219,10 @@ MpmStage::MpmStage(const MpmPlan& plan, MpmSolver& solver, Start& start, const L
       start_(start),
       log_(log),
       exits_(log, plan.settings.particle_exit),
-      threads_(omp_get_max_threads(), omp_get_num_procs()) {}
+      // The machine's processors, not this process's share of them: procs_running counts
+      // the whole machine's tasks (a container's too), so a process held to a few of many
+      // processors would otherwise count every other task against them.
+      threads_(omp_get_max_threads(), static_cast<int>(std::thread::hardware_concurrency())) {}
 
 void MpmStage::open_outputs(bool resume) {
   history_.emplace(plan_.run.output.folder / "mpm_history.csv", plan_.source.metrics);

@@ -23,7 +23,8 @@ class ThreadTuner {
   /// Tasks running on the machine now, this process's included (procs_running), or
   /// nothing when not known.
   using RunningTasks = std::function<std::optional<int>()>;
-  /// `requested` threads (≥ 1; 1: no tuning) on `cores` cores.
+  /// `requested` threads (≥ 1; 1: no tuning) on a machine of `cores` processors (all of
+  /// them, as procs_running counts all their tasks).
   ThreadTuner(int requested, int cores, RunningTasks running = procs_running, int period = 10,
               int samples = 8);
 
