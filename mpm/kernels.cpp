@@ -331,16 +331,6 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   }
 }
 
-/// One particle's stress update from its velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x,
-/// ∂vy/∂y]: the point update FE Gauss points share (advance_point: strain increment,
-/// Jaumann rotation, the constitutive update of the particle's material), the εq of the
-/// accumulated strain, and the volume from the deformation-gradient increment,
-/// V_{n+1} = det(I + Δt l) V_n (with volumetric smoothing, l carries the cell's volumetric
-/// rate). Not inlined into the gather: it then compiles to the arithmetic of the former
-/// separate stress pass (inlined, -march=native contracts some products into FMAs
-/// differently), so results stay bit-identical to that pass's.
-/// What follows the constitutive update of particle p (update_stress): its εq, its pore
-/// water, its volume.
 /// Undrained pore water: ṗ = −(K_f/n) tr ε̇, no suction (cavitation at p = 0).
 inline void update_pore_water(Particles& particles, const ConstitutiveModel& model, double dt,
                               const Vec4& l, std::size_t p) {
@@ -353,15 +343,30 @@ inline void update_pore_water(Particles& particles, const ConstitutiveModel& mod
   }
 }
 
+/// det(I + Δt L) for L = [l0, l1; l2, l3]: a particle's own volume ratio over the step,
+/// for one particle (Real = double) or two side by side (Real = Pair, the same bits).
+template <class Real>
+Real volume_ratio(double dt, Real l0, Real l1, Real l2, Real l3) {
+  return (1.0 + dt * l0) * (1.0 + dt * l3) - dt * dt * l1 * l2;
+}
+
+/// What follows the constitutive update of particle p (update_stress): its εq, its pore
+/// water, its volume.
 inline void finish_point_update(Particles& particles, const ConstitutiveModel& model, double dt,
                                 const Vec4& l, std::size_t p) {
   particles.eps_q[p] = deviatoric_strain(particles.strain[p]);
   update_pore_water(particles, model, dt, l, p);
-  // det(I + Δt L): the particle's own volume ratio over the step.
-  const double jacobian = (1.0 + dt * l[0]) * (1.0 + dt * l[3]) - dt * dt * l[1] * l[2];
-  particles.volume[p] *= jacobian;
+  particles.volume[p] *= volume_ratio(dt, l[0], l[1], l[2], l[3]);
 }
 
+/// One particle's stress update from its velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x,
+/// ∂vy/∂y]: the point update FE Gauss points share (advance_point: strain increment,
+/// Jaumann rotation, the constitutive update of the particle's material), the εq of the
+/// accumulated strain, and the volume from the deformation-gradient increment,
+/// V_{n+1} = det(I + Δt l) V_n (with volumetric smoothing, l carries the cell's volumetric
+/// rate). Not inlined into the gather: it then compiles to the arithmetic of the former
+/// separate stress pass (inlined, -march=native contracts some products into FMAs
+/// differently), so results stay bit-identical to that pass's.
 [[gnu::noinline]] void update_stress(Particles& particles,
                                      std::span<const ConstitutiveModel> models, double dt,
                                      const Vec4& l, std::size_t p) {
@@ -406,7 +411,7 @@ inline bool pairs_with_next(const Particles& particles, std::span<const Constitu
     update_pore_water(particles, model, dt, l_q, q);
   }
   const Pair l0{l_p[0], l_q[0]}, l1{l_p[1], l_q[1]}, l2{l_p[2], l_q[2]}, l3{l_p[3], l_q[3]};
-  const Pair jacobian = (1.0 + dt * l0) * (1.0 + dt * l3) - dt * dt * l1 * l2;
+  const Pair jacobian = volume_ratio(dt, l0, l1, l2, l3);
   particles.volume[p] *= jacobian[0];
   particles.volume[q] *= jacobian[1];
 }

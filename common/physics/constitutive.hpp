@@ -74,7 +74,6 @@ struct MohrCoulombReturns {
   double main_flow_shear = 0.0;  // Δεᵖ = Δλ b has Δλ times these as its invariants
 };
 
-/// A model with its constants precomputed: a small value type that kernels copy.
 /// One point of advance_mohr_coulomb_pair: its velocity gradient and where its stress,
 /// state and accumulated strain live.
 struct PointRefs {
@@ -84,6 +83,7 @@ struct PointRefs {
   Vec4* strain;
 };
 
+/// A model with its constants precomputed: a small value type that kernels copy.
 class ConstitutiveModel {
  public:
   /// Linear elastic with the material's E and ν (the FE geostatic stage).
@@ -179,12 +179,6 @@ double elastic_energy_density(const Material& material, const Vec4& stress);
 /// in MPM: Δσxx = 2ωσxy, Δσyy = −2ωσxy, Δσxy = ω(σyy − σxx).
 void rotate_jaumann(Vec4& stress, double spin_increment);
 
-/// Advances one point, an FE Gauss point or a material point, over a step Δt from its
-/// velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y] (plane strain): the strain
-/// increment Δε = Δt sym(l) as [Δεxx, Δεyy, 0, Δγxy]; when `objective` (updated
-/// Lagrangian FE, MPM) the Jaumann rotation of the stress and of the multi-yield surfaces
-/// by ω = ½ Δt (∂vx/∂y − ∂vy/∂x); the constitutive update; Δε added to `strain`. The one
-/// point update of both solvers. Returns true when the point yielded.
 /// advance_point (no per-point records) of two points of one Mohr–Coulomb model at
 /// once: the strain increments, the Jaumann rotations (when `objective`), the elastic predictors
 /// and the elastic tests side by side in the two lanes of a register pair
@@ -197,6 +191,12 @@ std::array<bool, 2> advance_mohr_coulomb_pair(const ConstitutiveModel& model, do
                                               bool objective,
                                               const std::array<PointRefs, 2>& points);
 
+/// Advances one point, an FE Gauss point or a material point, over a step Δt from its
+/// velocity gradient l = [∂vx/∂x, ∂vx/∂y, ∂vy/∂x, ∂vy/∂y] (plane strain): the strain
+/// increment Δε = Δt sym(l) as [Δεxx, Δεyy, 0, Δγxy]; when `objective` (updated
+/// Lagrangian FE, MPM) the Jaumann rotation of the stress and of the multi-yield surfaces
+/// by ω = ½ Δt (∂vx/∂y − ∂vy/∂x); the constitutive update; Δε added to `strain`. The one
+/// point update of both solvers. Returns true when the point yielded.
 bool advance_point(const ConstitutiveModel& model, const Vec4& velocity_gradient, double dt,
                    bool objective, Vec4& stress, MaterialState& state, std::span<Vec4> surfaces,
                    Vec4& strain, multi_yield::KeptComponents* kept = nullptr);
