@@ -193,7 +193,10 @@ MohrCoulombReturns return_constants(double lambda, double shear, double n_phi, d
   const Planes planes = yield_planes(n_phi, n_psi, 0.0, 0.0);
   const Vec3 main_flow = stiffness_times(lambda, shear, planes[mc].flow);
   MohrCoulombReturns r;
-  r.main_plane << main_flow, 1.0 / planes[mc].normal.dot(main_flow);
+  // head<3>() rather than a comma initializer: with AVX, GCC 12 warns (-Warray-bounds)
+  // on the initializer's dynamic-size copy path, which a 3-vector never takes.
+  r.main_plane.head<3>() = main_flow;
+  r.main_plane[3] = 1.0 / planes[mc].normal.dot(main_flow);
   r.main_normal = planes[mc].normal;
   r.main_flow = planes[mc].flow;
   r.main_flow_trace = r.main_flow.sum();
