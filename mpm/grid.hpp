@@ -19,6 +19,7 @@
 #include <limits>
 #include <vector>
 
+#include "common/base/pair.hpp"
 #include "common/base/types.hpp"
 #include "common/geometry/mesh.hpp"
 #include "common/physics/nodal_update.hpp"
@@ -90,10 +91,12 @@ struct GridGeometry {
   /// (ghost ring included), and a particle pressed slightly through a wall or the base
   /// stays in play: the ghost nodes beyond a wall carry the wall's constraint, so it
   /// cannot go further than about its own half-size.
+  /// Both axes at once (pair.hpp): lane by lane the division and comparisons of
+  /// ξ = (x − x0)/h, η likewise.
   bool contains(const Vec2& x) const {
-    const double xi = (x.x() - origin.x()) / cell_size;
-    const double eta = (x.y() - origin.y()) / cell_size;
-    return xi >= -0.5 && xi < cells_x + 0.5 && eta >= -0.5 && eta < cells_y + 0.5;
+    const Pair xi = (load_pair(x.data()) - load_pair(origin.data())) / cell_size;
+    const Pair cells{static_cast<double>(cells_x), static_cast<double>(cells_y)};
+    return lanes::all(xi >= -0.5) && lanes::all(xi < cells + 0.5);
   }
   /// x-major cell index of a point on the grid (the half-cell margins count as the
   /// boundary cells).

@@ -18,6 +18,7 @@
 #endif
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -25,6 +26,8 @@
 namespace slide {
 
 using Pair = double __attribute__((vector_size(16)));
+/// What a comparison of pairs gives: per lane all bits set where it holds, 0 where not.
+using Mask = std::int64_t __attribute__((vector_size(16)));
 
 inline Pair load_pair(const double* from) {
   Pair v;
@@ -69,6 +72,18 @@ inline Pair max(Pair a, Pair b) {
 /// std::abs per lane (the sign bit cleared).
 inline Pair abs(Pair v) {
   return Pair{std::abs(v[0]), std::abs(v[1])};
+}
+/// Whether a lane-by-lane comparison (a mask: all bits set where it holds) holds in both.
+inline bool all(Mask m) {
+#ifdef __SSE2__
+  return _mm_movemask_pd(std::bit_cast<Pair>(m)) == 3;  // the lanes' sign bits
+#else
+  return m[0] != 0 && m[1] != 0;
+#endif
+}
+/// std::isfinite of both lanes: x − x is 0 for a finite x, NaN for ±∞ and NaN.
+inline bool all_finite(Pair v) {
+  return all(v - v == 0.0);
 }
 /// std::clamp's (libstdc++): min(max(v, lo), hi).
 inline Pair clamp(Pair v, Pair lo, Pair hi) {
