@@ -30,14 +30,18 @@ static_assert(offsetof(NodeMotion, velocity_y) ==
 static_assert(offsetof(NodeMotion, acceleration_y) ==
               offsetof(NodeMotion, acceleration_x) + sizeof(double));
 
-/// The 2D weights of one particle: tensor products of the 1-D ones.
+/// The 2D weights of one particle: tensor products of the 1-D ones, S_a S_b with S_a the
+/// x axis's weight of stencil column a and S_b the y axis's of row b.
 template <class Shape>
 struct ParticleWeights {
-  Weights1d<Shape::support> x, y;
-  std::size_t first_node;  ///< storage index of the stencil's first node (x.base, y.base)
+  Weights2d<Shape::support> axes;  ///< both axes' weights, lane 0 x, lane 1 y
+  std::size_t first_node;          ///< storage index of the stencil's first node (the axes' bases)
   double inv_h;
-  double xi, eta;  ///< the position in cell units
-  double ax, ay;   ///< uGIMP half-lengths in cell units
+
+  double value_x(int a) const { return axes.value[a][0]; }            ///< S_a
+  double value_y(int b) const { return axes.value[b][1]; }            ///< S_b
+  double derivative_x(int a) const { return axes.derivative[a][0]; }  ///< S'_a
+  double derivative_y(int b) const { return axes.derivative[b][1]; }  ///< S'_b
 
   /// `inv_cell_size` is 1/h, divided once by the caller (a loop's stores to the weights
   /// might alias grid.cell_size, so the compiler would divide for every particle).
@@ -52,12 +56,8 @@ struct ParticleWeights {
     const Pair half_size =
         clipped_half_size(cell_units, Pair{double(grid.cells_x), double(grid.cells_y)},
                           lanes::min(0.5 * Pair{size.x(), size.y()} * inv_h, Pair{} + 0.5));
-    xi = cell_units[0];
-    eta = cell_units[1];
-    ax = half_size[0];
-    ay = half_size[1];
-    Shape::weights(cell_units, half_size, x, y);
-    first_node = grid.node_index(x.base, y.base);
+    Shape::weights(cell_units, half_size, axes);
+    first_node = grid.node_index(axes.base[0], axes.base[1]);
   }
   /// Storage index of the first node of stencil column a (node columns hold `rows`).
   std::size_t column_start(std::size_t rows, int a) const {
@@ -69,7 +69,7 @@ struct ParticleWeights {
   /// particle in the grid's half-cell margin has a cell of its own there. The particle
   /// has not moved since P2G computed the weights.
   std::size_t cell_slot(std::size_t rows) const {
-    return column_start(rows, x.cell) + static_cast<std::size_t>(y.cell);
+    return column_start(rows, axes.cell[0]) + static_cast<std::size_t>(axes.cell[1]);
   }
 };
 
@@ -86,15 +86,45 @@ ParticleWeights<Shape>* step_weights(ParticleBlocks& blocks) {
       step_weights<Shape>(static_cast<const ParticleBlocks&>(blocks)));
 }
 
-/// APIC's moments of one particle's weights (shape_functions.hpp): D_p = h² diag(x.inertia,
-/// y.inertia) and N_ip D_p⁻¹ (x_i − x_p) = (x.value[a] S_b, S_a y.value[b])/h.
+/// The part of a particle's stencil its domain reaches (Weights2d): `columns` stencil
+/// columns by `rows` rows from the first reached node. The counts are constants, so loops
+/// over them unroll like loops over the whole stencil.
+template <int Columns, int Rows>
+struct Stencil {
+  static constexpr int columns = Columns, rows = Rows;
+};
+
+/// Calls body(Stencil<…>{}) for the particle's reached stencil: 2 or 3 columns by 2 or 3
+/// rows for uGIMP, 2 × 2 for linear hats.
+template <class Shape, class Body>
+[[gnu::always_inline]] inline void on_stencil(const ParticleWeights<Shape>& w, Body&& body) {
+  if constexpr (Shape::support == 2) {
+    body(Stencil<2, 2>{});
+  } else if (w.axes.count[0] == 3) {
+    if (w.axes.count[1] == 3) {
+      body(Stencil<3, 3>{});
+    } else {
+      body(Stencil<3, 2>{});
+    }
+  } else if (w.axes.count[1] == 3) {
+    body(Stencil<2, 3>{});
+  } else {
+    body(Stencil<2, 2>{});
+  }
+}
+
+/// APIC's moments of one particle's weights (shape_functions.hpp), lane 0 x and lane 1 y:
+/// D_p = h² diag(inertia) and N_ip D_p⁻¹ (x_i − x_p) = (e_a S_b, S_a e_b)/h with
+/// e_a = value_x(a), e_b = value_y(b); the first moments μ_a = moment_x(a), μ_b = moment_y(b).
 template <class Shape>
 struct ParticleAffine {
-  AffineWeights1d<Shape::support> x, y;
+  AffineWeights2d<Shape::support> axes;
 
-  explicit ParticleAffine(const ParticleWeights<Shape>& w) {
-    Shape::affine(w.x, w.y, Pair{w.xi, w.eta}, x, y);
-  }
+  explicit ParticleAffine(const ParticleWeights<Shape>& w) { Shape::affine(w.axes, axes); }
+  double value_x(int a) const { return axes.value[a][0]; }
+  double value_y(int b) const { return axes.value[b][1]; }
+  double moment_x(int a) const { return axes.moment[a][0]; }
+  double moment_y(int b) const { return axes.moment[b][1]; }
 };
 
 /// What a FLIP/PIC kernel computes in place of ParticleAffine: nothing.
@@ -113,9 +143,9 @@ auto affine_moments(const ParticleWeights<Shape>& w) {
 /// The diagonal of D_p, m², of a particle at `position`.
 template <class Shape>
 Vec2 inertia_at(const GridGeometry& grid, const Vec2& position, const Vec2& size) {
-  const ParticleWeights<Shape> w(grid, 1.0 / grid.cell_size, position, size);
+  const ParticleAffine<Shape> e(ParticleWeights<Shape>(grid, 1.0 / grid.cell_size, position, size));
   const double h2 = grid.cell_size * grid.cell_size;
-  return Vec2(Shape::inertia(w.xi, w.ax) * h2, Shape::inertia(w.eta, w.ay) * h2);
+  return Vec2(e.axes.inertia[0] * h2, e.axes.inertia[1] * h2);
 }
 
 /// APIC's gather at one particle of the end-of-step nodal velocities v^L: the value
@@ -132,23 +162,23 @@ struct AffineGather {
   Vec4 affine_velocity(double inv_h) const { return Vec4(c_x[0], c_y[0], c_x[1], c_y[1]) * inv_h; }
 };
 
-template <class Shape>
+template <class Shape, class S>
 [[gnu::always_inline]] inline AffineGather gather_affine(const GridState& state, std::size_t rows,
                                                          const ParticleWeights<Shape>& w,
-                                                         const ParticleAffine<Shape>& e) {
-  constexpr int n = Shape::support;
+                                                         const ParticleAffine<Shape>& e,
+                                                         const S& s) {
   AffineGather g;
-  for (int a = 0; a < n; ++a) {
+  for (int a = 0; a < s.columns; ++a) {
     const NodeMotion* column = state.motion.data() + w.column_start(rows, a);
     Pair u{}, t{};
-    for (int b = 0; b < n; ++b) {
+    for (int b = 0; b < s.rows; ++b) {
       const Pair v = load_pair(&column[b].velocity_x);
-      u += w.y.value[b] * v;
-      t += e.y.value[b] * v;
+      u += w.value_y(b) * v;
+      t += e.value_y(b) * v;
     }
-    g.value += w.x.value[a] * u;
-    g.c_x += e.x.value[a] * u;
-    g.c_y += w.x.value[a] * t;
+    g.value += w.value_x(a) * u;
+    g.c_x += e.value_x(a) * u;
+    g.c_y += w.value_x(a) * t;
   }
   return g;
 }
@@ -200,7 +230,6 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
   ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
-  constexpr int n = Shape::support;
   constexpr bool apic = Transfer == VelocityTransfer::apic;
   const double inv_h = 1.0 / grid.cell_size;
   for (std::size_t p = begin; p < end; ++p) {
@@ -208,7 +237,7 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
         grid, inv_h, particles.coordinates[p], particles.size[p]);
     const double m = particles.mass[p];
     const Vec2& v = particles.velocity[p];
-    const Vec4& s = particles.stress[p];
+    const Vec4& sigma = particles.stress[p];
     const double volume = particles.volume[p];
     const Pair mv{m * v.x(), m * v.y()};
     // The water's pressure below the reservoir level and its buoyancy γ_w V (kernels.hpp).
@@ -220,9 +249,9 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
     // σ_y = (σxy, σyy).
     const double vh = volume * w.inv_h;
     const double pressure = particles.pore_pressure[p] - p_water;
-    const double sxy = vh * s[3];
-    const Pair stress_x{vh * (s[0] - pressure), sxy};
-    const Pair stress_y{sxy, vh * (s[1] - pressure)};
+    const double sxy = vh * sigma[3];
+    const Pair stress_x{vh * (sigma[0] - pressure), sxy};
+    const Pair stress_y{sxy, vh * (sigma[1] - pressure)};
     // APIC: the momentum of the particle's affine velocity field v_p + C_p (x − x_p):
     // N_ip m (v_p + C_p (x_i − x_p)) with N_ip (x_i − x_p) = h (μ_a S_b, S_a μ_b), μ the
     // weights' first moments in cell units (ParticleAffine::moment). Per stencil column
@@ -238,29 +267,31 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
     // The sums separate like the weights, S_a S_b: per stencil column a the pairs its
     // nodes b take in proportion to S_b or S'_b, then per node two products. Force:
     // N m g − σ_x ∂N/∂x − σ_y ∂N/∂y = S_b (S_a m g − S'_a σ_x) − S'_b (S_a σ_y).
-    for (int a = 0; a < n; ++a) {
-      NodeSums* column = window.data() + (w.column_start(rows, a) - offset);
-      const double sa = w.x.value[a];
-      const double mass_a = sa * m;
-      const Pair force_along = sa * mg - w.x.derivative[a] * stress_x;  // × S_b
-      const Pair force_across = sa * stress_y;                          // × S'_b
-      Pair along = sa * mv, across{};
-      if constexpr (apic) {
-        along += c_x * affine.x.moment[a];
-        across = sa * c_y;
-      }
-      for (int b = 0; b < n; ++b) {
-        const double sb = w.y.value[b];
-        NodeSums& node = column[b];
-        node.mass += sb * mass_a;
+    on_stencil(w, [&](const auto& s) {
+      for (int a = 0; a < s.columns; ++a) {
+        NodeSums* column = window.data() + (w.column_start(rows, a) - offset);
+        const double sa = w.value_x(a);
+        const double mass_a = sa * m;
+        const Pair force_along = sa * mg - w.derivative_x(a) * stress_x;  // × S_b
+        const Pair force_across = sa * stress_y;                          // × S'_b
+        Pair along = sa * mv, across{};
         if constexpr (apic) {
-          add_pair(&node.momentum_x, sb * along + affine.y.moment[b] * across);
-        } else {
-          add_pair(&node.momentum_x, sb * along);
+          along += c_x * affine.moment_x(a);
+          across = sa * c_y;
         }
-        add_pair(&node.force_x, sb * force_along - w.y.derivative[b] * force_across);
+        for (int b = 0; b < s.rows; ++b) {
+          const double sb = w.value_y(b);
+          NodeSums& node = column[b];
+          node.mass += sb * mass_a;
+          if constexpr (apic) {
+            add_pair(&node.momentum_x, sb * along + affine.moment_y(b) * across);
+          } else {
+            add_pair(&node.momentum_x, sb * along);
+          }
+          add_pair(&node.force_x, sb * force_along - w.derivative_y(b) * force_across);
+        }
       }
-    }
+    });
   }
 }
 
@@ -287,7 +318,6 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
   const ParticleWeights<Shape>* const weights = step_weights<Shape>(blocks);
   const auto rows = static_cast<std::size_t>(grid.node_rows());
   const std::size_t offset = static_cast<std::size_t>(column_begin) * rows;
-  constexpr int n = Shape::support;
   const double dt_velocity = step.dt_velocity;
   const double flip = 1.0 - pic_fraction;
   for (std::size_t p = begin; p < end; ++p) {
@@ -297,41 +327,45 @@ void velocity_and_remap_block(Particles& particles, const GridGeometry& grid,
       // The particle takes the nodal field's value and first moment C_p, which it keeps
       // and which goes into the re-projection below.
       const ParticleAffine<Shape> e(w);
-      const AffineGather g = gather_affine(state, rows, w, e);
-      v = g.velocity();
-      particles.affine_velocity[p] = g.affine_velocity(w.inv_h);
-      // The momenta of the affine field, N_ip m (v_p + C_p (x_i − x_p)), with N_ip (x_i −
-      // x_p) = h (moment_a S_b, S_a moment_b) and C_p = c/h (the h cancel): per column,
-      // S_b (S_a m v + m c_·x moment_a) + moment_b (S_a m c_·y).
       const double m = particles.mass[p];
-      for (int a = 0; a < n; ++a) {
-        Vec2* column = window.data() + (w.column_start(rows, a) - offset);
-        const double sa = w.x.value[a];
-        const Pair along = m * (sa * g.value + g.c_x * e.x.moment[a]);
-        const Pair across = m * sa * g.c_y;
-        for (int b = 0; b < n; ++b) {
-          add_pair(column[b].data(), w.y.value[b] * along + e.y.moment[b] * across);
+      on_stencil(w, [&](const auto& s) {
+        const AffineGather g = gather_affine(state, rows, w, e, s);
+        v = g.velocity();
+        particles.affine_velocity[p] = g.affine_velocity(w.inv_h);
+        // The momenta of the affine field, N_ip m (v_p + C_p (x_i − x_p)), with N_ip (x_i −
+        // x_p) = h (moment_a S_b, S_a moment_b) and C_p = c/h (the h cancel): per column,
+        // S_b (S_a m v + m c_·x moment_a) + moment_b (S_a m c_·y).
+        for (int a = 0; a < s.columns; ++a) {
+          Vec2* column = window.data() + (w.column_start(rows, a) - offset);
+          const double sa = w.value_x(a);
+          const Pair along = m * (sa * g.value + g.c_x * e.moment_x(a));
+          const Pair across = m * sa * g.c_y;
+          for (int b = 0; b < s.rows; ++b) {
+            add_pair(column[b].data(), w.value_y(b) * along + e.moment_y(b) * across);
+          }
         }
-      }
+      });
     } else {
-      Pair acceleration{}, velocity{};
-      for (int a = 0; a < n; ++a) {
-        const NodeMotion* column = state.motion.data() + w.column_start(rows, a);
-        for (int b = 0; b < n; ++b) {
-          const double weight = w.x.value[a] * w.y.value[b];
-          acceleration += weight * load_pair(&column[b].acceleration_x);
-          velocity += weight * load_pair(&column[b].velocity_x);
+      on_stencil(w, [&](const auto& s) {
+        Pair acceleration{}, velocity{};
+        for (int a = 0; a < s.columns; ++a) {
+          const NodeMotion* column = state.motion.data() + w.column_start(rows, a);
+          for (int b = 0; b < s.rows; ++b) {
+            const double weight = w.value_x(a) * w.value_y(b);
+            acceleration += weight * load_pair(&column[b].acceleration_x);
+            velocity += weight * load_pair(&column[b].velocity_x);
+          }
         }
-      }
-      v.x() = flip * (v.x() + dt_velocity * acceleration[0]) + pic_fraction * velocity[0];
-      v.y() = flip * (v.y() + dt_velocity * acceleration[1]) + pic_fraction * velocity[1];
-      const Pair mv{particles.mass[p] * v.x(), particles.mass[p] * v.y()};
-      for (int a = 0; a < n; ++a) {
-        Vec2* column = window.data() + (w.column_start(rows, a) - offset);
-        for (int b = 0; b < n; ++b) {
-          add_pair(column[b].data(), w.x.value[a] * w.y.value[b] * mv);
+        v.x() = flip * (v.x() + dt_velocity * acceleration[0]) + pic_fraction * velocity[0];
+        v.y() = flip * (v.y() + dt_velocity * acceleration[1]) + pic_fraction * velocity[1];
+        const Pair mv{particles.mass[p] * v.x(), particles.mass[p] * v.y()};
+        for (int a = 0; a < s.columns; ++a) {
+          Vec2* column = window.data() + (w.column_start(rows, a) - offset);
+          for (int b = 0; b < s.rows; ++b) {
+            add_pair(column[b].data(), w.value_x(a) * w.value_y(b) * mv);
+          }
         }
-      }
+      });
     }
   }
 }
@@ -431,7 +465,6 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
                     const StepLengths& step, double pic_fraction,
                     std::span<const ConstitutiveModel> models, std::size_t begin, std::size_t end,
                     ParticleBlocks& blocks, std::size_t block) {
-  constexpr int n = Shape::support;
   [[maybe_unused]] const std::size_t offset = static_cast<std::size_t>(blocks.column_begin[block]) *
                                               static_cast<std::size_t>(grid.node_rows());
   [[maybe_unused]] CellSums* window = blocks.cell_window[block].data();
@@ -446,41 +479,45 @@ double gather_block(Particles& particles, const GridGeometry& grid, const GridSt
     // separated like the weights: per stencil column a, u_a = Σ_b S_b u_ab and
     // t_a = Σ_b S'_b u_ab, then ∂u/∂x = Σ_a S'_a u_a and ∂u/∂y = Σ_a S_a t_a.
     Pair acceleration{}, velocity{}, gradient_x{}, gradient_y{};
-    for (int a = 0; a < n; ++a) {
-      const std::size_t start = w.column_start(rows, a);
-      const NodeMotion* column = state.motion.data() + start;
-      [[maybe_unused]] const Vec2* remapped = state.remapped_velocity.data() + start;
-      Pair along{}, across{};  // u_a, t_a
-      [[maybe_unused]] Pair acceleration_a{}, velocity_a{};
-      for (int b = 0; b < n; ++b) {
-        if constexpr (!apic) {
-          velocity_a += w.y.value[b] * load_pair(&column[b].velocity_x);
-          if constexpr (Scheme == UpdateScheme::usl) {
-            acceleration_a += w.y.value[b] * load_pair(&column[b].acceleration_x);
+    on_stencil(w, [&](const auto& s) {
+      for (int a = 0; a < s.columns; ++a) {
+        const std::size_t start = w.column_start(rows, a);
+        const NodeMotion* column = state.motion.data() + start;
+        [[maybe_unused]] const Vec2* remapped = state.remapped_velocity.data() + start;
+        Pair along{}, across{};  // u_a, t_a
+        [[maybe_unused]] Pair acceleration_a{}, velocity_a{};
+        for (int b = 0; b < s.rows; ++b) {
+          if constexpr (!apic) {
+            velocity_a += w.value_y(b) * load_pair(&column[b].velocity_x);
+            if constexpr (Scheme == UpdateScheme::usl) {
+              acceleration_a += w.value_y(b) * load_pair(&column[b].acceleration_x);
+            }
           }
+          // The velocity field the gradient is taken of: MUSL's re-projected one, USL's v^L.
+          const Pair u = Scheme == UpdateScheme::musl ? load_pair(remapped[b].data())
+                                                      : load_pair(&column[b].velocity_x);
+          along += w.value_y(b) * u;
+          across += w.derivative_y(b) * u;
         }
-        // The velocity field the gradient is taken of: MUSL's re-projected one, USL's v^L.
-        const Pair u = Scheme == UpdateScheme::musl ? load_pair(remapped[b].data())
-                                                    : load_pair(&column[b].velocity_x);
-        along += w.y.value[b] * u;
-        across += w.y.derivative[b] * u;
+        gradient_x += w.derivative_x(a) * along;
+        gradient_y += w.value_x(a) * across;
+        if constexpr (!apic) {
+          velocity += w.value_x(a) * velocity_a;
+          acceleration += w.value_x(a) * acceleration_a;
+        }
       }
-      gradient_x += w.x.derivative[a] * along;
-      gradient_y += w.x.value[a] * across;
-      if constexpr (!apic) {
-        velocity += w.x.value[a] * velocity_a;
-        acceleration += w.x.value[a] * acceleration_a;
-      }
-    }
+    });
     double vx = velocity[0], vy = velocity[1];
     Vec2& v = particles.velocity[p];
     if constexpr (apic) {
       // v_p and C_p from v^L (for linear hats C_p is the gradient of v^L). MUSL: the
       // velocity pass did this already.
       if constexpr (Scheme == UpdateScheme::usl) {
-        const AffineGather g = gather_affine(state, rows, w, ParticleAffine<Shape>(w));
-        v = g.velocity();
-        particles.affine_velocity[p] = g.affine_velocity(w.inv_h);
+        on_stencil(w, [&](const auto& s) {
+          const AffineGather g = gather_affine(state, rows, w, ParticleAffine<Shape>(w), s);
+          v = g.velocity();
+          particles.affine_velocity[p] = g.affine_velocity(w.inv_h);
+        });
       }
       vx = v.x();  // Σ N v^L: the position update's velocity
       vy = v.y();

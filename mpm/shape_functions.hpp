@@ -38,6 +38,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "common/base/pair.hpp"
 
@@ -83,6 +84,64 @@ struct AffineWeights1d {
   double value[Support];   ///< e_k = S_k (k − ξ)/D (× 1/h for 1/m)
 };
 
+/// The weights of both axes of a particle, computed side by side (the kernels' path):
+/// lane 0 of every pair is the x axis's, lane 1 the y axis's. Only the nodes the
+/// particle's domain reaches are kept, from the first of them: `count` nodes of each
+/// axis from `base`, value[0, count), the slots beyond count 0. A node the domain does not
+/// reach has weight and derivative exactly 0 (GimpShape::weights); it would add ±0 to
+/// every sum, which leaves a sum's bits as they are, so the kernels skip it. Each pair is
+/// stored and loaded with one instruction.
+template <int Support>
+struct Weights2d {
+  int base[2] = {};                   ///< the first reached node of x and of y
+  int cell[2] = {};                   ///< ⌊ξ⌋ − base, ⌊η⌋ − base
+  int count[2] = {Support, Support};  ///< the reached nodes of x and of y
+  int skipped[2] = {};                ///< unreached nodes before base: base − Weights1d::base
+  Pair value[Support];
+  Pair derivative[Support];
+  /// The position from the node the weights are written about, in cell units: uGIMP
+  /// f = ξ − m (the nearest node, Weights1d::base + 1), linear f = ξ − base (APIC's moments
+  /// use it).
+  Pair offset;
+
+  /// One axis's weights on its whole stencil (0: x, 1: y), the unreached nodes' zeros put
+  /// back: the numbers of Weights1d.
+  Weights1d<Support> axis(int lane) const {
+    Weights1d<Support> w;
+    w.base = base[lane] - skipped[lane];
+    w.cell = cell[lane] + skipped[lane];
+    for (int k = 0; k < Support; ++k) {
+      const int kept = k - skipped[lane];
+      const bool reached = kept >= 0 && kept < count[lane];
+      w.value[k] = reached ? value[kept][lane] : 0.0;
+      w.derivative[k] = reached ? derivative[kept][lane] : 0.0;
+    }
+    return w;
+  }
+};
+
+/// APIC's moments of both axes, lane 0 x and lane 1 y, for the reached nodes of their
+/// Weights2d (AffineWeights1d per axis).
+template <int Support>
+struct AffineWeights2d {
+  Pair inertia;
+  Pair moment[Support];
+  Pair value[Support];
+
+  /// One axis's moments on its whole stencil, given its weights (Weights2d::axis).
+  AffineWeights1d<Support> axis(const Weights2d<Support>& w, int lane) const {
+    AffineWeights1d<Support> m;
+    m.inertia = inertia[lane];
+    for (int k = 0; k < Support; ++k) {
+      const int kept = k - w.skipped[lane];
+      const bool reached = kept >= 0 && kept < w.count[lane];
+      m.moment[k] = reached ? moment[kept][lane] : 0.0;
+      m.value[k] = reached ? value[kept][lane] : 0.0;
+    }
+    return m;
+  }
+};
+
 struct LinearShape {
   static constexpr int support = 2;
   static Weights1d<2> weights(double xi, double /*half_size*/) {
@@ -97,9 +156,16 @@ struct LinearShape {
     return w;
   }
   /// Both axes (the uGIMP interface; linear hats are cheap enough one axis at a time).
-  static void weights(Pair xi, Pair half_size, Weights1d<2>& x, Weights1d<2>& y) {
-    x = weights(xi[0], half_size[0]);
-    y = weights(xi[1], half_size[1]);
+  static void weights(Pair xi, Pair half_size, Weights2d<2>& w) {
+    const Weights1d<2> x = weights(xi[0], half_size[0]);
+    const Weights1d<2> y = weights(xi[1], half_size[1]);
+    w.base[0] = x.base;
+    w.base[1] = y.base;
+    for (int k = 0; k < 2; ++k) {
+      w.value[k] = Pair{x.value[k], y.value[k]};
+      w.derivative[k] = Pair{x.derivative[k], y.derivative[k]};
+    }
+    w.offset = xi - Pair{double(x.base), double(y.base)};  // count 2, nothing skipped
   }
   /// D = Σ_k S_k (k − ξ)² = f(1 − f).
   static double inertia(double xi, double /*half_size*/) {
@@ -108,8 +174,11 @@ struct LinearShape {
   }
   /// D = f(1 − f) and e_k = dS_k/dξ, the identity of the header comment.
   static AffineWeights1d<2> affine(const Weights1d<2>& w, double xi) {
+    return affine_of(w, xi - w.base);
+  }
+  /// `affine` from f = ξ − base.
+  static AffineWeights1d<2> affine_of(const Weights1d<2>& w, double f) {
     AffineWeights1d<2> m;
-    const double f = xi - w.base;
     m.inertia = f * (1.0 - f);
     m.moment[0] = -m.inertia;  // (1 − f)(−f)
     m.moment[1] = m.inertia;   // f (1 − f)
@@ -117,10 +186,14 @@ struct LinearShape {
     m.value[1] = w.derivative[1];
     return m;
   }
-  static void affine(const Weights1d<2>& wx, const Weights1d<2>& wy, Pair xi, AffineWeights1d<2>& x,
-                     AffineWeights1d<2>& y) {
-    x = affine(wx, xi[0]);
-    y = affine(wy, xi[1]);
+  static void affine(const Weights2d<2>& w, AffineWeights2d<2>& m) {
+    const AffineWeights1d<2> x = affine_of(w.axis(0), w.offset[0]);
+    const AffineWeights1d<2> y = affine_of(w.axis(1), w.offset[1]);
+    m.inertia = Pair{x.inertia, y.inertia};
+    for (int k = 0; k < 2; ++k) {
+      m.moment[k] = Pair{x.moment[k], y.moment[k]};
+      m.value[k] = Pair{x.value[k], y.value[k]};
+    }
   }
 };
 
@@ -191,18 +264,37 @@ struct GimpShape {
   }
   /// The weights of both axes, ξ = (ξ, η) and a = (a_x, a_y), of a particle on the grid
   /// (floor_cells of a pair): lane by lane the bits of `weights`.
-  static void weights(Pair xi, Pair half_size, Weights1d<3>& x, Weights1d<3>& y) {
+  static void weights(Pair xi, Pair half_size, Weights2d<3>& w) {
     const Terms<Pair> t = terms(xi, half_size);
-    x.base = static_cast<int>(t.nearest[0]) - 1;
-    y.base = static_cast<int>(t.nearest[1]) - 1;
-    x.cell = t.f[0] >= 0.0 ? 1 : 0;
-    y.cell = t.f[1] >= 0.0 ? 1 : 0;
-    for (int k = 0; k < 3; ++k) {
-      x.value[k] = t.value[k][0];
-      y.value[k] = t.value[k][1];
-      x.derivative[k] = t.derivative[k][0];
-      y.derivative[k] = t.derivative[k][1];
-    }
+    // A domain inside one cell (|f| ≥ a) does not reach the node beyond the nearest one
+    // on its far side, and its weight and derivative there are exactly ±0: f ≥ a gives
+    // clamp(−f, −a, a) = −a, so R(−f) = (a − a)²/(4a) + max(−f − a, 0) = +0 and R'(−f) = 0
+    // (f ≤ −a likewise for R(f)). With column-short's 4 × 4 particles a cell (a = ⅛)
+    // that is three axes in four: most stencils are 2 × 2. An unreached node m − 1 is
+    // skipped by starting at m.
+    const Mask below = t.f >= half_size;   // node m − 1 unreached
+    const Mask above = t.f <= -half_size;  // node m + 1 unreached
+    const Pair zero{};
+    w.value[0] = below ? t.value[1] : t.value[0];
+    w.value[1] = below ? t.value[2] : t.value[1];
+    w.value[2] = below ? zero : t.value[2];
+    w.derivative[0] = below ? t.derivative[1] : t.derivative[0];
+    w.derivative[1] = below ? t.derivative[2] : t.derivative[1];
+    w.derivative[2] = below ? zero : t.derivative[2];
+    w.offset = t.f;
+    // Both lanes' integers at once: the nearest nodes truncated (they are whole numbers),
+    // and the masks (all bits set, −1, where they hold) negated.
+    using Int2 = std::int32_t __attribute__((vector_size(8)));
+    const Int2 skipped = -__builtin_convertvector(below, Int2);
+    const Int2 base = __builtin_convertvector(t.nearest, Int2) - 1 + skipped;
+    // ⌊ξ⌋ is the nearest node or the one before it (ξ + ½ rounds up at most to the next
+    // integer), and the sign of f is exact: ⌊ξ⌋ − base with no second floor.
+    const Int2 cell = -__builtin_convertvector(t.f >= 0.0, Int2) - skipped;
+    const Int2 count = 3 - skipped + __builtin_convertvector(above, Int2);
+    std::memcpy(w.base, &base, sizeof base);
+    std::memcpy(w.cell, &cell, sizeof cell);
+    std::memcpy(w.count, &count, sizeof count);
+    std::memcpy(w.skipped, &skipped, sizeof skipped);
   }
   /// D = Σ_k S_k (k − f)² over the nodes k = −1, 0, 1 (f from the nearest node). The
   /// partition of unity and Σ_k S_k (k − f) = 0 (S_{+1} − S_{−1} = f) reduce it to
@@ -227,20 +319,20 @@ struct GimpShape {
     affine_terms(w.value, xi - (w.base + 1), m.inertia, m.moment, m.value);
     return m;
   }
-  /// Both axes, (ξ, η) = xi: lane by lane the bits of `affine`.
-  static void affine(const Weights1d<3>& wx, const Weights1d<3>& wy, Pair xi, AffineWeights1d<3>& x,
-                     AffineWeights1d<3>& y) {
-    Pair value[3], inertia, moment[3], affine_value[3];
-    for (int k = 0; k < 3; ++k) value[k] = Pair{wx.value[k], wy.value[k]};
-    affine_terms(value, xi - Pair{double(wx.base + 1), double(wy.base + 1)}, inertia, moment,
-                 affine_value);
-    x.inertia = inertia[0];
-    y.inertia = inertia[1];
+  /// Both axes, for the reached nodes: lane by lane the bits of `affine` (f = ξ − (base
+  /// + 1) is the weights' offset, the same number). Reached node k is node k + skipped − 1
+  /// from the nearest, and where m − 1 was skipped its S = +0 enters D as it did there.
+  static void affine(const Weights2d<3>& w, AffineWeights2d<3>& m) {
+    const Pair skipped{double(w.skipped[0]), double(w.skipped[1])};
+    const Mask shifted = skipped != 0.0;
+    const Pair zero{};
+    const Pair below = shifted ? zero : w.value[0];        // S_{−1}
+    const Pair above = shifted ? w.value[1] : w.value[2];  // S_{+1}
+    m.inertia = below + above - w.offset * w.offset;
+    const Pair inv_inertia = 1.0 / m.inertia;
     for (int k = 0; k < 3; ++k) {
-      x.moment[k] = moment[k][0];
-      y.moment[k] = moment[k][1];
-      x.value[k] = affine_value[k][0];
-      y.value[k] = affine_value[k][1];
+      m.moment[k] = w.value[k] * ((double(k - 1) + skipped) - w.offset);
+      m.value[k] = m.moment[k] * inv_inertia;
     }
   }
 };

@@ -155,10 +155,12 @@ TEST(ShapeFunctions, BothAxesAtOnceGiveTheBitsOfOneAxisAtATime) {
     for (double a : {0.5, 0.25, 0.125, 0.087, 1e-3}) {
       const double ax = clipped_half_size(xi, cells, a),
                    ay = clipped_half_size(eta, cells, 0.5 * a);
-      Weights1d<3> x, y;
-      GimpShape::weights(Pair{xi, eta}, Pair{ax, ay}, x, y);
-      AffineWeights1d<3> mx, my;
-      GimpShape::affine(x, y, Pair{xi, eta}, mx, my);
+      Weights2d<3> both;
+      GimpShape::weights(Pair{xi, eta}, Pair{ax, ay}, both);
+      AffineWeights2d<3> both_moments;
+      GimpShape::affine(both, both_moments);
+      const Weights1d<3> x = both.axis(0), y = both.axis(1);
+      const AffineWeights1d<3> mx = both_moments.axis(both, 0), my = both_moments.axis(both, 1);
       for (const auto& [pair, moments, scalar, scalar_moments] :
            {std::tuple{x, mx, GimpShape::weights(xi, ax), GimpShape::affine(x, xi)},
             std::tuple{y, my, GimpShape::weights(eta, ay), GimpShape::affine(y, eta)}}) {
@@ -177,6 +179,43 @@ TEST(ShapeFunctions, BothAxesAtOnceGiveTheBitsOfOneAxisAtATime) {
     }
   }
   EXPECT_GT(checked, 10000);
+}
+
+TEST(ShapeFunctions, TheKernelsSkipOnlyNodesTheDomainDoesNotReach) {
+  // Weights2d keeps the nodes an axis's domain [ξ − a, ξ + a] reaches: 2 where it lies
+  // inside one cell (|f| ≥ a), 3 where it straddles the nearest node. Every node left out
+  // must have weight and derivative exactly 0 in the one-axis weights (the kernels skip
+  // it, which is bit-identical only then), and every node kept must be one the domain
+  // reaches (a kept zero would only cost time; this checks the count is tight).
+  const int cells = 40;
+  for (double a : {0.5, 0.25, 0.125, 0.087, 1e-3}) {
+    int two = 0, all = 0;
+    for (double xi = -0.4999; xi < cells + 0.5; xi += 0.0173) {
+      Weights2d<3> both;
+      GimpShape::weights(Pair{xi, xi}, Pair{a, a}, both);
+      const Weights1d<3> scalar = GimpShape::weights(xi, a);
+      const int skipped = both.skipped[0], count = both.count[0];
+      ASSERT_EQ(both.base[0], scalar.base + skipped);
+      const double f = xi - (scalar.base + 1);
+      EXPECT_EQ(count, std::abs(f) >= a ? 2 : 3) << "ξ = " << xi << ", a = " << a;
+      for (int k = 0; k < 3; ++k) {
+        const bool kept = k >= skipped && k < skipped + count;
+        SCOPED_TRACE(::testing::Message() << "ξ = " << xi << ", a = " << a << ", node " << k);
+        if (kept) {
+          EXPECT_GT(scalar.value[k], 0.0);
+          expect_same(both.value[k - skipped][0], scalar.value[k], 1.0);
+        } else {
+          EXPECT_EQ(scalar.value[k], 0.0);
+          EXPECT_EQ(scalar.derivative[k], 0.0);
+        }
+      }
+      two += count == 2 ? 1 : 0;
+      ++all;
+    }
+    // Positions spread evenly over the cells: the domain stays inside one cell for the
+    // share 1 − 2a of them (column-short's a = ⅛: three axes in four).
+    EXPECT_NEAR(double(two) / all, 1.0 - 2.0 * a, 0.01) << "a = " << a;
+  }
 }
 
 TEST(ShapeFunctions, AParticleInsideTheGridNeverTouchesAGhostNode) {
