@@ -303,20 +303,23 @@ struct GimpShape {
   static double inertia(const Weights1d<3>& w, double xi) { return affine(w, xi).inertia; }
   static double inertia(double xi, double half_size) { return inertia(weights(xi, half_size), xi); }
   /// D, the moments S_k (k − f) and e_k = S_k (k − f)/D (a plain division, D ≥ a/2) from
-  /// the weights and f, for one axis or both at once (as `terms`).
+  /// the weights, f and the end nodes' weights S_{−1}, S_{+1}, for one axis or both at
+  /// once (as `terms`). `value` starts `skipped` nodes after node −1 (Weights2d), so
+  /// value[k] is the weight of node k + skipped − 1 from the nearest.
   template <class Real>
-  static void affine_terms(const Real (&value)[3], Real f, Real& inertia, Real (&moment)[3],
-                           Real (&affine_value)[3]) {
-    inertia = value[0] + value[2] - f * f;
+  static void affine_terms(const Real (&value)[3], Real f, Real lower, Real upper, Real skipped,
+                           Real& inertia, Real (&moment)[3], Real (&affine_value)[3]) {
+    inertia = lower + upper - f * f;
     const Real inv_inertia = 1.0 / inertia;
     for (int k = 0; k < 3; ++k) {
-      moment[k] = value[k] * (double(k - 1) - f);
+      moment[k] = value[k] * ((double(k - 1) + skipped) - f);
       affine_value[k] = moment[k] * inv_inertia;
     }
   }
   static AffineWeights1d<3> affine(const Weights1d<3>& w, double xi) {
     AffineWeights1d<3> m;
-    affine_terms(w.value, xi - (w.base + 1), m.inertia, m.moment, m.value);
+    affine_terms(w.value, xi - (w.base + 1), w.value[0], w.value[2], 0.0, m.inertia, m.moment,
+                 m.value);
     return m;
   }
   /// Both axes, for the reached nodes: lane by lane the bits of `affine` (f = ξ − (base
@@ -326,14 +329,9 @@ struct GimpShape {
     const Pair skipped{double(w.skipped[0]), double(w.skipped[1])};
     const Mask shifted = skipped != 0.0;
     const Pair zero{};
-    const Pair below = shifted ? zero : w.value[0];        // S_{−1}
-    const Pair above = shifted ? w.value[1] : w.value[2];  // S_{+1}
-    m.inertia = below + above - w.offset * w.offset;
-    const Pair inv_inertia = 1.0 / m.inertia;
-    for (int k = 0; k < 3; ++k) {
-      m.moment[k] = w.value[k] * ((double(k - 1) + skipped) - w.offset);
-      m.value[k] = m.moment[k] * inv_inertia;
-    }
+    const Pair lower = shifted ? zero : w.value[0];        // S_{−1}
+    const Pair upper = shifted ? w.value[1] : w.value[2];  // S_{+1}
+    affine_terms(w.value, w.offset, lower, upper, skipped, m.inertia, m.moment, m.value);
   }
 };
 
