@@ -254,7 +254,7 @@ void scatter_block(const Particles& particles, const GridGeometry& grid, const V
     const Pair stress_y{sxy, vh * (sigma[1] - pressure)};
     // APIC: the momentum of the particle's affine velocity field v_p + C_p (x − x_p):
     // N_ip m (v_p + C_p (x_i − x_p)) with N_ip (x_i − x_p) = h (μ_a S_b, S_a μ_b), μ the
-    // weights' first moments in cell units (ParticleAffine::moment). Per stencil column
+    // weights' first moments in cell units (ParticleAffine::moment_x, moment_y). Per stencil column
     // a: S_b (S_a m v + m h C_·x μ_a) + μ_b (S_a m h C_·y).
     [[maybe_unused]] const auto affine = affine_moments<Transfer>(w);
     [[maybe_unused]] Pair c_x{}, c_y{};  // m h (C_xx, C_yx), m h (C_xy, C_yy)

@@ -104,6 +104,12 @@ struct Weights2d {
   /// use it).
   Pair offset;
 
+  /// Where node k of one axis's whole stencil (Weights1d's numbering) is kept here, or −1
+  /// for a node the domain does not reach.
+  int slot(int lane, int k) const {
+    const int kept = k - skipped[lane];
+    return kept >= 0 && kept < count[lane] ? kept : -1;
+  }
   /// One axis's weights on its whole stencil (0: x, 1: y), the unreached nodes' zeros put
   /// back: the numbers of Weights1d.
   Weights1d<Support> axis(int lane) const {
@@ -111,10 +117,9 @@ struct Weights2d {
     w.base = base[lane] - skipped[lane];
     w.cell = cell[lane] + skipped[lane];
     for (int k = 0; k < Support; ++k) {
-      const int kept = k - skipped[lane];
-      const bool reached = kept >= 0 && kept < count[lane];
-      w.value[k] = reached ? value[kept][lane] : 0.0;
-      w.derivative[k] = reached ? derivative[kept][lane] : 0.0;
+      const int kept = slot(lane, k);
+      w.value[k] = kept >= 0 ? value[kept][lane] : 0.0;
+      w.derivative[k] = kept >= 0 ? derivative[kept][lane] : 0.0;
     }
     return w;
   }
@@ -133,10 +138,9 @@ struct AffineWeights2d {
     AffineWeights1d<Support> m;
     m.inertia = inertia[lane];
     for (int k = 0; k < Support; ++k) {
-      const int kept = k - w.skipped[lane];
-      const bool reached = kept >= 0 && kept < w.count[lane];
-      m.moment[k] = reached ? moment[kept][lane] : 0.0;
-      m.value[k] = reached ? value[kept][lane] : 0.0;
+      const int kept = w.slot(lane, k);
+      m.moment[k] = kept >= 0 ? moment[kept][lane] : 0.0;
+      m.value[k] = kept >= 0 ? value[kept][lane] : 0.0;
     }
     return m;
   }
